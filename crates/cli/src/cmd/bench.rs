@@ -1,0 +1,115 @@
+//! `pregrasp bench`: benchmarks anyone can rerun.
+//!
+//! `pregrasp bench reach PROBLEMS.json [--json]` plans every start/goal query of a reach
+//! problem set (one arm among cuboids, see `pregrasp_collision::reach::problem`) with
+//! RRT-Connect and simplification, and prints the success rate and the median / p95
+//! in-process planning time.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use anyhow::Context;
+use pregrasp_collision::reach::{run_reach, ReachProblemSet, ReachSettings, DEFAULT_RESOLUTION};
+use serde_json::json;
+
+#[derive(clap::Subcommand)]
+pub enum BenchCommand {
+    /// Motion-planning benchmark on a reach problem set (e.g. data/reach-ur5-table-boxes.json).
+    Reach(ReachArgs),
+}
+
+#[derive(clap::Args)]
+pub struct ReachArgs {
+    /// The problem-set JSON file.
+    pub problems: PathBuf,
+    /// Print the summary (and per-query outcomes) as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Base seed; query k uses seed + k.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// RRT-Connect iteration limit per query (the deterministic stop).
+    #[arg(long, default_value_t = 20_000)]
+    pub max_iterations: usize,
+    /// Wall-clock safety limit per query, seconds.
+    #[arg(long, default_value_t = 5.0)]
+    pub max_time: f64,
+    /// Edge-check resolution, metres of arm-point travel.
+    #[arg(long, default_value_t = DEFAULT_RESOLUTION)]
+    pub resolution: f64,
+    /// Safety margin of every collision check, metres.
+    #[arg(long, default_value_t = 0.0)]
+    pub margin: f64,
+}
+
+pub fn run(command: BenchCommand) -> anyhow::Result<ExitCode> {
+    match command {
+        BenchCommand::Reach(args) => reach(args),
+    }
+}
+
+fn reach(args: ReachArgs) -> anyhow::Result<ExitCode> {
+    if !(args.resolution > 0.0 && args.resolution.is_finite()) {
+        anyhow::bail!("--resolution must be a positive number of metres, got {}", args.resolution);
+    }
+    if !(args.max_time > 0.0 && args.max_time.is_finite()) {
+        anyhow::bail!("--max-time must be a positive number of seconds, got {}", args.max_time);
+    }
+    if !(args.margin >= 0.0 && args.margin.is_finite()) {
+        anyhow::bail!("--margin must be >= 0 metres, got {}", args.margin);
+    }
+    let set = ReachProblemSet::load(&args.problems).context("cannot use the problem set")?;
+    let mut settings = ReachSettings { resolution: args.resolution, margin: args.margin, ..ReachSettings::default() };
+    settings.rrt.seed = args.seed;
+    settings.rrt.max_iterations = args.max_iterations;
+    settings.rrt.max_time = Some(Duration::from_secs_f64(args.max_time));
+    let report = run_reach(&set, &settings);
+    if args.json {
+        let outcomes: Vec<_> = report
+            .outcomes
+            .iter()
+            .map(|o| {
+                json!({
+                    "status": format!("{:?}", o.status),
+                    "time_ms": o.time.as_secs_f64() * 1e3,
+                    "waypoints": o.waypoints,
+                    "length": o.length,
+                    "iterations": o.iterations,
+                    "states_checked": o.states_checked,
+                })
+            })
+            .collect();
+        let out = json!({
+            "problems": args.problems.display().to_string(),
+            "model": set.model.name(),
+            "queries": report.queries,
+            "solved": report.solved,
+            "success_rate": report.success_rate,
+            "median_ms": report.median_ms,
+            "p95_ms": report.p95_ms,
+            "mean_ms": report.mean_ms,
+            "max_ms": report.max_ms,
+            "settings": {
+                "seed": args.seed,
+                "max_iterations": args.max_iterations,
+                "max_time_s": args.max_time,
+                "resolution": args.resolution,
+                "margin": args.margin,
+            },
+            "outcomes": outcomes,
+        });
+        println!("{}", serde_json::to_string_pretty(&out)?);
+    } else {
+        println!("problem set  {} ({}, {} obstacles)", args.problems.display(), set.model.name(), set.obstacles.len());
+        println!(
+            "solved       {}/{} ({:.1} %)",
+            report.solved,
+            report.queries,
+            100.0 * report.success_rate
+        );
+        println!("planning     median {:.3} ms, p95 {:.3} ms, mean {:.3} ms, max {:.3} ms", report.median_ms, report.p95_ms, report.mean_ms, report.max_ms);
+        println!("settings     seed {}, {} iterations, resolution {} m, margin {} m", args.seed, args.max_iterations, args.resolution, args.margin);
+    }
+    Ok(ExitCode::SUCCESS)
+}

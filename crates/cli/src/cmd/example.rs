@@ -1,0 +1,59 @@
+//! `pregrasp example`: the built-in example parts (the paper's chair, shelf and stool sides)
+//! and their scenes.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context;
+
+use super::EXIT_OK;
+
+#[derive(clap::Subcommand)]
+pub enum ExampleCommand {
+    /// List the built-in examples: name, title, mesh size.
+    List,
+    /// Write every example's scene (`<name>.toml`) and mesh (`meshes/<name>.stl`, binary STL)
+    /// into DIR, creating it. Plan one with `pregrasp plan DIR/<name>.toml`.
+    Write {
+        /// Output directory (created if missing; existing example files are overwritten).
+        dir: PathBuf,
+        /// Write only this example (default: all).
+        #[arg(long, value_name = "NAME")]
+        only: Option<String>,
+    },
+}
+
+pub fn run(command: ExampleCommand) -> anyhow::Result<ExitCode> {
+    match command {
+        ExampleCommand::List => {
+            for e in pregrasp_examples::all() {
+                println!(
+                    "{:<12} {:<18} {} triangles, {}.toml + {}",
+                    e.name,
+                    e.title,
+                    e.mesh.triangles.len(),
+                    e.name,
+                    pregrasp_examples::mesh_relative_path(e.name)
+                );
+            }
+        }
+        ExampleCommand::Write { dir, only } => {
+            let examples = match only {
+                None => pregrasp_examples::all(),
+                Some(name) => vec![pregrasp_examples::by_name(&name).with_context(|| {
+                    format!(
+                        "unknown example \"{name}\" (expected one of {})",
+                        pregrasp_examples::NAMES.join(", ")
+                    )
+                })?],
+            };
+            for e in &examples {
+                let written = pregrasp_examples::write_example(&dir, e)?;
+                for path in written {
+                    println!("wrote {}", path.display());
+                }
+            }
+        }
+    }
+    Ok(ExitCode::from(EXIT_OK))
+}

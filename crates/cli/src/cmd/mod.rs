@@ -1,0 +1,20 @@
+//! One module per subcommand. Each exposes its clap arguments and a `run` function that
+//! returns the process exit code; errors are printed by `main` with exit code 1.
+
+pub mod axes;
+pub mod bench;
+pub mod check;
+pub mod demo;
+pub mod example;
+pub mod kin;
+pub mod plan;
+pub mod view;
+
+/// Exit code: success (planned, valid, done).
+#[allow(dead_code)]
+pub const EXIT_OK: u8 = 0;
+/// Exit code: bad input (unreadable scene, mesh or plan file, bad arguments).
+pub const EXIT_BAD_INPUT: u8 = 1;
+/// Exit code: the input was fine but no plan was found (or a checked plan is invalid).
+#[allow(dead_code)]
+pub const EXIT_NO_PLAN: u8 = 2;

@@ -1,0 +1,165 @@
+//! `pregrasp plan SCENE.toml`: Algorithms 1–3 end to end, a checked plan file written atomically.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressStyle};
+use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::plan_file::PlanFile;
+use pregrasp_io::scene::Scene;
+use pregrasp_planner::pipeline::{plan, CandidateOutcome, PlanOptions, PlanReport};
+
+use super::{EXIT_NO_PLAN, EXIT_OK};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene file (TOML, see shared/spec/scene-format.md).
+    pub scene: PathBuf,
+    /// Where to write the plan file (JSON). Written atomically; nothing is written on bad input.
+    #[arg(short, long, default_value = "plan.json")]
+    pub output: PathBuf,
+    /// Keep at most this many plans, best first (by S_rot).
+    #[arg(long, default_value_t = 3)]
+    pub max_plans: usize,
+    /// Worker threads for evaluating candidates in parallel (default: all cores). The plan is the
+    /// same for any number.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Also write the interactive 3D view of the plan to this HTML file.
+    #[arg(long)]
+    pub html: Option<PathBuf>,
+    /// No progress bar and no tables; errors are still printed.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let options = PlanOptions { max_plans: args.max_plans.max(1) };
+    plan_scene_file(&args.scene, &args.output, args.html.as_deref(), args.threads, args.quiet, &options)
+}
+
+/// Loads, plans, prints and writes; shared with `pregrasp demo`.
+pub fn plan_scene_file(
+    scene_path: &Path,
+    output: &Path,
+    html: Option<&Path>,
+    threads: Option<usize>,
+    quiet: bool,
+    options: &PlanOptions,
+) -> anyhow::Result<ExitCode> {
+    let started = Instant::now();
+    let scene = Scene::load(scene_path)?;
+    for warning in &scene.warnings {
+        eprintln!("warning: {warning}");
+    }
+    let loaded = load_mesh(&scene.object.mesh_path, scene.object.scale).with_context(|| {
+        format!("{}: object.mesh", scene_path.display())
+    })?;
+    for warning in &loaded.warnings {
+        eprintln!("warning: {warning}");
+    }
+    let pool = match threads {
+        Some(n) => rayon::ThreadPoolBuilder::new().num_threads(n.max(1)).build()?,
+        None => rayon::ThreadPoolBuilder::new().build()?,
+    };
+    let bar = if quiet || !std::io::stderr().is_terminal() {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::new(0);
+        bar.set_style(ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} candidates")?);
+        bar.set_message("planning");
+        bar
+    };
+    let report = pool.install(|| {
+        plan(&scene, &loaded.mesh, options, &|total| bar.set_length(total as u64), &|| bar.inc(1))
+    })?;
+    bar.finish_and_clear();
+    let mut file = report.file.clone();
+    file.timing_ms.insert("process".into(), started.elapsed().as_secs_f64() * 1e3);
+
+    file.write_atomic(output)?;
+    if let Some(html_path) = html {
+        let page = pregrasp_viewer::render_html(&file, &loaded.mesh, &Default::default());
+        pregrasp_io::plan_file::write_atomic(html_path, page.as_bytes())?;
+    }
+    if !quiet {
+        print_summary(&report, &file);
+        println!("wrote {}", output.display());
+        if let Some(html_path) = html {
+            println!("wrote {}", html_path.display());
+        }
+    }
+    Ok(ExitCode::from(if file.status == "planned" { EXIT_OK } else { EXIT_NO_PLAN }))
+}
+
+/// The candidate table, the chosen plan and the time per stage.
+pub fn print_summary(report: &PlanReport, file: &PlanFile) {
+    println!(
+        "{:>3}  {:<4} {:>8} {:>9} {:>7} {:>8}  outcome",
+        "id", "dir", "length", "θ_max°", "score", "θ_goal°"
+    );
+    for (c, json) in report.candidates.iter().zip(&file.candidates) {
+        let goal = json.theta_goal.map_or("-".to_string(), |g| format!("{:.1}", g.to_degrees()));
+        println!(
+            "{:>3}  {:<4} {:>8.3} {:>9.2} {:>7.3} {:>8}  {}",
+            c.id,
+            json.direction,
+            c.length,
+            c.theta_max.to_degrees(),
+            c.score,
+            goal,
+            json.outcome
+        );
+    }
+    if file.candidates.is_empty() {
+        println!("(no rotation-axis candidates)");
+    }
+    match file.plans.first() {
+        Some(best) => {
+            let c = &file.candidates[best.candidate];
+            println!();
+            println!(
+                "plan: candidate {} ({} about {:.3},{:.3},{:.3} → {:.3},{:.3},{:.3}), θ_goal {:.1}°, score {:.3}",
+                best.candidate,
+                c.direction,
+                c.axis[0][0], c.axis[0][1], c.axis[0][2],
+                c.axis[1][0], c.axis[1][1], c.axis[1][2],
+                c.theta_goal.unwrap_or(0.0).to_degrees(),
+                best.score
+            );
+            println!("      master {}, supportive {}", best.master, best.supportive);
+            for seg in &best.segments {
+                println!(
+                    "      {:<5} {:<6} {:>4} points {:>6.2} s",
+                    seg.name,
+                    seg.robot,
+                    seg.points.len(),
+                    seg.points.last().map_or(0.0, |p| p.t)
+                );
+            }
+            let planned = report
+                .outcomes
+                .iter()
+                .filter(|o| matches!(o, CandidateOutcome::Planned { .. }))
+                .count();
+            println!("      {} plan(s) written, {} candidate(s) planned", file.plans.len(), planned);
+        }
+        None => {
+            println!();
+            println!("no plan: {}", file.reason.as_deref().unwrap_or("-"));
+        }
+    }
+    let t = &file.timing_ms;
+    let get = |k: &str| t.get(k).copied().unwrap_or(0.0);
+    println!(
+        "time: axes {:.2} ms, poses {:.2} ms, paths {:.2} ms, check {:.2} ms, total {:.2} ms",
+        get("axes"),
+        get("poses"),
+        get("paths"),
+        get("check"),
+        get("total")
+    );
+}

@@ -1,0 +1,88 @@
+//! `pregrasp view PLAN.json -o plan.html`: one self-contained HTML page with an interactive
+//! 3D view of the plan (three.js from a CDN; open it in any browser).
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::Context;
+use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::plan_file::{write_atomic, PlanFile};
+use pregrasp_robot::UrModel;
+use pregrasp_viewer::{render_html, ViewOptions};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Plan file written by `pregrasp plan` or `pregrasp demo`.
+    pub plan: PathBuf,
+    /// Output HTML file (written atomically).
+    #[arg(short, long, default_value = "plan.html")]
+    pub output: PathBuf,
+    /// Part mesh to show instead of the plan's `object.mesh` (the plan's `object.scale` is
+    /// still applied). A relative `object.mesh` is looked up from the current directory,
+    /// then beside the plan file.
+    #[arg(long)]
+    pub mesh: Option<PathBuf>,
+    /// Page title (default: the scene name).
+    #[arg(long)]
+    pub title: Option<String>,
+    /// Which plan to show first (1 = best).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    pub plan_number: u64,
+    /// Playback speed factor (0.25, 0.5, 1, 2, 4 or 8).
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
+    /// Do not start playing when the page opens.
+    #[arg(long)]
+    pub no_autoplay: bool,
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let plan = PlanFile::read(&args.plan)?;
+    for (i, robot) in plan.robots.iter().enumerate() {
+        if UrModel::from_name(&robot.model).is_none() {
+            anyhow::bail!(
+                "{}: robots[{i}].model: unknown robot model {:?} (expected one of ur3e, ur5e, ur10e, ur16e, ur5)",
+                args.plan.display(),
+                robot.model
+            );
+        }
+    }
+    let mesh_path = match &args.mesh {
+        Some(p) => p.clone(),
+        None => resolve_mesh(&plan.object.mesh, &args.plan),
+    };
+    let loaded = load_mesh(&mesh_path, plan.object.scale)
+        .with_context(|| format!("{}: object.mesh", args.plan.display()))?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
+    }
+    let options = ViewOptions {
+        title: args.title,
+        initial_plan: (args.plan_number - 1) as usize,
+        speed: args.speed,
+        autoplay: !args.no_autoplay,
+    };
+    let html = render_html(&plan, &loaded.mesh, &options);
+    write_atomic(&args.output, html.as_bytes())?;
+    eprintln!(
+        "wrote {} ({} plan(s), {} candidate(s), {} KiB)",
+        args.output.display(),
+        plan.plans.len(),
+        plan.candidates.len(),
+        html.len() / 1024
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The plan's mesh path as written (relative to the current directory), or else relative to
+/// the plan file's directory.
+fn resolve_mesh(mesh: &str, plan_path: &Path) -> PathBuf {
+    let given = PathBuf::from(mesh);
+    if given.is_absolute() || given.exists() {
+        return given;
+    }
+    match plan_path.parent() {
+        Some(dir) if dir.join(&given).exists() => dir.join(given),
+        _ => given,
+    }
+}

@@ -1,0 +1,64 @@
+//! `pregrasp`: the command-line front end. It only parses arguments, calls the library
+//! crates and prints; every algorithm lives in a library crate.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod cmd;
+
+/// Dual-arm pre-grasp manipulation planning.
+///
+/// A flat, heavy part lies on a table where a gripper cannot power-grasp it. pregrasp finds
+/// how one arm can rotate the part about one of its edges, with the table carrying its
+/// weight, until both grippers have room, and plans every motion of both arms.
+#[derive(Parser)]
+#[command(name = "pregrasp", version, about, long_about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run the whole method on the built-in chair-side example and write demo-plan.json.
+    Demo(cmd::demo::Args),
+    /// Plan the pre-grasp manipulation of a scene (Algorithms 1-3) and write a plan file.
+    Plan(cmd::plan::Args),
+    /// Re-verify a plan file against every validity rule of the plan format.
+    Check(cmd::check::Args),
+    /// List the rotation-axis candidates of a scene (Algorithm 1).
+    Axes(cmd::axes::Args),
+    /// Kinematics of the built-in arms: forward and inverse.
+    #[command(subcommand)]
+    Kin(cmd::kin::KinCommand),
+    /// Benchmarks anyone can rerun.
+    #[command(subcommand)]
+    Bench(cmd::bench::BenchCommand),
+    /// The built-in example parts and scenes.
+    #[command(subcommand)]
+    Example(cmd::example::ExampleCommand),
+    /// Write an interactive 3D view (HTML) of a plan file.
+    View(cmd::view::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Demo(args) => cmd::demo::run(args),
+        Command::Plan(args) => cmd::plan::run(args),
+        Command::Check(args) => cmd::check::run(args),
+        Command::Axes(args) => cmd::axes::run(args),
+        Command::Kin(command) => cmd::kin::run(command),
+        Command::Bench(command) => cmd::bench::run(command),
+        Command::Example(command) => cmd::example::run(command),
+        Command::View(args) => cmd::view::run(args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            ExitCode::from(cmd::EXIT_BAD_INPUT)
+        }
+    }
+}

@@ -1,0 +1,133 @@
+//! `pregrasp plan`, `check` and `demo` run as the real binary in temporary directories.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn pregrasp(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pregrasp"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn examples_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+/// The plan file with its `timing_ms` removed (the only part that may differ between runs).
+fn plan_without_timing(path: &Path) -> String {
+    let mut value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    value.as_object_mut().unwrap().remove("timing_ms");
+    serde_json::to_string_pretty(&value).unwrap()
+}
+
+#[test]
+fn plan_writes_a_plan_that_check_accepts_and_is_the_same_for_1_and_2_threads() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = examples_dir().join("chair_side.toml");
+    let scene = scene.to_str().unwrap();
+    let one = pregrasp(tmp.path(), &["plan", scene, "-o", "one.json", "--threads", "1", "--quiet"]);
+    assert_eq!(one.status.code(), Some(0), "{}", String::from_utf8_lossy(&one.stderr));
+    let two = pregrasp(tmp.path(), &["plan", scene, "-o", "two.json", "--threads", "2", "--quiet"]);
+    assert_eq!(two.status.code(), Some(0));
+    assert_eq!(
+        plan_without_timing(&tmp.path().join("one.json")),
+        plan_without_timing(&tmp.path().join("two.json"))
+    );
+    let check = pregrasp(tmp.path(), &["check", "one.json"]);
+    let out = String::from_utf8_lossy(&check.stdout);
+    assert_eq!(check.status.code(), Some(0), "{out}");
+    for rule in 1..=4 {
+        assert!(out.contains(&format!("rule {rule} ok")), "{out}");
+    }
+}
+
+#[test]
+fn a_broken_mesh_exits_1_and_writes_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = std::fs::read_to_string(examples_dir().join("chair_side.toml")).unwrap();
+    std::fs::create_dir(tmp.path().join("meshes")).unwrap();
+    // A binary STL header that promises 1000 triangles and delivers none.
+    let mut stl = vec![0u8; 80];
+    stl.extend_from_slice(&1000u32.to_le_bytes());
+    std::fs::write(tmp.path().join("meshes/chair_side.stl"), stl).unwrap();
+    std::fs::write(tmp.path().join("scene.toml"), scene).unwrap();
+    let out = pregrasp(tmp.path(), &["plan", "scene.toml", "-o", "plan.json"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("chair_side.stl"), "{err}");
+    assert!(err.contains("object.mesh"), "{err}");
+    assert!(!tmp.path().join("plan.json").exists());
+    assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 2, "no temp file left behind");
+}
+
+#[test]
+fn an_unreachable_support_grasp_exits_2_with_a_no_plan_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = std::fs::read_to_string(examples_dir().join("chair_side.toml")).unwrap();
+    let mesh = examples_dir().join("meshes/chair_side.stl");
+    let scene = scene
+        .replace("meshes/chair_side.stl", mesh.to_str().unwrap())
+        .replace("support = { xyz = [", "support = { xyz = [2.0 + ");
+    // Move G_s two metres along object x by rewriting its first coordinate.
+    let scene = fix_support_x(&scene);
+    std::fs::write(tmp.path().join("scene.toml"), scene).unwrap();
+    let out = pregrasp(tmp.path(), &["plan", "scene.toml", "-o", "plan.json", "--quiet"]);
+    assert_eq!(out.status.code(), Some(2));
+    let plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("plan.json")).unwrap()).unwrap();
+    assert_eq!(plan["status"], "no_plan");
+    assert!(plan["reason"].as_str().unwrap().starts_with("IK: support grasp unreachable"));
+    assert_eq!(plan["plans"].as_array().unwrap().len(), 0);
+}
+
+/// Replaces `support = { xyz = [2.0 + X, ...` by `support = { xyz = [X+2, ...`.
+fn fix_support_x(scene: &str) -> String {
+    let key = "support = { xyz = [2.0 + ";
+    let start = scene.find(key).expect("support line") + key.len();
+    let end = start + scene[start..].find(',').unwrap();
+    let x: f64 = scene[start..end].trim().parse().unwrap();
+    format!("{}support = {{ xyz = [{}{}", &scene[..start - key.len()], x + 2.0, &scene[end..])
+}
+
+#[test]
+fn check_reports_the_failed_rule_and_exits_2() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = examples_dir().join("chair_side.toml");
+    let out = pregrasp(tmp.path(), &["plan", scene.to_str().unwrap(), "-o", "plan.json", "--quiet"]);
+    assert_eq!(out.status.code(), Some(0));
+    let path = tmp.path().join("plan.json");
+    let mut plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    plan["grasps"]["support"]["xyz"][2] = serde_json::json!(
+        plan["grasps"]["support"]["xyz"][2].as_f64().unwrap() + 0.005
+    );
+    std::fs::write(&path, serde_json::to_string(&plan).unwrap()).unwrap();
+    let check = pregrasp(tmp.path(), &["check", "plan.json"]);
+    let out = String::from_utf8_lossy(&check.stdout);
+    assert_eq!(check.status.code(), Some(2), "{out}");
+    assert!(out.contains("rule 4 FAIL"), "{out}");
+    assert!(out.contains("INVALID"), "{out}");
+}
+
+#[test]
+fn check_of_a_missing_file_exits_1_naming_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = pregrasp(tmp.path(), &["check", "nope.json"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("nope.json"));
+}
+
+#[test]
+fn demo_runs_from_nothing_and_writes_a_valid_plan() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = pregrasp(tmp.path(), &["demo"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("plan: candidate"), "{stdout}");
+    assert!(tmp.path().join("demo-plan.json").exists());
+    let check = pregrasp(tmp.path(), &["check", "demo-plan.json"]);
+    assert_eq!(check.status.code(), Some(0), "{}", String::from_utf8_lossy(&check.stdout));
+}

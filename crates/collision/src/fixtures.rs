@@ -1,0 +1,112 @@
+//! Small mesh builders for tests, benchmarks and the reach-problem generator.
+//!
+//! All meshes are closed, triangles counter-clockwise seen from outside, metres.
+
+use nalgebra::{Point3, Vector3};
+use pregrasp_geometry::Mesh;
+
+/// An axis-aligned box `center ± half` subdivided into `n × n` quads per face
+/// (`12 n²` triangles; `n = 1` is the plain 12-triangle box).
+pub fn box_mesh(center: Point3<f64>, half: Vector3<f64>, n: usize) -> Mesh {
+    let n = n.max(1);
+    let mut mesh = Mesh::default();
+    // Each face: a normal axis `k` and sign, spanned by the two other axes (u, v) ordered
+    // so that u × v points outwards.
+    for k in 0..3 {
+        for sign in [-1.0, 1.0] {
+            let (mut u, mut v) = ((k + 1) % 3, (k + 2) % 3);
+            if sign < 0.0 {
+                std::mem::swap(&mut u, &mut v);
+            }
+            let base = mesh.vertices.len() as u32;
+            for i in 0..=n {
+                for j in 0..=n {
+                    let mut p = [0.0; 3];
+                    p[k] = center[k] + sign * half[k];
+                    p[u] = center[u] - half[u] + 2.0 * half[u] * i as f64 / n as f64;
+                    p[v] = center[v] - half[v] + 2.0 * half[v] * j as f64 / n as f64;
+                    mesh.vertices.push(Point3::from(p));
+                }
+            }
+            let id = |i: usize, j: usize| base + (i * (n + 1) + j) as u32;
+            for i in 0..n {
+                for j in 0..n {
+                    mesh.triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                    mesh.triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+                }
+            }
+        }
+    }
+    mesh
+}
+
+/// Concatenates meshes (vertex indices re-based).
+pub fn merge(meshes: &[Mesh]) -> Mesh {
+    let mut out = Mesh::default();
+    for m in meshes {
+        let base = out.vertices.len() as u32;
+        out.vertices.extend_from_slice(&m.vertices);
+        out.triangles.extend(m.triangles.iter().map(|t| [t[0] + base, t[1] + base, t[2] + base]));
+    }
+    out
+}
+
+/// A flat rectangular frame lying in the `xy` plane, centred at the origin: outer size
+/// `outer_x × outer_y`, bars `bar` wide, `thickness` thick (`z ∈ [0, thickness]`).
+/// The opening is `(outer_x − 2 bar) × (outer_y − 2 bar)`. Four boxes (48 triangles).
+pub fn frame_mesh(outer_x: f64, outer_y: f64, bar: f64, thickness: f64) -> Mesh {
+    let hz = 0.5 * thickness;
+    let (hx, hy) = (0.5 * outer_x, 0.5 * outer_y);
+    let hb = 0.5 * bar;
+    merge(&[
+        // Bars along x at y = ±(hy − hb), full length.
+        box_mesh(Point3::new(0.0, hy - hb, hz), Vector3::new(hx, hb, hz), 1),
+        box_mesh(Point3::new(0.0, -(hy - hb), hz), Vector3::new(hx, hb, hz), 1),
+        // Bars along y at x = ±(hx − hb), between the x bars.
+        box_mesh(Point3::new(hx - hb, 0.0, hz), Vector3::new(hb, hy - bar, hz), 1),
+        box_mesh(Point3::new(-(hx - hb), 0.0, hz), Vector3::new(hb, hy - bar, hz), 1),
+    ])
+}
+
+/// A `0.6 × 0.4 × 0.02` m plate (`z ∈ [0, 0.02]`, centred in `xy`) with 10 092 triangles:
+/// the "10k-triangle part" of the benchmarks.
+pub fn plate_10k() -> Mesh {
+    box_mesh(Point3::new(0.0, 0.0, 0.01), Vector3::new(0.3, 0.2, 0.01), 29)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Signed volume by the divergence theorem: positive iff faces point outwards.
+    fn volume(m: &Mesh) -> f64 {
+        m.triangles
+            .iter()
+            .map(|t| {
+                let (a, b, c) = (m.vertices[t[0] as usize], m.vertices[t[1] as usize], m.vertices[t[2] as usize]);
+                a.coords.dot(&b.coords.cross(&c.coords)) / 6.0
+            })
+            .sum()
+    }
+
+    #[test]
+    fn subdivided_box_is_closed_outward_with_exact_volume() {
+        let m = box_mesh(Point3::new(0.1, -0.2, 0.3), Vector3::new(0.3, 0.2, 0.1), 3);
+        assert_eq!(m.triangles.len(), 12 * 9);
+        assert!((volume(&m) - 0.6 * 0.4 * 0.2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn plate_has_ten_thousand_triangles() {
+        let m = plate_10k();
+        assert_eq!(m.triangles.len(), 10_092);
+        assert!((volume(&m) - 0.6 * 0.4 * 0.02).abs() < 1e-12);
+    }
+
+    #[test]
+    fn frame_volume_is_outer_minus_opening() {
+        let m = frame_mesh(0.5, 0.4, 0.05, 0.02);
+        let expect = (0.5 * 0.4 - 0.4 * 0.3) * 0.02;
+        assert!((volume(&m) - expect).abs() < 1e-12);
+    }
+}

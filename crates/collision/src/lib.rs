@@ -1,0 +1,34 @@
+//! Collision world of pregrasp: the support, the part's real mesh, static cuboids and two UR
+//! arms with Robotiq 2F-85 grippers, plus the glue that lets `pregrasp_motion` plan one arm
+//! in it and a rerunnable reach benchmark.
+//!
+//! - [`distance`]: closed-form segment/triangle/box distances (the narrow phase).
+//! - [`shape`]: primitives placed in the world ([`Placed`]) and their pair tests.
+//! - [`object`]: the part as a parry `TriMesh` with its BVH ([`ObjectGeometry`]).
+//! - [`arm`]: [`ArmModel`], an arm's kinematics, base and cached link/gripper primitives.
+//! - [`world`]: [`CollisionWorld`], [`WorldState`], [`ObjectPlacement`], [`Contact`]:
+//!   first contact by name, clearance, single-arm queries.
+//! - [`validity`]: [`ArmValidity`] (a `StateValidator<6>`) and [`joint_space`] (limits and
+//!   sweep-radius weights; the resolution bound is stated there).
+//! - [`reach`]: the `pregrasp bench reach` problem format, runner and generator.
+//! - [`fixtures`]: meshes for tests and benchmarks (boxes, a frame, a tessellated plate).
+//!
+//! Frames: world `z` up, metres; each arm's base pose maps its controller base frame into
+//! the world. The support is the half-space `z ≤ support_height`.
+
+pub mod arm;
+pub mod distance;
+pub mod error;
+pub mod fixtures;
+pub mod object;
+pub mod reach;
+pub mod shape;
+pub mod validity;
+pub mod world;
+
+pub use arm::{ArmModel, MAX_ARM_SHAPES};
+pub use error::CollisionError;
+pub use object::ObjectGeometry;
+pub use shape::Placed;
+pub use validity::{attached_reach, joint_space, joint_space_with_payload, ArmValidity};
+pub use world::{CollisionWorld, Contact, Obstacle, ObjectPlacement, WorldState};

@@ -1,0 +1,160 @@
+//! The manipulated part: its real (non-convex) triangle mesh with parry's BVH.
+//!
+//! The mesh is kept as is, not replaced by its convex hull, so an arm may pass through an
+//! opening of a frame-like part. Tests are surface tests: a primitive collides with the part
+//! when it touches a triangle. A primitive wholly enclosed by a closed part without touching
+//! its surface is not reported; edge validation at a resolution below the smallest primitive
+//! radius cannot step into such a state without crossing the surface first.
+
+use nalgebra::{Isometry3, Point3, Vector3};
+use parry3d_f64::partitioning::TraversalAction;
+use parry3d_f64::query;
+use parry3d_f64::shape::{Cuboid as PCuboid, TriMesh};
+use pregrasp_geometry::Mesh;
+
+use crate::distance::{aabb_aabb_sq, segment_triangle_sq};
+use crate::error::CollisionError;
+use crate::shape::{Bounded, Placed};
+
+type P = Point3<f64>;
+
+/// A triangle mesh in its own (object) frame, with a BVH and a bounding sphere.
+#[derive(Clone)]
+pub struct ObjectGeometry {
+    mesh: TriMesh,
+    /// Bounding sphere in the object frame: centre of the local AABB, half its diagonal.
+    center: P,
+    radius: f64,
+}
+
+impl std::fmt::Debug for ObjectGeometry {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ObjectGeometry")
+            .field("triangles", &self.mesh.indices().len())
+            .field("radius", &self.radius)
+            .finish()
+    }
+}
+
+impl ObjectGeometry {
+    /// Builds the BVH of `mesh` (object frame, metres).
+    pub fn new(mesh: &Mesh) -> Result<Self, CollisionError> {
+        if mesh.triangles.is_empty() {
+            return Err(CollisionError::EmptyMesh);
+        }
+        let n = mesh.vertices.len();
+        if let Some((t, tri)) = mesh.triangles.iter().enumerate().find(|(_, tri)| tri.iter().any(|&i| i as usize >= n)) {
+            return Err(CollisionError::BadTriangle { triangle: t, indices: *tri, vertices: n });
+        }
+        if mesh.vertices.iter().any(|v| !v.coords.iter().all(|c| c.is_finite())) {
+            return Err(CollisionError::NonFiniteVertex);
+        }
+        let trimesh = TriMesh::new(mesh.vertices.clone(), mesh.triangles.clone())
+            .map_err(|e| CollisionError::Mesh(e.to_string()))?;
+        let aabb = trimesh.local_aabb();
+        let center = aabb.center();
+        let radius = aabb.half_extents().norm();
+        Ok(ObjectGeometry { mesh: trimesh, center, radius })
+    }
+
+    /// The parry mesh (object frame).
+    pub fn trimesh(&self) -> &TriMesh {
+        &self.mesh
+    }
+
+    /// Number of triangles.
+    pub fn num_triangles(&self) -> usize {
+        self.mesh.indices().len()
+    }
+
+    /// Bounding sphere of the part at `pose` (object → world).
+    #[inline]
+    pub(crate) fn world_sphere(&self, pose: &Isometry3<f64>) -> (P, f64) {
+        (pose * self.center, self.radius)
+    }
+
+    /// Whether the primitive `s` comes within `margin` of the part at `pose`.
+    pub(crate) fn intersects(&self, pose: &Isometry3<f64>, s: &Bounded, margin: f64) -> bool {
+        let (c, r) = self.world_sphere(pose);
+        let reach = r + s.radius + margin;
+        if (c - s.center).norm_squared() > reach * reach {
+            return false;
+        }
+        match s.shape {
+            Placed::Capsule { a, b, radius } => {
+                let la = pose.inverse_transform_point(&a);
+                let lb = pose.inverse_transform_point(&b);
+                self.capsule_hits(&la, &lb, radius + margin)
+            }
+            Placed::Cuboid { pose: bp, half } => {
+                let cub = PCuboid::new(half);
+                if margin > 0.0 {
+                    query::distance(pose, &self.mesh, &bp, &cub).unwrap_or(0.0) < margin
+                } else {
+                    query::intersection_test(pose, &self.mesh, &bp, &cub).unwrap_or(true)
+                }
+            }
+        }
+    }
+
+    /// Distance from the primitive to the part at `pose` (signed for capsules).
+    pub(crate) fn distance(&self, pose: &Isometry3<f64>, s: &Bounded) -> f64 {
+        match s.shape {
+            Placed::Capsule { a, b, radius } => {
+                let la = pose.inverse_transform_point(&a);
+                let lb = pose.inverse_transform_point(&b);
+                self.segment_distance(&la, &lb) - radius
+            }
+            Placed::Cuboid { pose: bp, half } => {
+                query::distance(pose, &self.mesh, &bp, &PCuboid::new(half)).unwrap_or(0.0)
+            }
+        }
+    }
+
+    /// Whether the capsule `([a, b], r)` (object frame) touches a triangle: BVH descent with
+    /// the capsule's AABB, exact segment–triangle distance at the leaves, first hit wins.
+    fn capsule_hits(&self, a: &P, b: &P, r: f64) -> bool {
+        let rv = Vector3::repeat(r);
+        let (lo, hi) = (a.inf(b) - rv, a.sup(b) + rv);
+        let r2 = r * r;
+        let verts = self.mesh.vertices();
+        let idx = self.mesh.indices();
+        let mut hit = false;
+        self.mesh.bvh().traverse(|node| {
+            if aabb_aabb_sq(&lo, &hi, &node.mins(), &node.maxs()) > 0.0 {
+                return TraversalAction::Prune;
+            }
+            if let Some(leaf) = node.leaf_data() {
+                let [i, j, k] = idx[leaf as usize];
+                let (ta, tb, tc) = (&verts[i as usize], &verts[j as usize], &verts[k as usize]);
+                if segment_triangle_sq(a, b, ta, tb, tc) <= r2 {
+                    hit = true;
+                    return TraversalAction::EarlyExit;
+                }
+            }
+            TraversalAction::Continue
+        });
+        hit
+    }
+
+    /// Distance from segment `[a, b]` (object frame) to the mesh surface: BVH descent pruning
+    /// every node whose box is farther from the segment's box than the best distance so far.
+    fn segment_distance(&self, a: &P, b: &P) -> f64 {
+        let (lo, hi) = (a.inf(b), a.sup(b));
+        let verts = self.mesh.vertices();
+        let idx = self.mesh.indices();
+        let mut best = f64::INFINITY;
+        self.mesh.bvh().traverse(|node| {
+            if aabb_aabb_sq(&lo, &hi, &node.mins(), &node.maxs()) >= best {
+                return TraversalAction::Prune;
+            }
+            if let Some(leaf) = node.leaf_data() {
+                let [i, j, k] = idx[leaf as usize];
+                let d = segment_triangle_sq(a, b, &verts[i as usize], &verts[j as usize], &verts[k as usize]);
+                best = best.min(d);
+            }
+            TraversalAction::Continue
+        });
+        best.sqrt()
+    }
+}

@@ -1,0 +1,499 @@
+//! The collision world: support, static cuboids, the part, and two arms with grippers.
+//!
+//! Pairs checked (each with the optional safety margin):
+//! - every arm part vs the support half-space `z ≤ support_height`, except parts rigid with
+//!   the arm base (DH frame 0: mounted there);
+//! - every arm part vs every static cuboid obstacle (same base exception);
+//! - the arm's self-collision pairs (non-adjacent links; gripper vs the links it must not
+//!   touch, see `pregrasp_robot`);
+//! - every part of one arm vs every part of the other (base vs base excepted: both static);
+//! - every arm part vs the part (object), except the gripper of an arm whose `grasping`
+//!   flag is set; the object at its fixed pose or attached to a flange;
+//! - an attached object vs the static cuboids.
+//!
+//! Never checked: the object vs the support (it rests and pivots on it), and pairs of static
+//! things (a fixed object vs obstacles, obstacles vs support): no configuration changes them.
+
+use std::ops::ControlFlow;
+
+use nalgebra::{Isometry3, Vector3};
+use pregrasp_geometry::Mesh;
+use pregrasp_robot::{GripperState, Joints};
+
+use crate::arm::{ArmModel, PosedArm};
+use crate::distance::aabb_aabb_sq;
+use crate::error::CollisionError;
+use crate::object::ObjectGeometry;
+use crate::shape::{pair_distance, pair_intersects, plane_distance, Bounded, Placed};
+
+/// Where the part is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ObjectPlacement {
+    /// No part in the world.
+    Absent,
+    /// The part at a fixed pose (object frame → world).
+    Fixed(Isometry3<f64>),
+    /// The part moves with the flange of arm `arm`: `object = flange_world(q[arm]) · flange_to_object`.
+    Attached { arm: usize, flange_to_object: Isometry3<f64> },
+}
+
+/// Everything that changes between queries: both arms' joints and grippers, the part.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WorldState {
+    /// Joint angles of arm 0 and arm 1 (rad).
+    pub q: [Joints; 2],
+    /// Gripper state of each arm.
+    pub gripper: [GripperState; 2],
+    /// Where the part is.
+    pub object: ObjectPlacement,
+    /// Gripper `i` may touch the part (it grasps, closes on or releases it).
+    pub grasping: [bool; 2],
+}
+
+impl WorldState {
+    /// Both grippers open, no part, nothing grasped.
+    pub fn new(q: [Joints; 2]) -> Self {
+        WorldState {
+            q,
+            gripper: [GripperState::Open; 2],
+            object: ObjectPlacement::Absent,
+            grasping: [false; 2],
+        }
+    }
+}
+
+/// The first colliding pair found, by name (`"left/forearm"`, `"support"`, `"object"`, an
+/// obstacle's name). `a` is the moving side when one side is static.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Contact {
+    pub a: String,
+    pub b: String,
+}
+
+impl std::fmt::Display for Contact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} touches {}", self.a, self.b)
+    }
+}
+
+/// A named static cuboid.
+#[derive(Clone, Debug)]
+pub struct Obstacle {
+    pub name: String,
+    shape: Bounded,
+}
+
+impl Obstacle {
+    /// Box frame → world pose and half extents (m).
+    pub fn cuboid(&self) -> (Isometry3<f64>, Vector3<f64>) {
+        match self.shape.shape {
+            Placed::Cuboid { pose, half } => (pose, half),
+            Placed::Capsule { .. } => unreachable!("obstacles are cuboids"),
+        }
+    }
+}
+
+/// Identifies one side of a pair, resolved to a name only when reported.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Id {
+    Arm(usize, usize),
+    Support,
+    Obstacle(usize),
+    Object,
+}
+
+/// Support, obstacles, part and two arms. Immutable; queries take a [`WorldState`] and
+/// allocate nothing unless they report a contact by name.
+#[derive(Clone, Debug)]
+pub struct CollisionWorld {
+    support: Option<f64>,
+    object: Option<ObjectGeometry>,
+    arms: [ArmModel; 2],
+    active: [bool; 2],
+    obstacles: Vec<Obstacle>,
+    margin: f64,
+}
+
+impl CollisionWorld {
+    /// A world with the support plane at `z = support_height`, the part's mesh (object
+    /// frame, if any) and two arms.
+    ///
+    /// # Panics
+    /// If the mesh is unusable (no triangles, bad indices, non-finite vertices); use
+    /// [`CollisionWorld::try_new`] to get the error instead.
+    pub fn new(support_height: f64, object_mesh: Option<&Mesh>, arms: [ArmModel; 2]) -> Self {
+        match Self::try_new(Some(support_height), object_mesh, arms) {
+            Ok(w) => w,
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    /// Like [`CollisionWorld::new`], reporting a bad mesh; `support_height = None` means
+    /// no support plane.
+    pub fn try_new(
+        support_height: Option<f64>,
+        object_mesh: Option<&Mesh>,
+        arms: [ArmModel; 2],
+    ) -> Result<Self, CollisionError> {
+        let object = object_mesh.map(ObjectGeometry::new).transpose()?;
+        Ok(CollisionWorld { support: support_height, object, arms, active: [true; 2], obstacles: Vec::new(), margin: 0.0 })
+    }
+
+    /// A world with one arm only (as arm 0; `WorldState::q[1]` is ignored), an optional
+    /// support plane and an optional part. For single-arm benchmarks.
+    pub fn single_arm(
+        support_height: Option<f64>,
+        object_mesh: Option<&Mesh>,
+        arm: ArmModel,
+    ) -> Result<Self, CollisionError> {
+        let mut w = Self::try_new(support_height, object_mesh, [arm.clone(), arm])?;
+        w.active = [true, false];
+        Ok(w)
+    }
+
+    /// Adds a static cuboid named `name` (box frame → world `pose`, half extents in m).
+    pub fn with_obstacle_cuboid(mut self, name: &str, pose: Isometry3<f64>, half_extents: Vector3<f64>) -> Self {
+        let shape = Bounded::new(Placed::Cuboid { pose, half: half_extents });
+        self.obstacles.push(Obstacle { name: name.to_string(), shape });
+        self
+    }
+
+    /// Safety margin (m) for [`check`](Self::check) and [`check_arm`](Self::check_arm):
+    /// a pair collides when its distance is at most `margin`. Clearance ignores it.
+    pub fn with_margin(mut self, margin: f64) -> Self {
+        self.margin = margin.max(0.0);
+        self
+    }
+
+    /// The safety margin (m).
+    pub fn margin(&self) -> f64 {
+        self.margin
+    }
+
+    /// Both arms (for a single-arm world, arm 1 is an inactive copy of arm 0).
+    pub fn arms(&self) -> &[ArmModel; 2] {
+        &self.arms
+    }
+
+    /// Whether arm `i` takes part in queries (false only for arm 1 of a single-arm world).
+    pub fn is_active(&self, arm: usize) -> bool {
+        self.active[arm]
+    }
+
+    /// Height of the support plane, if any.
+    pub fn support_height(&self) -> Option<f64> {
+        self.support
+    }
+
+    /// The part's geometry, if any.
+    pub fn object(&self) -> Option<&ObjectGeometry> {
+        self.object.as_ref()
+    }
+
+    /// The static cuboids.
+    pub fn obstacles(&self) -> &[Obstacle] {
+        &self.obstacles
+    }
+
+    /// World pose of the part in `state` (None when absent or the world has no part mesh).
+    pub fn object_pose(&self, state: &WorldState) -> Option<Isometry3<f64>> {
+        self.object.as_ref()?;
+        match state.object {
+            ObjectPlacement::Absent => None,
+            ObjectPlacement::Fixed(p) => Some(p),
+            ObjectPlacement::Attached { arm, flange_to_object } => {
+                Some(self.arms[arm].flange_world(&state.q[arm]) * flange_to_object)
+            }
+        }
+    }
+
+    /// Collision-free, or the first colliding pair by name (fixed, deterministic order:
+    /// support, self, obstacles, other arm, part — per arm — then the attached part).
+    pub fn check(&self, state: &WorldState) -> Result<(), Contact> {
+        match self.first_contact(None, state) {
+            None => Ok(()),
+            Some(ids) => Err(self.contact(state, ids)),
+        }
+    }
+
+    /// Like [`check`](Self::check), restricted to pairs that involve arm `arm` or the part
+    /// when attached to it; the other arm is an obstacle. Used by planners.
+    pub fn check_arm(&self, arm: usize, state: &WorldState) -> Result<(), Contact> {
+        match self.first_contact(Some(arm), state) {
+            None => Ok(()),
+            Some(ids) => Err(self.contact(state, ids)),
+        }
+    }
+
+    /// `check_arm(arm, state).is_ok()` without building names.
+    #[inline]
+    pub fn is_arm_free(&self, arm: usize, state: &WorldState) -> bool {
+        self.first_contact(Some(arm), state).is_none()
+    }
+
+    /// `check(state).is_ok()` without building names.
+    #[inline]
+    pub fn is_free(&self, state: &WorldState) -> bool {
+        self.first_contact(None, state).is_none()
+    }
+
+    /// Minimum distance (m) over every checked pair, with the pair's names. `≤ 0` means
+    /// contact (capsule pairs report a negative penetration estimate). `(∞, "", "")` when
+    /// the world has no pair to measure.
+    pub fn clearance(&self, state: &WorldState) -> (f64, String, String) {
+        self.clearance_of(None, state)
+    }
+
+    /// [`clearance`](Self::clearance) restricted as in [`check_arm`](Self::check_arm).
+    pub fn clearance_arm(&self, arm: usize, state: &WorldState) -> (f64, String, String) {
+        self.clearance_of(Some(arm), state)
+    }
+
+    fn clearance_of(&self, only: Option<usize>, state: &WorldState) -> (f64, String, String) {
+        let mut sink = MinDistance { best: f64::INFINITY, ids: None };
+        let _ = self.visit(only, state, &mut sink);
+        match sink.ids {
+            None => (f64::INFINITY, String::new(), String::new()),
+            Some(ids) => {
+                let c = self.contact(state, ids);
+                (sink.best, c.a, c.b)
+            }
+        }
+    }
+
+    fn first_contact(&self, only: Option<usize>, state: &WorldState) -> Option<(Id, Id)> {
+        let mut sink = FirstContact { margin: self.margin, ids: None };
+        let _ = self.visit(only, state, &mut sink);
+        sink.ids
+    }
+
+    fn name(&self, state: &WorldState, id: Id) -> String {
+        match id {
+            Id::Arm(i, k) => self.arms[i].shape_names(state.gripper[i])[k].clone(),
+            Id::Support => "support".to_string(),
+            Id::Obstacle(o) => self.obstacles[o].name.clone(),
+            Id::Object => "object".to_string(),
+        }
+    }
+
+    fn contact(&self, state: &WorldState, (a, b): (Id, Id)) -> Contact {
+        Contact { a: self.name(state, a), b: self.name(state, b) }
+    }
+
+    /// Enumerates every pair to check (restricted to arm `only` if given), feeding `sink`.
+    fn visit(&self, only: Option<usize>, state: &WorldState, sink: &mut impl Sink) -> ControlFlow<()> {
+        // Both active arms are posed: in a single-arm query the other one is an obstacle.
+        let posed: [Option<PosedArm>; 2] =
+            [0, 1].map(|i| self.active[i].then(|| self.arms[i].pose(&state.q[i], state.gripper[i])));
+        let object = self.object.as_ref().zip(self.object_pose_posed(state, &posed));
+        let attached_to = match state.object {
+            ObjectPlacement::Attached { arm, .. } if object.is_some() => Some(arm),
+            _ => None,
+        };
+        for i in 0..2 {
+            if !self.active[i] || only.is_some_and(|o| o != i) {
+                continue;
+            }
+            let Some(pi) = &posed[i] else { continue };
+            let gstate = state.gripper[i];
+            let arm = &self.arms[i];
+            let shapes = pi.shapes();
+            // 1. Support.
+            if let Some(h) = self.support {
+                for (k, s) in shapes.iter().enumerate() {
+                    if !arm.is_base_part(gstate, k) {
+                        sink.plane(&s.shape, h, (Id::Arm(i, k), Id::Support))?;
+                    }
+                }
+            }
+            // 2. Self-collision pairs.
+            for &(a, b) in &arm.set(gstate).self_pairs {
+                let (a, b) = (a as usize, b as usize);
+                let (sa, sb) = (&shapes[a], &shapes[b]);
+                if !sink.skip_spheres(sa, sb) {
+                    sink.pair(&sa.shape, &sb.shape, (Id::Arm(i, a), Id::Arm(i, b)))?;
+                }
+            }
+            // 3. Static cuboids.
+            for (o, obs) in self.obstacles.iter().enumerate() {
+                for (k, s) in shapes.iter().enumerate() {
+                    if !arm.is_base_part(gstate, k) && !sink.skip_spheres(s, &obs.shape) {
+                        sink.pair(&s.shape, &obs.shape.shape, (Id::Arm(i, k), Id::Obstacle(o)))?;
+                    }
+                }
+            }
+            // 4. The other arm (each unordered pair of arms once).
+            let j = 1 - i;
+            if let Some(pj) = &posed[j] {
+                if self.active[j] && (only.is_some() || i < j) {
+                    self.arm_vs_arm(i, pi, j, pj, state, sink)?;
+                }
+            }
+            // 5. The part.
+            if let Some((obj, pose)) = &object {
+                let skip_gripper = state.grasping[i];
+                let set = arm.set(gstate);
+                for (k, s) in shapes.iter().enumerate() {
+                    if skip_gripper && set.is_gripper[k] {
+                        continue;
+                    }
+                    sink.object(obj, pose, s, (Id::Arm(i, k), Id::Object))?;
+                }
+            }
+        }
+        // 6. The attached part vs static cuboids, and (single-arm queries) vs the other arm.
+        if let (Some(a), Some((obj, pose))) = (attached_to, &object) {
+            if only.is_none_or(|o| o == a) {
+                for (o, obs) in self.obstacles.iter().enumerate() {
+                    sink.object(obj, pose, &obs.shape, (Id::Object, Id::Obstacle(o)))?;
+                }
+                let j = 1 - a;
+                if only.is_some() && self.active[j] {
+                    if let Some(pj) = &posed[j] {
+                        let set = self.arms[j].set(state.gripper[j]);
+                        for (k, s) in pj.shapes().iter().enumerate() {
+                            if state.grasping[j] && set.is_gripper[k] {
+                                continue;
+                            }
+                            sink.object(obj, pose, s, (Id::Arm(j, k), Id::Object))?;
+                        }
+                    }
+                }
+            }
+        }
+        ControlFlow::Continue(())
+    }
+
+    /// [`object_pose`](Self::object_pose), reusing the flange of an already posed arm.
+    fn object_pose_posed(&self, state: &WorldState, posed: &[Option<PosedArm>; 2]) -> Option<Isometry3<f64>> {
+        match (state.object, self.object.as_ref()) {
+            (ObjectPlacement::Attached { arm, flange_to_object }, Some(_)) => match &posed[arm] {
+                Some(p) => Some(p.flange() * flange_to_object),
+                None => self.object_pose(state),
+            },
+            _ => self.object_pose(state),
+        }
+    }
+
+    fn arm_vs_arm(
+        &self,
+        i: usize,
+        pi: &PosedArm,
+        j: usize,
+        pj: &PosedArm,
+        state: &WorldState,
+        sink: &mut impl Sink,
+    ) -> ControlFlow<()> {
+        let (lo_i, hi_i) = pi.bounds();
+        let (lo_j, hi_j) = pj.bounds();
+        if sink.skip_gap_sq(aabb_aabb_sq(&lo_i, &hi_i, &lo_j, &hi_j)) {
+            return ControlFlow::Continue(());
+        }
+        let (gi, gj) = (state.gripper[i], state.gripper[j]);
+        for (k, a) in pi.shapes().iter().enumerate() {
+            let base_k = self.arms[i].is_base_part(gi, k);
+            // Cull the whole row by this part's sphere against arm j's box.
+            let r = Vector3::repeat(a.radius);
+            if sink.skip_gap_sq(aabb_aabb_sq(&(a.center - r), &(a.center + r), &lo_j, &hi_j)) {
+                continue;
+            }
+            for (l, b) in pj.shapes().iter().enumerate() {
+                if base_k && self.arms[j].is_base_part(gj, l) {
+                    continue;
+                }
+                if !sink.skip_spheres(a, b) {
+                    sink.pair(&a.shape, &b.shape, (Id::Arm(i, k), Id::Arm(j, l)))?;
+                }
+            }
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+/// What to do with each candidate pair: stop at the first contact, or track the minimum.
+trait Sink {
+    /// Whether a pair whose bounding spheres are `s1`, `s2` cannot matter.
+    fn skip_spheres(&self, s1: &Bounded, s2: &Bounded) -> bool;
+    /// Whether a group whose boxes are `sqrt(gap_sq)` apart cannot matter.
+    fn skip_gap_sq(&self, gap_sq: f64) -> bool;
+    fn plane(&mut self, s: &Placed, height: f64, ids: (Id, Id)) -> ControlFlow<()>;
+    fn pair(&mut self, s1: &Placed, s2: &Placed, ids: (Id, Id)) -> ControlFlow<()>;
+    fn object(&mut self, obj: &ObjectGeometry, pose: &Isometry3<f64>, s: &Bounded, ids: (Id, Id)) -> ControlFlow<()>;
+}
+
+struct FirstContact {
+    margin: f64,
+    ids: Option<(Id, Id)>,
+}
+
+impl FirstContact {
+    #[inline]
+    fn hit(&mut self, hit: bool, ids: (Id, Id)) -> ControlFlow<()> {
+        if hit {
+            self.ids = Some(ids);
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+}
+
+impl Sink for FirstContact {
+    #[inline]
+    fn skip_spheres(&self, s1: &Bounded, s2: &Bounded) -> bool {
+        !s1.spheres_near(s2, self.margin)
+    }
+    #[inline]
+    fn skip_gap_sq(&self, gap_sq: f64) -> bool {
+        gap_sq > self.margin * self.margin
+    }
+    #[inline]
+    fn plane(&mut self, s: &Placed, height: f64, ids: (Id, Id)) -> ControlFlow<()> {
+        self.hit(plane_distance(s, height) <= self.margin, ids)
+    }
+    #[inline]
+    fn pair(&mut self, s1: &Placed, s2: &Placed, ids: (Id, Id)) -> ControlFlow<()> {
+        self.hit(pair_intersects(s1, s2, self.margin), ids)
+    }
+    #[inline]
+    fn object(&mut self, obj: &ObjectGeometry, pose: &Isometry3<f64>, s: &Bounded, ids: (Id, Id)) -> ControlFlow<()> {
+        self.hit(obj.intersects(pose, s, self.margin), ids)
+    }
+}
+
+struct MinDistance {
+    best: f64,
+    ids: Option<(Id, Id)>,
+}
+
+impl MinDistance {
+    fn offer(&mut self, d: f64, ids: (Id, Id)) -> ControlFlow<()> {
+        if d < self.best || self.ids.is_none() {
+            self.best = d;
+            self.ids = Some(ids);
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+impl Sink for MinDistance {
+    fn skip_spheres(&self, s1: &Bounded, s2: &Bounded) -> bool {
+        (s1.center - s2.center).norm() - s1.radius - s2.radius >= self.best
+    }
+    fn skip_gap_sq(&self, gap_sq: f64) -> bool {
+        gap_sq.sqrt() >= self.best
+    }
+    fn plane(&mut self, s: &Placed, height: f64, ids: (Id, Id)) -> ControlFlow<()> {
+        self.offer(plane_distance(s, height), ids)
+    }
+    fn pair(&mut self, s1: &Placed, s2: &Placed, ids: (Id, Id)) -> ControlFlow<()> {
+        self.offer(pair_distance(s1, s2), ids)
+    }
+    fn object(&mut self, obj: &ObjectGeometry, pose: &Isometry3<f64>, s: &Bounded, ids: (Id, Id)) -> ControlFlow<()> {
+        let (c, r) = obj.world_sphere(pose);
+        if (c - s.center).norm() - r - s.radius >= self.best {
+            return ControlFlow::Continue(());
+        }
+        self.offer(obj.distance(pose, s), ids)
+    }
+}

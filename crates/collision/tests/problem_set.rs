@@ -1,0 +1,56 @@
+//! The shipped problem set `data/reach-ur5-table-boxes.json` and its generator.
+//!
+//! Regenerate with
+//! `cargo test -p pregrasp-collision --test problem_set -- --ignored regenerate`.
+
+use std::path::PathBuf;
+
+use pregrasp_collision::reach::{generate_table_boxes, run_reach, ReachPlanner, ReachProblemSet, ReachSettings, GENERATOR_SEED};
+use pregrasp_robot::UrModel;
+
+/// Queries in the shipped set.
+const SHIPPED_QUERIES: usize = 120;
+/// Iterations the generator allows when proving a query feasible.
+const CHECK_ITERATIONS: usize = 50_000;
+
+fn shipped_path() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/reach-ur5-table-boxes.json")
+}
+
+#[test]
+#[ignore = "writes data/reach-ur5-table-boxes.json; run explicitly to regenerate"]
+fn regenerate() {
+    let set = generate_table_boxes(UrModel::Ur5e, GENERATOR_SEED, SHIPPED_QUERIES, CHECK_ITERATIONS);
+    let text = serde_json::to_string_pretty(&set.to_json()).unwrap() + "\n";
+    std::fs::write(shipped_path(), text).unwrap();
+}
+
+#[test]
+fn shipped_set_loads_with_valid_queries() {
+    let set = ReachProblemSet::load(&shipped_path()).unwrap();
+    assert!(set.queries.len() >= 100);
+    assert_eq!(set.obstacles.len(), 5);
+    assert!(set.obstacles[0].center.z + set.obstacles[0].half_extents.z < 0.0, "table top below the base plane");
+    let planner = ReachPlanner::new(&set, ReachSettings::default());
+    for (k, q) in set.queries.iter().enumerate() {
+        assert!(planner.is_valid(&q.start) && planner.is_valid(&q.goal), "query {k}");
+    }
+}
+
+#[test]
+fn generator_reproduces_the_shipped_set() {
+    let shipped = ReachProblemSet::load(&shipped_path()).unwrap();
+    let head = generate_table_boxes(UrModel::Ur5e, GENERATOR_SEED, 4, CHECK_ITERATIONS);
+    assert_eq!(head.obstacles, shipped.obstacles);
+    assert_eq!(head.queries[..], shipped.queries[..4]);
+}
+
+#[test]
+fn benchmark_runner_solves_shipped_queries() {
+    let mut set = ReachProblemSet::load(&shipped_path()).unwrap();
+    set.queries.truncate(20);
+    let report = run_reach(&set, &ReachSettings::default());
+    assert_eq!(report.queries, 20);
+    assert!(report.success_rate >= 0.95, "{report:?}");
+    assert!(report.median_ms <= report.p95_ms && report.p95_ms <= report.max_ms);
+}

@@ -1,0 +1,220 @@
+//! The plan file (`plan.json`, format `pregrasp.plan/1`): serde types that mirror
+//! `shared/spec/plan-format.md` field for field, plus atomic writing and reading.
+//!
+//! Field order here is the order in the file; keep it stable, plans must be byte-for-byte
+//! reproducible.
+
+use std::io::Write;
+use std::path::Path;
+
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
+use serde::{Deserialize, Serialize};
+
+/// The `format` value of every plan file this crate writes.
+pub const PLAN_FORMAT: &str = "pregrasp.plan/1";
+
+/// A pose in JSON: `{ "xyz": [x, y, z], "quat_xyzw": [x, y, z, w] }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PoseJson {
+    pub xyz: [f64; 3],
+    pub quat_xyzw: [f64; 4],
+}
+
+impl From<&Isometry3<f64>> for PoseJson {
+    /// Quaternions are written with `w >= 0` so that equal rotations serialise equally.
+    fn from(pose: &Isometry3<f64>) -> Self {
+        let t = pose.translation.vector;
+        let mut q = *pose.rotation.quaternion();
+        if q.w < 0.0 {
+            q = -q;
+        }
+        PoseJson { xyz: [t.x, t.y, t.z], quat_xyzw: [q.i, q.j, q.k, q.w] }
+    }
+}
+
+impl PoseJson {
+    /// The pose as an isometry (the quaternion is normalised).
+    pub fn to_isometry(&self) -> Isometry3<f64> {
+        let [x, y, z, w] = self.quat_xyzw;
+        let q = UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z));
+        Isometry3::from_parts(Translation3::new(self.xyz[0], self.xyz[1], self.xyz[2]), q)
+    }
+}
+
+/// The whole plan file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PlanFile {
+    pub format: String,
+    pub scene: SceneRef,
+    /// `"planned"` or `"no_plan"`.
+    pub status: String,
+    pub reason: Option<String>,
+    pub support_height: f64,
+    pub planner: PlannerJson,
+    pub object: ObjectJson,
+    pub robots: Vec<RobotJson>,
+    pub grasps: GraspsJson,
+    pub candidates: Vec<CandidateJson>,
+    pub plans: Vec<PlanJson>,
+    /// Wall-clock milliseconds per stage: `axes`, `poses`, `paths`, `total` (more keys allowed).
+    pub timing_ms: std::collections::BTreeMap<String, f64>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SceneRef {
+    pub name: Option<String>,
+    pub file: String,
+}
+
+/// Every `[planner]` key of the scene format with the value used.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PlannerJson {
+    pub support_distance: f64,
+    pub min_axis_length: f64,
+    pub step_deg: f64,
+    pub max_angle_deg: f64,
+    pub weight_length: f64,
+    pub weight_angle: f64,
+    pub extra_steps: u32,
+    pub min_grasp_axis_distance: f64,
+    pub lift: f64,
+    pub approach_distance: f64,
+    pub max_joint_step_deg: f64,
+    pub seed: u64,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ObjectJson {
+    pub mesh: String,
+    pub scale: f64,
+    /// P_init, including the lift.
+    pub initial_pose: PoseJson,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RobotJson {
+    pub name: String,
+    pub model: String,
+    pub base: PoseJson,
+    pub joint_names: Vec<String>,
+    pub start: [f64; 6],
+    /// In the flange frame.
+    pub precision_point: PoseJson,
+    /// In the flange frame.
+    pub power_point: PoseJson,
+}
+
+/// Grasp poses in the object frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GraspsJson {
+    pub power: [PoseJson; 2],
+    pub support: PoseJson,
+}
+
+/// One (axis, direction) pair of Algorithm 1, with what became of it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CandidateJson {
+    pub id: usize,
+    /// World endpoints at P_init.
+    pub axis: [[f64; 3]; 2],
+    /// `"ccw"`: positive rotation about `axis[1] - axis[0]` (right-hand rule); `"cw"`: negative.
+    pub direction: String,
+    pub length: f64,
+    pub theta_max: f64,
+    pub score: f64,
+    pub theta_goal: Option<f64>,
+    /// `"planned"`, `"rejected: <reason>"` or `"not evaluated…"`.
+    pub outcome: String,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PlanJson {
+    pub candidate: usize,
+    pub score: f64,
+    pub master: String,
+    pub supportive: String,
+    pub object_goal_pose: PoseJson,
+    pub segments: Vec<SegmentJson>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SegmentJson {
+    /// `sup1`, `rot`, `mas1`, `sup2`.
+    pub name: String,
+    pub robot: String,
+    /// `reach`, `rotate`, `regrasp`.
+    pub kind: String,
+    /// `support` or `power`.
+    pub grasp: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub retreat_to: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub approach_from: Option<usize>,
+    pub points: Vec<PointJson>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PointJson {
+    pub t: f64,
+    pub q: [f64; 6],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub object_pose: Option<PoseJson>,
+}
+
+/// Errors reading or writing a plan file; each names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum PlanFileError {
+    #[error("{path}: cannot read: {error}")]
+    Read { path: String, error: std::io::Error },
+    #[error("{path}: not a pregrasp plan file: {error}")]
+    Parse { path: String, error: serde_json::Error },
+    #[error("{path}: format is {found:?}, expected {PLAN_FORMAT:?}")]
+    Format { path: String, found: String },
+    #[error("{path}: cannot write: {error}")]
+    Write { path: String, error: std::io::Error },
+}
+
+impl PlanFile {
+    /// The file as pretty JSON with a trailing newline (deterministic for equal values).
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).expect("plan file serialises");
+        s.push('\n');
+        s
+    }
+
+    /// Reads and parses a plan file, checking its `format`.
+    pub fn read(path: &Path) -> Result<PlanFile, PlanFileError> {
+        let shown = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|error| PlanFileError::Read { path: shown.clone(), error })?;
+        let plan: PlanFile = serde_json::from_str(&text)
+            .map_err(|error| PlanFileError::Parse { path: shown.clone(), error })?;
+        if plan.format != PLAN_FORMAT {
+            return Err(PlanFileError::Format { path: shown, found: plan.format });
+        }
+        Ok(plan)
+    }
+
+    /// Writes the file atomically: to a temporary file beside `path`, then renamed over it,
+    /// so a reader never sees half a plan and a failed write leaves nothing behind.
+    pub fn write_atomic(&self, path: &Path) -> Result<(), PlanFileError> {
+        write_atomic(path, self.to_json().as_bytes())
+    }
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same directory and a rename.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), PlanFileError> {
+    let shown = path.display().to_string();
+    let err = |error| PlanFileError::Write { path: shown.clone(), error };
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(err)?;
+    tmp.write_all(bytes).map_err(err)?;
+    tmp.flush().map_err(err)?;
+    tmp.persist(path).map_err(|e| err(e.error))?;
+    Ok(())
+}

@@ -1,0 +1,536 @@
+//! `pregrasp check`: re-verifies a plan file, with the project's own models, against every rule
+//! of plan-format.md, "What a valid plan satisfies". It needs nothing but the plan file and the
+//! object mesh it names: the arms, tool frames, grasps and poses all come from the file.
+//!
+//! Motions are checked as the format defines them — linear in joint space between neighbouring
+//! points (the object's pose interpolated by slerp during `rot`) — at [`CHECK_RESOLUTION`]: no
+//! point of a moving arm travels farther than that between two checked states. No safety margin
+//! is used here (the planner keeps its own).
+
+use nalgebra::{Isometry3, Point3, Vector3};
+use pregrasp_collision::{ArmModel, CollisionWorld, ObjectPlacement, WorldState};
+use pregrasp_geometry::Mesh;
+use pregrasp_io::plan_file::{PlanFile, PlanJson, PoseJson, SegmentJson};
+use pregrasp_robot::{joint_sweep_radii, Gripper2F85, GripperState, Joints, UrModel};
+
+use crate::timeline::{lerp_joints, lerp_pose, substeps, CONTACT_ZONE};
+
+/// Largest travel of any arm point between two checked states (m).
+pub const CHECK_RESOLUTION: f64 = 0.002;
+/// Rule 3: how far the object may go below the support (m).
+pub const BELOW_SUPPORT_TOLERANCE: f64 = 0.001;
+/// Rule 3: how far an axis endpoint may move during `rot` (m).
+pub const AXIS_MOTION_TOLERANCE: f64 = 0.002;
+/// Rule 4: tool pose vs grasp pose.
+pub const GRASP_POSITION_TOLERANCE: f64 = 0.001;
+pub const GRASP_ANGLE_TOLERANCE: f64 = 0.01;
+/// Rule 4: tool vs its straight approach/retreat line.
+pub const LINE_POSITION_TOLERANCE: f64 = 0.002;
+pub const LINE_ANGLE_TOLERANCE: f64 = 0.01;
+
+/// The verdict on one rule.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RuleResult {
+    /// Rule number in plan-format.md (0 = file structure, checked first).
+    pub rule: u8,
+    pub title: &'static str,
+    /// `None`: not checkable from a plan file alone.
+    pub ok: Option<bool>,
+    /// The worst value found, or the first violation.
+    pub detail: String,
+}
+
+/// The verdict on a whole plan file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckReport {
+    pub rules: Vec<RuleResult>,
+}
+
+impl CheckReport {
+    /// Valid iff no checked rule failed.
+    pub fn is_valid(&self) -> bool {
+        self.rules.iter().all(|r| r.ok != Some(false))
+    }
+}
+
+/// Accumulates the worst value and the first violation of one rule across all plans.
+struct Rule {
+    worst: f64,
+    worst_at: String,
+    violation: Option<String>,
+}
+
+impl Rule {
+    fn new() -> Self {
+        Rule { worst: f64::NEG_INFINITY, worst_at: String::new(), violation: None }
+    }
+    /// Records a value where larger is worse; `limit` is the largest allowed value.
+    fn value(&mut self, value: f64, limit: f64, at: impl FnOnce() -> String) {
+        if value > self.worst || self.violation.is_none() && value > limit {
+            let at = at();
+            if value > self.worst {
+                self.worst = value;
+                self.worst_at = at.clone();
+            }
+            if value > limit && self.violation.is_none() {
+                self.violation = Some(at);
+            }
+        }
+    }
+    fn fail(&mut self, what: String) {
+        if self.violation.is_none() {
+            self.violation = Some(what);
+        }
+    }
+    fn result(self, rule: u8, title: &'static str, unit: impl Fn(f64) -> String) -> RuleResult {
+        match self.violation {
+            Some(v) => RuleResult { rule, title, ok: Some(false), detail: v },
+            None if self.worst.is_finite() => RuleResult {
+                rule,
+                title,
+                ok: Some(true),
+                detail: format!("worst {} ({})", unit(self.worst), self.worst_at),
+            },
+            None => RuleResult { rule, title, ok: Some(true), detail: "nothing to check".into() },
+        }
+    }
+}
+
+/// Checks every plan in `file`; `mesh` is the object mesh in the object frame (scaled).
+pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
+    let mut structure = Rule::new();
+    let mut limits = Rule::new();
+    let mut collisions = Rule::new();
+    let mut rotation = Rule::new();
+    let mut grasps = Rule::new();
+
+    let arms = match arm_models(file) {
+        Ok(arms) => arms,
+        Err(e) => {
+            structure.fail(e);
+            return CheckReport { rules: vec![structure.result(0, "plan structure", |_| String::new())] };
+        }
+    };
+    if file.status == "planned" && file.plans.is_empty() {
+        structure.fail("status is \"planned\" but there is no plan".into());
+    }
+    if file.status != "planned" && !file.plans.is_empty() {
+        structure.fail(format!("status is {:?} but plans are present", file.status));
+    }
+    let world = CollisionWorld::new(file.support_height, Some(mesh), arms.clone());
+    for (index, plan) in file.plans.iter().enumerate() {
+        let mut cx = PlanCheck {
+            file,
+            plan,
+            index,
+            arms: &arms,
+            world: &world,
+            mesh,
+            structure: &mut structure,
+            limits: &mut limits,
+            collisions: &mut collisions,
+            rotation: &mut rotation,
+            grasps: &mut grasps,
+        };
+        cx.run();
+    }
+    let mm = |x: f64| format!("{:.2} mm", x * 1e3);
+    CheckReport {
+        rules: vec![
+            structure.result(0, "plan structure (segments, robots, times, continuity)", |_| {
+                "ok".into()
+            }),
+            limits.result(1, "joint limits and joint speeds", |x| {
+                format!("{:.1} % of a limit", x * 100.0)
+            }),
+            collisions.result(2, "no forbidden contact (support, arms, grippers, object)", |x| {
+                format!("{} states checked", x as u64)
+            }),
+            rotation.result(3, "rotation keeps the part on the support about a fixed axis", mm),
+            grasps.result(4, "tool poses at grasps and on approach/retreat lines", |x| {
+                format!("{:.2} % of a tolerance", x * 100.0)
+            }),
+            RuleResult {
+                rule: 5,
+                title: "determinism",
+                ok: None,
+                detail: "not checkable from one file: plan the scene twice and compare bytes".into(),
+            },
+        ],
+    }
+}
+
+fn arm_models(file: &PlanFile) -> Result<[ArmModel; 2], String> {
+    if file.robots.len() != 2 {
+        return Err(format!("expected 2 robots, found {}", file.robots.len()));
+    }
+    let build = |i: usize| -> Result<ArmModel, String> {
+        let r = &file.robots[i];
+        let model = UrModel::from_name(&r.model)
+            .ok_or_else(|| format!("robots[{i}].model: unknown robot model {:?}", r.model))?;
+        let gripper = Gripper2F85 {
+            precision_point_z: r.precision_point.xyz[2],
+            power_point_z: r.power_point.xyz[2],
+        };
+        Ok(ArmModel::new(&r.name, model, r.base.to_isometry(), gripper))
+    };
+    Ok([build(0)?, build(1)?])
+}
+
+/// Pose error: (position error in m, rotation angle in rad).
+fn pose_error(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {
+    (
+        (a.translation.vector - b.translation.vector).norm(),
+        a.rotation.angle_to(&b.rotation),
+    )
+}
+
+struct PlanCheck<'a> {
+    file: &'a PlanFile,
+    plan: &'a PlanJson,
+    index: usize,
+    arms: &'a [ArmModel; 2],
+    world: &'a CollisionWorld,
+    mesh: &'a Mesh,
+    structure: &'a mut Rule,
+    limits: &'a mut Rule,
+    collisions: &'a mut Rule,
+    rotation: &'a mut Rule,
+    grasps: &'a mut Rule,
+}
+
+/// Which straight line a point of a reach/regrasp segment lies on, if any.
+#[derive(Clone, Copy)]
+struct Line {
+    /// The tool pose at the end that touches the part (the grasp end).
+    grasp_end: Isometry3<f64>,
+}
+
+/// "plan I SEG point K", for messages.
+fn at(index: usize, seg: &SegmentJson, k: usize) -> String {
+    format!("plan {index} {} point {k}", seg.name)
+}
+
+/// Rule 4: a tool pose vs the grasp pose it should meet.
+fn grasp_error(rule: &mut Rule, dp: f64, da: f64, at: impl Fn() -> String) {
+    let worst = (dp / GRASP_POSITION_TOLERANCE).max(da / GRASP_ANGLE_TOLERANCE);
+    rule.value(worst, 1.0, || format!("{}: {:.3} mm, {:.4} rad", at(), dp * 1e3, da));
+}
+
+/// Rule 4: a tool pose vs the straight line ending at `line.grasp_end`.
+fn line_error(rule: &mut Rule, tool: &Isometry3<f64>, line: &Line, at: impl Fn() -> String) {
+    let end = &line.grasp_end;
+    let dir: Vector3<f64> = end.rotation * Vector3::z();
+    let v = tool.translation.vector - end.translation.vector;
+    let off = (v - dir * v.dot(&dir)).norm();
+    let angle = tool.rotation.angle_to(&end.rotation);
+    let worst = (off / LINE_POSITION_TOLERANCE).max(angle / LINE_ANGLE_TOLERANCE);
+    rule.value(worst, 1.0, || format!("{}: {:.3} mm off the line, {:.4} rad", at(), off * 1e3, angle));
+}
+
+impl<'a> PlanCheck<'a> {
+
+    fn robot_index(&self, name: &str) -> Option<usize> {
+        self.file.robots.iter().position(|r| r.name == name)
+    }
+
+    fn tool(&self, arm: usize, q: &Joints, precision: bool) -> Isometry3<f64> {
+        let g = &self.arms[arm].gripper;
+        let point = if precision { g.precision_point() } else { g.power_point() };
+        self.arms[arm].flange_world(q) * point
+    }
+
+    fn run(&mut self) {
+        let index = self.index;
+        let plan: &'a PlanJson = self.plan;
+        let expected = [("sup1", "reach"), ("rot", "rotate"), ("mas1", "reach"), ("sup2", "regrasp")];
+        if plan.segments.len() != 4 {
+            self.structure.fail(format!("plan {}: {} segments, expected 4", index, plan.segments.len()));
+            return;
+        }
+        let (Some(sup), Some(mas)) = (self.robot_index(&plan.supportive), self.robot_index(&plan.master))
+        else {
+            self.structure.fail(format!("plan {}: master/supportive name no robot", index));
+            return;
+        };
+        if sup == mas {
+            self.structure.fail(format!("plan {}: master and supportive are the same arm", index));
+            return;
+        }
+        for (seg, (name, kind)) in plan.segments.iter().zip(expected) {
+            let robot_ok = match name {
+                "mas1" => seg.robot == plan.master,
+                _ => seg.robot == plan.supportive,
+            };
+            if seg.name != name || seg.kind != kind || !robot_ok {
+                self.structure.fail(format!(
+                    "plan {}: segment {:?} ({}, robot {}) where {name} ({kind}) was expected",
+                    index, seg.name, seg.kind, seg.robot
+                ));
+                return;
+            }
+            if let Err(e) = self.segment_structure(seg) {
+                self.structure.fail(e);
+                return;
+            }
+        }
+        let Some(candidate) = self.file.candidates.iter().find(|c| c.id == plan.candidate) else {
+            self.structure.fail(format!("plan {}: candidate {} is not listed", index, plan.candidate));
+            return;
+        };
+        let axis = candidate.axis.map(|p| Point3::new(p[0], p[1], p[2]));
+
+        let p_init = self.file.object.initial_pose.to_isometry();
+        let p_obj = plan.object_goal_pose.to_isometry();
+        let g_s = self.file.grasps.support.to_isometry();
+        let g_p = [self.file.grasps.power[0].to_isometry(), self.file.grasps.power[1].to_isometry()];
+        let mut q = [self.file.robots[0].start, self.file.robots[1].start];
+        let mut gripper = [GripperState::Open; 2];
+        let mut holding = [false; 2];
+        let mut object = p_init;
+
+        for seg in &plan.segments {
+            let arm = if seg.name == "mas1" { mas } else { sup };
+            // Continuity: every segment starts where its arm is.
+            let first = seg.points[0].q;
+            let jump = (0..6).map(|i| (first[i] - q[arm][i]).abs()).fold(0.0, f64::max);
+            if jump > 1e-6 {
+                self.structure.fail(format!(
+                    "plan {} {}: starts {:.4} rad away from where arm {} is",
+                    index, seg.name, jump, self.file.robots[arm].name
+                ));
+                return;
+            }
+            self.check_limits(arm, seg);
+            match seg.kind.as_str() {
+                "rotate" => {
+                    gripper[arm] = GripperState::Closed;
+                    holding[arm] = true;
+                    self.check_rotation(arm, seg, &q, &gripper, &holding, &axis, &p_init, &g_s);
+                    let last = seg.points.last().expect("≥ 2 points");
+                    object = last.object_pose.as_ref().map(PoseJson::to_isometry).unwrap_or(object);
+                    let (dp, da) = pose_error(&object, &p_obj);
+                    grasp_error(self.grasps, dp, da, || format!("plan {} rot: last object_pose vs object_goal_pose", index));
+                }
+                _ => {
+                    let precision = seg.name == "sup1";
+                    let goal = if precision { object * g_s } else { object * g_p[arm] };
+                    gripper[arm] = GripperState::Open;
+                    holding[arm] = false;
+                    self.check_reach(arm, seg, &q, &gripper, &holding, &object, precision, &goal);
+                    gripper[arm] = GripperState::Closed;
+                    holding[arm] = true;
+                }
+            }
+            q[arm] = seg.points.last().expect("≥ 2 points").q;
+        }
+    }
+
+    fn segment_structure(&self, seg: &SegmentJson) -> Result<(), String> {
+        let index = self.index;
+        let n = seg.points.len();
+        if n < 2 {
+            return Err(format!("plan {} {}: fewer than 2 points", index, seg.name));
+        }
+        if seg.points[0].t != 0.0 {
+            return Err(format!("plan {} {}: t does not start at 0", index, seg.name));
+        }
+        for k in 1..n {
+            let (t0, t1) = (seg.points[k - 1].t, seg.points[k].t);
+            if t1.is_nan() || t1 <= t0 {
+                return Err(format!("{}: t does not increase strictly", at(index, seg, k)));
+            }
+        }
+        if seg.points.iter().flat_map(|p| p.q).any(|x| !x.is_finite()) {
+            return Err(format!("plan {} {}: a joint value is not finite", index, seg.name));
+        }
+        let approach = seg.approach_from;
+        if seg.kind != "rotate" && approach.is_none_or(|a| a >= n) {
+            return Err(format!("plan {} {}: approach_from missing or out of range", index, seg.name));
+        }
+        if seg.kind == "regrasp" {
+            match (seg.retreat_to, approach) {
+                (Some(r), Some(a)) if r <= a => {}
+                _ => return Err(format!("plan {} {}: retreat_to missing or after approach_from", index, seg.name)),
+            }
+        }
+        if seg.kind == "rotate" && seg.points.iter().any(|p| p.object_pose.is_none()) {
+            return Err(format!("plan {} rot: a point has no object_pose", index));
+        }
+        Ok(())
+    }
+
+    /// Rule 1: joint limits at every point, joint speeds between neighbouring points.
+    fn check_limits(&mut self, arm: usize, seg: &SegmentJson) {
+        let index = self.index;
+        let model = self.arms[arm].model();
+        let lim = model.joint_limits();
+        let vmax = model.max_joint_speed();
+        for (k, p) in seg.points.iter().enumerate() {
+            for (j, &(lo, hi)) in lim.iter().enumerate() {
+                // Fraction of the way from the middle of the range to a limit.
+                let mid = 0.5 * (lo + hi);
+                let frac = (p.q[j] - mid).abs() / (0.5 * (hi - lo));
+                self.limits.value(frac, 1.0, || format!("{} joint {} position", at(index, seg, k), j + 1));
+            }
+            if k > 0 {
+                let prev = &seg.points[k - 1];
+                let dt = p.t - prev.t;
+                for (j, v) in vmax.iter().enumerate() {
+                    let frac = (p.q[j] - prev.q[j]).abs() / dt / v;
+                    self.limits.value(frac * (1.0 - 1e-9), 1.0, || {
+                        format!("{} joint {} speed", at(index, seg, k), j + 1)
+                    });
+                }
+            }
+        }
+    }
+
+    fn state(&self, q: [Joints; 2], gripper: [GripperState; 2], object: Isometry3<f64>, contact: [bool; 2]) -> WorldState {
+        WorldState { q, gripper, object: ObjectPlacement::Fixed(object), grasping: contact }
+    }
+
+    fn collide(&mut self, state: &WorldState, at: impl Fn() -> String) {
+        self.collisions.worst = self.collisions.worst.max(0.0) + 1.0;
+        if let Err(c) = self.world.check(state) {
+            self.collisions.fail(format!("{}: {} touches {}", at(), c.a, c.b));
+        }
+    }
+
+    /// Rules 2 and 4 along a reach (`sup1`, `mas1`) or regrasp (`sup2`) segment.
+    #[allow(clippy::too_many_arguments)]
+    fn check_reach(
+        &mut self,
+        arm: usize,
+        seg: &SegmentJson,
+        q: &[Joints; 2],
+        gripper: &[GripperState; 2],
+        holding: &[bool; 2],
+        object: &Isometry3<f64>,
+        precision: bool,
+        goal: &Isometry3<f64>,
+    ) {
+        let index = self.index;
+        let pts = &seg.points;
+        let n = pts.len();
+        let approach_from = seg.approach_from.unwrap_or(n - 1);
+        let retreat_to = seg.retreat_to;
+        let weights = joint_sweep_radii(self.arms[arm].model(), &self.arms[arm].gripper);
+        // The retreat leaves the support grasp (precision point) the arm held at its first point.
+        let retreat_line = retreat_to.map(|_| Line { grasp_end: self.tool(arm, &pts[0].q, true) });
+        let approach_line = Line { grasp_end: self.tool(arm, &pts[n - 1].q, precision) };
+
+        // Rule 4: the tool meets the grasp, and the stand-off is approach_distance back.
+        let end = self.tool(arm, &pts[n - 1].q, precision);
+        let (dp, da) = pose_error(&end, goal);
+        grasp_error(self.grasps, dp, da, || format!("{}: tool vs grasp", at(index, seg, n - 1)));
+        let standoff = self.tool(arm, &pts[approach_from].q, precision);
+        let d = (standoff.translation.vector - end.translation.vector).norm();
+        let expected = self.file.planner.approach_distance;
+        self.grasps.value((d - expected).abs() / GRASP_POSITION_TOLERANCE, 1.0, || {
+            format!("{}: stand-off {:.2} mm from the grasp", at(index, seg, approach_from), d * 1e3)
+        });
+
+        for k in 0..n {
+            let edge_end = if k + 1 < n { k + 1 } else { k };
+            let steps = if k + 1 < n { substeps(&pts[k].q, &pts[k + 1].q, &weights, CHECK_RESOLUTION) } else { 1 };
+            for s in 0..steps {
+                let f = s as f64 / steps as f64;
+                let qi = lerp_joints(&pts[k].q, &pts[edge_end].q, f);
+                let mut all = *q;
+                all[arm] = qi;
+                let on_approach = k >= approach_from;
+                let on_retreat = retreat_to.is_some_and(|r| edge_end <= r && (k < r || s == 0));
+                let mut contact = *holding;
+                contact[arm] = false;
+                if on_approach {
+                    let tool = self.tool(arm, &qi, precision);
+                    line_error(self.grasps, &tool, &approach_line, || format!("{} (+{f:.2})", at(index, seg, k)));
+                    let dist = (tool.translation.vector - approach_line.grasp_end.translation.vector).norm();
+                    contact[arm] = dist <= CONTACT_ZONE + 1e-9;
+                }
+                if on_retreat {
+                    let line = retreat_line.expect("retreat has a line");
+                    let tool = self.tool(arm, &qi, true);
+                    line_error(self.grasps, &tool, &line, || format!("{} (+{f:.2}) retreat", at(index, seg, k)));
+                    let dist = (tool.translation.vector - line.grasp_end.translation.vector).norm();
+                    contact[arm] = contact[arm] || dist <= CONTACT_ZONE + 1e-9;
+                }
+                // The gripper closes at the last point.
+                let mut grip = *gripper;
+                if k == n - 1 {
+                    grip[arm] = GripperState::Closed;
+                    contact[arm] = true;
+                }
+                let state = self.state(all, grip, *object, contact);
+                let seg_name = seg.name.clone();
+                let index = self.index;
+                self.collide(&state, || format!("plan {index} {seg_name} point {k} (+{f:.2})"));
+            }
+        }
+    }
+
+    /// Rules 2, 3 and 4 along `rot`.
+    #[allow(clippy::too_many_arguments)]
+    fn check_rotation(
+        &mut self,
+        arm: usize,
+        seg: &SegmentJson,
+        q: &[Joints; 2],
+        gripper: &[GripperState; 2],
+        holding: &[bool; 2],
+        axis: &[Point3<f64>; 2],
+        p_init: &Isometry3<f64>,
+        g_s: &Isometry3<f64>,
+    ) {
+        let index = self.index;
+        let pts = &seg.points;
+        let n = pts.len();
+        let weights = joint_sweep_radii(self.arms[arm].model(), &self.arms[arm].gripper);
+        let support = self.file.support_height;
+        let axis_band = self.file.planner.support_distance + self.file.planner.lift + 0.001;
+        let init_inv = p_init.inverse();
+        let poses: Vec<Isometry3<f64>> =
+            pts.iter().map(|p| p.object_pose.as_ref().expect("checked").to_isometry()).collect();
+        let (dp, da) = pose_error(&poses[0], p_init);
+        grasp_error(self.grasps, dp, da, || format!("plan {} rot: first object_pose vs P_init", index));
+        for k in 0..n {
+            // Rule 4: precision point on G_s at every point.
+            let tool = self.tool(arm, &pts[k].q, true);
+            let (dp, da) = pose_error(&tool, &(poses[k] * g_s));
+            grasp_error(self.grasps, dp, da, || format!("{}: tool vs object_pose·G_s", at(index, seg, k)));
+            let edge_end = if k + 1 < n { k + 1 } else { k };
+            let steps = if k + 1 < n { substeps(&pts[k].q, &pts[k + 1].q, &weights, CHECK_RESOLUTION) } else { 1 };
+            for s in 0..steps {
+                let f = s as f64 / steps as f64;
+                let object = lerp_pose(&poses[k], &poses[edge_end], f);
+                // Rule 3: above the support, axis fixed and on the support.
+                let lowest = self.mesh.vertices.iter().map(|v| (object * v).z).fold(f64::INFINITY, f64::min);
+                let below = support - lowest;
+                self.rotation.value(below, BELOW_SUPPORT_TOLERANCE, || {
+                    format!("plan {} rot point {k} (+{f:.2}): part {:.2} mm below the support", index, below * 1e3)
+                });
+                for (e, p) in axis.iter().enumerate() {
+                    let moved = object * (init_inv * p);
+                    let shift = (moved - p).norm();
+                    self.rotation.value(shift, AXIS_MOTION_TOLERANCE, || {
+                        format!("plan {} rot point {k} (+{f:.2}): axis end {e} moved {:.2} mm", index, shift * 1e3)
+                    });
+                    let height = moved.z - support;
+                    if height > axis_band {
+                        self.rotation.fail(format!(
+                            "plan {} rot point {k}: axis end {e} {:.2} mm above the support",
+                            self.index,
+                            height * 1e3
+                        ));
+                    }
+                }
+                let mut all = *q;
+                all[arm] = lerp_joints(&pts[k].q, &pts[edge_end].q, f);
+                let state = self.state(all, *gripper, object, *holding);
+                let index = self.index;
+                self.collide(&state, || format!("plan {index} rot point {k} (+{f:.2})"));
+            }
+        }
+    }
+}

@@ -1,0 +1,26 @@
+//! The pre-grasp manipulation pipeline of the paper (§IV–VI), from a scene to a plan file:
+//!
+//! - [`axes`]: Algorithm 1, rotation-axis candidates λ with θ_max and S_rot;
+//! - [`poses`] (with [`dummies`]): Algorithm 2, P_obj and θ_goal per candidate, roles, IK sets;
+//! - [`rotate`], [`reach`], [`paths`]: Algorithm 3, μ_rot, μ_sup1, μ_mas1, μ_sup2;
+//! - [`timing`], [`output`]: timed segments and the plan file;
+//! - [`check`]: the plan-file validity rules, re-verified with our own models;
+//! - [`pipeline`]: all of it, candidates in parallel, deterministic for any thread count.
+//!
+//! [`context`] holds the read-only models every stage shares; [`timeline`] the semantics of a
+//! plan's instants (who moves, which gripper is closed, where contact is allowed).
+
+pub mod check;
+pub mod context;
+pub mod dummies;
+pub mod output;
+pub mod paths;
+pub mod pipeline;
+pub mod poses;
+pub mod reach;
+pub mod rotate;
+pub mod timeline;
+pub mod timing;
+
+pub mod axes;
+pub use axes::{rotation_axis_candidates, AxesResult, Direction, RotationAxisCandidate};

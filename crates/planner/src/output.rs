@@ -1,0 +1,132 @@
+//! Turning the pipeline's results into the plan file (`plan-format.md`).
+
+use std::collections::BTreeMap;
+
+use nalgebra::Isometry3;
+use pregrasp_io::plan_file::{
+    GraspsJson, ObjectJson, PlanFile, PlanJson, PointJson, PoseJson, RobotJson, SceneRef,
+    SegmentJson, PLAN_FORMAT,
+};
+use pregrasp_io::scene::Scene;
+use pregrasp_robot::{Gripper2F85, Joints, JOINT_NAMES};
+
+use crate::paths::IntegratedPath;
+use crate::poses::PowerGraspPose;
+use crate::reach::ReachMotion;
+use crate::timing::{scaled, time_along, CONTACT_SCALE};
+use crate::context::PlanningContext;
+
+/// Everything of the plan file that does not depend on the planning result.
+pub fn plan_file_header(scene: &Scene, status: &str, reason: Option<String>) -> PlanFile {
+    let robots = scene.robots.clone().map(|r| {
+        let gripper = Gripper2F85 {
+            precision_point_z: r.precision_point_z,
+            power_point_z: r.power_point_z,
+        };
+        RobotJson {
+            name: r.name.clone(),
+            model: r.model.clone(),
+            base: PoseJson::from(&r.base),
+            joint_names: JOINT_NAMES.iter().map(|s| s.to_string()).collect(),
+            start: r.start,
+            precision_point: PoseJson::from(&gripper.precision_point()),
+            power_point: PoseJson::from(&gripper.power_point()),
+        }
+    });
+    PlanFile {
+        format: PLAN_FORMAT.to_string(),
+        scene: SceneRef { name: scene.name.clone(), file: scene.file.display().to_string() },
+        status: status.to_string(),
+        reason,
+        support_height: scene.support_height,
+        planner: scene.planner.to_json(),
+        object: ObjectJson {
+            mesh: scene.object.mesh_path.display().to_string(),
+            scale: scene.object.scale,
+            initial_pose: PoseJson::from(&scene.initial_object_pose()),
+            mass: scene.object.mass,
+        },
+        robots: robots.into_iter().collect(),
+        grasps: GraspsJson {
+            power: [
+                PoseJson::from(&scene.grasps.power[0]),
+                PoseJson::from(&scene.grasps.power[1]),
+            ],
+            support: PoseJson::from(&scene.grasps.support),
+        },
+        candidates: Vec::new(),
+        plans: Vec::new(),
+        timing_ms: BTreeMap::new(),
+    }
+}
+
+fn points(q: &[Joints], t: &[f64]) -> Vec<PointJson> {
+    q.iter()
+        .zip(t)
+        .map(|(q, &t)| PointJson { t, q: *q, object_pose: None })
+        .collect()
+}
+
+fn reach_segment(name: &str, robot: &str, kind: &str, grasp: &str, m: &ReachMotion) -> SegmentJson {
+    SegmentJson {
+        name: name.to_string(),
+        robot: robot.to_string(),
+        kind: kind.to_string(),
+        grasp: grasp.to_string(),
+        retreat_to: m.retreat_to,
+        approach_from: Some(m.approach_from),
+        points: points(&m.q, &m.t),
+    }
+}
+
+/// One plan of the file: the four segments of an integrated path.
+pub fn plan_json(
+    ctx: &PlanningContext,
+    candidate_id: usize,
+    score: f64,
+    pose: &PowerGraspPose,
+    path: &IntegratedPath,
+) -> PlanJson {
+    let sup = &ctx.names[pose.supportive];
+    let mas = &ctx.names[pose.master];
+    let model = ctx.arm(pose.supportive).kin.model();
+    let rot_t = time_along(
+        &path.rot.q,
+        &path.rot.theta,
+        &scaled(&model.max_joint_speed(), CONTACT_SCALE),
+        &scaled(&model.max_joint_accel(), CONTACT_SCALE),
+    );
+    let rot_points = path
+        .rot
+        .q
+        .iter()
+        .zip(&rot_t)
+        .zip(&path.rot.object)
+        .map(|((q, &t), object): ((&Joints, &f64), &Isometry3<f64>)| PointJson {
+            t,
+            q: *q,
+            object_pose: Some(PoseJson::from(object)),
+        })
+        .collect();
+    PlanJson {
+        candidate: candidate_id,
+        score,
+        master: mas.clone(),
+        supportive: sup.clone(),
+        object_goal_pose: PoseJson::from(&pose.p_obj),
+        segments: vec![
+            reach_segment("sup1", sup, "reach", "support", &path.sup1),
+            SegmentJson {
+                name: "rot".to_string(),
+                robot: sup.clone(),
+                kind: "rotate".to_string(),
+                grasp: "support".to_string(),
+                retreat_to: None,
+                approach_from: None,
+                points: rot_points,
+            },
+            reach_segment("mas1", mas, "reach", "power", &path.mas1),
+            reach_segment("sup2", sup, "regrasp", "power", &path.sup2),
+        ],
+    }
+}

@@ -1,0 +1,230 @@
+//! The whole method: Algorithm 1 → 2 → 3 for every candidate, ranked into a plan file.
+//!
+//! Candidates are independent, so Algorithms 2 and 3 run over them in parallel (rayon); each
+//! candidate's random choices come from its own seed ([`crate::paths::motion_seed`]) and results
+//! are collected in candidate order, so the plan is the same for any thread count.
+
+use std::time::Instant;
+
+use pregrasp_geometry::Mesh;
+use pregrasp_io::plan_file::PlanFile;
+use pregrasp_io::scene::Scene;
+use pregrasp_robot::GripperState;
+use rayon::prelude::*;
+
+use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
+use crate::context::{ContextError, PlanningContext};
+use crate::output::{plan_file_header, plan_json};
+use crate::paths::{integrated_path, IntegratedPath};
+use crate::poses::{object_pose_for_power_grasp, PoseRejection, PowerGraspPose};
+use crate::timeline::Moment;
+
+/// Settings of one `plan` run beyond the scene's `[planner]` table.
+#[derive(Clone, Debug)]
+pub struct PlanOptions {
+    /// Keep at most this many plans (best first).
+    pub max_plans: usize,
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        PlanOptions { max_plans: 3 }
+    }
+}
+
+/// What became of one candidate.
+#[derive(Clone, Debug)]
+pub enum CandidateOutcome {
+    /// Algorithms 2 and 3 succeeded.
+    Planned { pose: PowerGraspPose, path: Box<IntegratedPath> },
+    /// Algorithm 2 found no pose.
+    NoPose(PoseRejection),
+    /// Algorithm 2 found a pose, Algorithm 3 no integrated path.
+    NoPath { pose: PowerGraspPose, reason: String },
+}
+
+/// The result of [`plan`]: the plan file plus per-candidate details for reports.
+pub struct PlanReport {
+    pub file: PlanFile,
+    pub candidates: Vec<RotationAxisCandidate>,
+    pub outcomes: Vec<CandidateOutcome>,
+}
+
+/// Runs the pipeline on a loaded scene and mesh. `on_candidates` is told how many candidates
+/// Algorithm 1 found; `progress` is called once per candidate finished (from worker threads).
+///
+/// Every plan is re-verified by [`crate::check::check_plan`] before it is kept; a plan that fails
+/// (which would be a bug) is dropped and its candidate says which rule failed.
+pub fn plan(
+    scene: &Scene,
+    mesh: &Mesh,
+    options: &PlanOptions,
+    on_candidates: &(dyn Fn(usize) + Sync),
+    progress: &(dyn Fn() + Sync),
+) -> Result<PlanReport, ContextError> {
+    let t0 = Instant::now();
+    let axes = rotation_axis_candidates(mesh, &scene.object.pose, scene.support_height, &scene.planner);
+    let t_axes = t0.elapsed();
+
+    let ctx = PlanningContext::new(scene, mesh)?;
+    let candidates = axes.candidates;
+    on_candidates(candidates.len());
+
+    let t1 = Instant::now();
+    let start = Moment {
+        q: ctx.starts(),
+        gripper: [GripperState::Open; 2],
+        object: ctx.p_init,
+        contact_allowed: [false; 2],
+    };
+    let start_problem = ctx.check(&start).err().map(|c| {
+        format!("start: {} touches {} at the arms' start configurations", c.a, c.b)
+    });
+    let poses: Vec<Result<PowerGraspPose, PoseRejection>> = if start_problem.is_some() {
+        Vec::new()
+    } else {
+        candidates.par_iter().map(|c| object_pose_for_power_grasp(&ctx, c)).collect()
+    };
+    let t_poses = t1.elapsed();
+
+    let t2 = Instant::now();
+    let outcomes: Vec<CandidateOutcome> = candidates
+        .par_iter()
+        .zip(poses.into_par_iter())
+        .map(|(candidate, pose)| {
+            let outcome = match pose {
+                Err(rejection) => CandidateOutcome::NoPose(rejection),
+                Ok(pose) => match integrated_path(&ctx, candidate, &pose) {
+                    Ok(path) => CandidateOutcome::Planned { pose, path: Box::new(path) },
+                    Err(reason) => CandidateOutcome::NoPath { pose, reason },
+                },
+            };
+            progress();
+            outcome
+        })
+        .collect();
+    let t_paths = t2.elapsed();
+
+    // Ranking: candidates are sorted best first by S_rot, so plans keep that order.
+    let t3 = Instant::now();
+    let mut file = plan_file_header(scene, "planned", None);
+    file.candidates = candidates.iter().map(RotationAxisCandidate::to_json).collect();
+    let mut kept = 0;
+    for (candidate, outcome) in candidates.iter().zip(&outcomes) {
+        let mut json = candidate.to_json();
+        match outcome {
+            CandidateOutcome::Planned { pose, path } => {
+                json.theta_goal = Some(pose.theta_goal);
+                let plan = plan_json(&ctx, candidate.id, candidate.score, pose, path);
+                let failed = verify(&file, &plan, mesh);
+                if let Some(rule) = failed {
+                    json.outcome = format!("rejected: failed the plan check: {rule}");
+                } else if kept < options.max_plans {
+                    json.outcome = "planned".to_string();
+                    file.plans.push(plan);
+                    kept += 1;
+                } else {
+                    json.outcome = format!(
+                        "rejected: outranked (only the best {} plans are kept)",
+                        options.max_plans
+                    );
+                }
+            }
+            CandidateOutcome::NoPose(rejection) => {
+                json.theta_goal = None;
+                json.outcome = format!("rejected: {}", rejection.describe(&ctx.names));
+            }
+            CandidateOutcome::NoPath { pose, reason } => {
+                json.theta_goal = Some(pose.theta_goal);
+                json.outcome = format!("rejected: {reason}");
+            }
+        }
+        file.candidates[candidate.id] = json;
+    }
+    let t_check = t3.elapsed();
+    if file.plans.is_empty() {
+        file.status = "no_plan".to_string();
+        file.reason = Some(start_problem.unwrap_or_else(|| no_plan_reason(&ctx, &outcomes)));
+    }
+    let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
+    file.timing_ms.insert("axes".into(), ms(t_axes));
+    file.timing_ms.insert("poses".into(), ms(t_poses));
+    file.timing_ms.insert("paths".into(), ms(t_paths));
+    file.timing_ms.insert("check".into(), ms(t_check));
+    file.timing_ms.insert("total".into(), ms(t0.elapsed()));
+    Ok(PlanReport { file, candidates, outcomes })
+}
+
+/// Checks one plan alone (with the candidates known so far); the first failed rule, if any.
+fn verify(header: &PlanFile, plan: &pregrasp_io::plan_file::PlanJson, mesh: &Mesh) -> Option<String> {
+    let mut single = header.clone();
+    single.plans = vec![plan.clone()];
+    let report = crate::check::check_plan(&single, mesh);
+    report
+        .rules
+        .into_iter()
+        .find(|r| r.ok == Some(false))
+        .map(|r| format!("rule {} ({})", r.rule, r.detail))
+}
+
+/// Names the stage at which every candidate failed.
+fn no_plan_reason(ctx: &PlanningContext, outcomes: &[CandidateOutcome]) -> String {
+    if outcomes.is_empty() {
+        return "Algorithm 1: no rotation-axis candidate (no convex-hull edge within Δd_s of the \
+                support and longer than Δl)"
+            .to_string();
+    }
+    let rejections: Vec<&PoseRejection> = outcomes
+        .iter()
+        .filter_map(|o| match o {
+            CandidateOutcome::NoPose(r) => Some(r),
+            _ => None,
+        })
+        .collect();
+    if rejections.len() == outcomes.len() {
+        use PoseRejection::*;
+        // Name the furthest stage any candidate reached: Δd_a, then the dummies, then IK.
+        let stage = |r: &PoseRejection| match r {
+            GraspNearAxis { .. } => 0,
+            DummiesNeverClear { .. } => 1,
+            PowerGraspUnreachable { .. } | SupportGraspUnreachable { .. } => 2,
+        };
+        let furthest = rejections.iter().map(|r| stage(r)).max().unwrap_or(0);
+        let at: Vec<&PoseRejection> = rejections.iter().copied().filter(|r| stage(r) == furthest).collect();
+        let arms = |support: bool| -> String {
+            let names: std::collections::BTreeSet<&str> = at
+                .iter()
+                .filter_map(|r| match r {
+                    SupportGraspUnreachable { arm } if support => Some(ctx.names[*arm].as_str()),
+                    PowerGraspUnreachable { arm } if !support => Some(ctx.names[*arm].as_str()),
+                    _ => None,
+                })
+                .collect();
+            names.into_iter().collect::<Vec<_>>().join(" / ")
+        };
+        return match furthest {
+            0 => "no candidate: every power grasp within Δd_a of every axis".to_string(),
+            1 => "Algorithm 2: the gripper dummies never clear the support within θ_max".to_string(),
+            _ if at.iter().all(|r| matches!(r, SupportGraspUnreachable { .. })) => {
+                format!("IK: support grasp unreachable for arm {} at every P_obj", arms(true))
+            }
+            _ if at.iter().all(|r| matches!(r, PowerGraspUnreachable { .. })) => {
+                format!("IK: power grasp unreachable for arm {} at every P_obj", arms(false))
+            }
+            _ => format!(
+                "IK: power grasp unreachable for arm {} and support grasp for arm {} at the P_obj of \
+                 the other candidates",
+                arms(false),
+                arms(true)
+            ),
+        };
+    }
+    let first = outcomes.iter().find_map(|o| match o {
+        CandidateOutcome::NoPath { reason, .. } => Some(reason.as_str()),
+        _ => None,
+    });
+    format!(
+        "Algorithm 3: no integrated path for any candidate (best candidate: {})",
+        first.unwrap_or("-")
+    )
+}

@@ -1,0 +1,180 @@
+//! Algorithm 2 of the paper: object poses for power grasping.
+//!
+//! For one rotation-axis candidate λ (with its direction and θ_max):
+//! 1. `DistRotPow`: the distances d_g1, d_g2 of the power grasps G_p1, G_p2 from the axis line;
+//!    the candidate is skipped when either is within Δd_a (`min_grasp_axis_distance`).
+//! 2. Gripper dummies — the gripper's full geometry, open and closed — sit at both power grasps
+//!    and rotate with the part in steps of Δφ until neither comes within the planning margin of
+//!    the support, then n_ext further steps, each still clear. That pose is P_obj, the angle
+//!    θ_goal. Never beyond θ_max.
+//! 3. Roles (§V-B): robot[0] is the master R_mas if d_g1 > d_g2 (+1 µm), otherwise robot[1].
+//! 4. IK: every collision-free solution of each arm at its power grasp on the part at P_obj
+//!    (C_IK^p), and of the supportive arm's precision point at G_s (C_IK^s).
+
+use nalgebra::Isometry3;
+use pregrasp_robot::{GripperState, Joints};
+
+use crate::axes::RotationAxisCandidate;
+use crate::context::{PlanningContext, PLANNING_MARGIN};
+use crate::dummies::lowest_point;
+
+/// Tolerance on d_g1 > d_g2 when choosing the master arm (plan-format.md).
+pub const ROLE_TOLERANCE: f64 = 1e-6;
+
+/// What Algorithm 2 found for one candidate (one element of the paper's set Ω).
+#[derive(Clone, Debug)]
+pub struct PowerGraspPose {
+    /// θ_goal: rotation from P_init to P_obj (rad, ≥ 0, a multiple of Δφ).
+    pub theta_goal: f64,
+    /// P_obj: the object's world pose at θ_goal.
+    pub p_obj: Isometry3<f64>,
+    /// d_g1, d_g2: distances of the power grasps from the axis line (m).
+    pub grasp_axis_distance: [f64; 2],
+    /// Index of R_mas.
+    pub master: usize,
+    /// Index of R_sup.
+    pub supportive: usize,
+    /// C_IK^p: collision-free IK solutions of each arm at its power grasp at P_obj.
+    pub power_ik: [Vec<Joints>; 2],
+    /// C_IK^s: collision-free IK solutions of the supportive arm at G_s at P_obj.
+    pub support_ik: Vec<Joints>,
+}
+
+/// Why Algorithm 2 found no pose for a candidate.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PoseRejection {
+    /// A power grasp lies within Δd_a of the axis line.
+    GraspNearAxis { arm: usize, distance: f64 },
+    /// The dummies still touch the support at θ_max (or the n_ext extra steps do not fit).
+    DummiesNeverClear { theta_max: f64 },
+    /// No collision-free IK solution for `arm` at its power grasp at P_obj.
+    PowerGraspUnreachable { arm: usize },
+    /// No collision-free IK solution for the supportive arm at G_s at P_obj.
+    SupportGraspUnreachable { arm: usize },
+}
+
+impl PoseRejection {
+    /// A short reason for the plan file's `outcome` (after `"rejected: "`), naming arms.
+    pub fn describe(&self, names: &[String; 2]) -> String {
+        match self {
+            PoseRejection::GraspNearAxis { arm, distance } => format!(
+                "power grasp of arm {} is {:.3} m from the axis, within Δd_a",
+                names[*arm], distance
+            ),
+            PoseRejection::DummiesNeverClear { theta_max } => format!(
+                "gripper dummies do not clear the support within θ_max = {:.1}°",
+                theta_max.to_degrees()
+            ),
+            PoseRejection::PowerGraspUnreachable { arm } => {
+                format!("IK: power grasp unreachable for arm {} at P_obj", names[*arm])
+            }
+            PoseRejection::SupportGraspUnreachable { arm } => {
+                format!("IK: support grasp unreachable for arm {} at P_obj", names[*arm])
+            }
+        }
+    }
+}
+
+/// Distance of point `p` from the infinite line through `a` and `b`.
+pub fn distance_to_line(
+    p: &nalgebra::Point3<f64>,
+    a: &nalgebra::Point3<f64>,
+    b: &nalgebra::Point3<f64>,
+) -> f64 {
+    let d = (b - a).normalize();
+    let v = p - a;
+    (v - d * v.dot(&d)).norm()
+}
+
+/// Runs Algorithm 2 for one candidate.
+pub fn object_pose_for_power_grasp(
+    ctx: &PlanningContext,
+    candidate: &RotationAxisCandidate,
+) -> Result<PowerGraspPose, PoseRejection> {
+    let params = &ctx.scene.planner;
+    let grasps = &ctx.scene.grasps;
+
+    // DistRotPow: distances of the power grasp origins (world, at P_init) from the axis line.
+    let mut d = [0.0; 2];
+    for (arm, dist) in d.iter_mut().enumerate() {
+        let g = ctx.p_init * grasps.power[arm];
+        let p = nalgebra::Point3::from(g.translation.vector);
+        *dist = distance_to_line(&p, &candidate.axis[0], &candidate.axis[1]);
+    }
+    for (arm, &distance) in d.iter().enumerate() {
+        if distance <= params.min_grasp_axis_distance {
+            return Err(PoseRejection::GraspNearAxis { arm, distance });
+        }
+    }
+
+    // RotObjDummy: rotate part + dummies in steps of Δφ until the dummies clear the support,
+    // then n_ext further steps that must stay clear.
+    // The dummy is the open gripper of the paper plus the same gripper closed: it will close
+    // at the grasp, and the closed fingers reach ~13 mm deeper.
+    let dummy_shapes: [Vec<_>; 2] = [0, 1].map(|arm| {
+        let g = &ctx.arm(arm).gripper;
+        let mut shapes = g.shapes(GripperState::Open);
+        shapes.extend(g.shapes(GripperState::Closed));
+        shapes
+    });
+    let dummies_clear = |theta: f64| -> bool {
+        let pose = candidate.rotated_pose(&ctx.p_init, theta);
+        (0..2).all(|arm| {
+            let flange =
+                pose * grasps.power[arm] * ctx.arm(arm).gripper.power_point().inverse();
+            lowest_point(&dummy_shapes[arm], &flange) > ctx.scene.support_height + PLANNING_MARGIN
+        })
+    };
+    let step = params.step;
+    let max_steps = (candidate.theta_max / step + 1e-9).floor() as usize;
+    let mut theta_goal = None;
+    let mut clear_run = 0usize;
+    for k in 1..=max_steps {
+        let theta = k as f64 * step;
+        if dummies_clear(theta) {
+            clear_run += 1;
+            if clear_run > params.extra_steps as usize {
+                theta_goal = Some(theta);
+                break;
+            }
+        } else {
+            clear_run = 0;
+        }
+    }
+    let Some(theta_goal) = theta_goal else {
+        return Err(PoseRejection::DummiesNeverClear { theta_max: candidate.theta_max });
+    };
+    let p_obj = candidate.rotated_pose(&ctx.p_init, theta_goal);
+
+    // Roles: the arm whose power grasp is farther from the axis is the master.
+    let (master, supportive) = if d[0] > d[1] + ROLE_TOLERANCE { (0, 1) } else { (1, 0) };
+
+    // IKSolPow: every collision-free solution of each arm at its power grasp on the part at P_obj,
+    // gripper closed on the part (contact with the part allowed).
+    let power_ik = [0, 1].map(|arm| {
+        let tool = p_obj * grasps.power[arm] * ctx.arm(arm).gripper.power_point().inverse();
+        ctx.free_ik(arm, &tool, &p_obj)
+    });
+    for (arm, solutions) in power_ik.iter().enumerate() {
+        if solutions.is_empty() {
+            return Err(PoseRejection::PowerGraspUnreachable { arm });
+        }
+    }
+    // IKSolSup: the supportive arm's precision point at G_s on the part at P_obj.
+    let tool =
+        p_obj * grasps.support * ctx.arm(supportive).gripper.precision_point().inverse();
+    let support_ik = ctx.free_ik(supportive, &tool, &p_obj);
+    if support_ik.is_empty() {
+        return Err(PoseRejection::SupportGraspUnreachable { arm: supportive });
+    }
+
+    Ok(PowerGraspPose {
+        theta_goal,
+        p_obj,
+        grasp_axis_distance: d,
+        master,
+        supportive,
+        power_ik,
+        support_ik,
+    })
+}

@@ -1,0 +1,168 @@
+//! Reach motions (paper §VI-B, `ReachPath1/2/3`): μ_sup1, μ_mas1 and μ_sup2.
+//!
+//! Each ends with a straight approach: the tool comes in along its own z axis from a stand-off
+//! `approach_distance` back from the grasp. The approach is built backwards from the goal
+//! configuration (IK with branch continuity), so the motion ends exactly at the configuration
+//! the previous stages chose. μ_sup2 starts with the mirror image, a straight retreat from the
+//! grasp it releases. The gripper may touch the part only within [`CONTACT_ZONE`] of the grasp;
+//! the rest of the line, and the transit between start and stand-off (RRT-Connect, then
+//! shortcutting), must keep clear of everything.
+
+use nalgebra::{Isometry3, Translation3};
+use pregrasp_motion::{
+    rrt_connect, straight_line, time_parameterize, CartesianError, CartesianSettings,
+    PlanStatus, RrtConnectSettings, State,
+};
+use pregrasp_robot::Joints;
+
+use crate::context::PlanningContext;
+use crate::timeline::{Moment, CONTACT_ZONE};
+use crate::timing::{scaled, time_along, CONTACT_SCALE, TRANSIT_SCALE};
+
+/// Iterations RRT-Connect may spend on one reach query (the deterministic stop).
+pub const RRT_MAX_ITERATIONS: usize = 4000;
+
+/// A timed reach motion of one arm.
+#[derive(Clone, Debug)]
+pub struct ReachMotion {
+    pub q: Vec<Joints>,
+    pub t: Vec<f64>,
+    /// Index of the stand-off point where the straight approach begins.
+    pub approach_from: usize,
+    /// Index where the initial straight retreat ends (μ_sup2 only).
+    pub retreat_to: Option<usize>,
+}
+
+/// Why a reach motion failed, by stage.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ReachFailure {
+    Retreat(CartesianError),
+    Approach(CartesianError),
+    Transit(PlanStatus),
+}
+
+impl ReachFailure {
+    pub fn describe(&self) -> String {
+        match self {
+            ReachFailure::Retreat(e) => format!("straight retreat: {e}"),
+            ReachFailure::Approach(e) => format!("straight approach: {e}"),
+            ReachFailure::Transit(status) => format!("transit motion: {status:?}"),
+        }
+    }
+}
+
+/// One reach query: arm `arm` moves from `from` to `goal`; everything else is as in `scene`.
+pub struct ReachQuery<'a> {
+    pub arm: usize,
+    /// The rest of the world during the motion (this arm's entry of `q` is ignored).
+    pub scene: &'a Moment,
+    pub from: Joints,
+    pub goal: Joints,
+    /// Start with a straight retreat from the grasp held at `from` (μ_sup2).
+    pub retreat: bool,
+    pub seed: u64,
+}
+
+/// Plans a reach motion: [retreat], transit, approach.
+pub fn reach(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachMotion, ReachFailure> {
+    let arm = query.arm;
+    let model = ctx.arm(arm);
+    let kin = model.kin;
+    let space = &ctx.spaces[arm];
+    let with = |q: &State<6>, contact: bool| -> bool {
+        let mut m = query.scene.clone();
+        m.q[arm] = *q;
+        m.contact_allowed[arm] = contact;
+        ctx.check_arm(arm, &m).is_ok()
+    };
+    let strict = |q: &State<6>| with(q, false);
+    let touching = |q: &State<6>| with(q, true);
+    let strict_motion = ctx.motion_validator(arm, &strict);
+    let contact_motion = ctx.motion_validator(arm, &touching);
+    let fk = |q: &State<6>| kin.fk(q);
+    let ik = |pose: &Isometry3<f64>, seed: &State<6>| kin.ik_nearest(pose, seed);
+    let line = CartesianSettings {
+        max_translation_step: 0.005,
+        max_rotation_step: 2f64.to_radians(),
+        max_joint_jump: 0.3,
+    };
+    let distance = ctx.scene.planner.approach_distance;
+    let zone = CONTACT_ZONE.min(distance);
+    let back = |q: &Joints, by: f64| kin.fk(q) * Translation3::new(0.0, 0.0, -by);
+
+    // A straight line away from the grasp held at `q`: first `zone` with contact allowed,
+    // then clear of everything, to the stand-off.
+    let away = |q: &Joints| -> Result<Vec<Joints>, CartesianError> {
+        let mut path = straight_line(fk, ik, &contact_motion, q, &back(q, zone), &line)?;
+        if distance > zone {
+            let mid = *path.last().expect("non-empty");
+            let rest = straight_line(fk, ik, &strict_motion, &mid, &back(q, distance), &line)?;
+            path.extend_from_slice(&rest[1..]);
+        }
+        Ok(path)
+    };
+
+    let retreat = if query.retreat {
+        away(&query.from).map_err(ReachFailure::Retreat)?
+    } else {
+        vec![query.from]
+    };
+    let mut approach = away(&query.goal).map_err(ReachFailure::Approach)?;
+    approach.reverse();
+
+    let transit_from = *retreat.last().expect("non-empty");
+    let standoff = approach[0];
+    let settings = RrtConnectSettings {
+        max_iterations: RRT_MAX_ITERATIONS,
+        max_time: None,
+        range: 0.5,
+        seed: query.seed,
+        simplify: true,
+    };
+    let transit = if transit_from == standoff {
+        vec![standoff]
+    } else {
+        let result = rrt_connect(space, &strict_motion, &transit_from, &standoff, &settings);
+        if std::env::var_os("PREGRASP_DEBUG").is_some() {
+            eprintln!("rrt arm {arm}: {:?} {:?} path {}", result.status, result.stats, result.path.len());
+        }
+        if result.status != PlanStatus::Solved {
+            return Err(ReachFailure::Transit(result.status));
+        }
+        result.path
+    };
+
+    // Timing: straight pieces along their length, transit rest-to-rest per edge.
+    let speed = model.kin.model().max_joint_speed();
+    let accel = model.kin.model().max_joint_accel();
+    let time_line = |path: &[Joints]| -> Vec<f64> {
+        let u: Vec<f64> = (0..path.len()).map(|k| k as f64 / (path.len() - 1).max(1) as f64).collect();
+        time_along(path, &u, &scaled(&speed, CONTACT_SCALE), &scaled(&accel, CONTACT_SCALE))
+    };
+    let mut q: Vec<Joints> = Vec::new();
+    let mut t: Vec<f64> = Vec::new();
+    let append = |q: &mut Vec<Joints>, t: &mut Vec<f64>, points: &[Joints], times: &[f64]| {
+        let offset = t.last().copied().unwrap_or(0.0);
+        let skip = usize::from(!q.is_empty());
+        for k in skip..points.len() {
+            q.push(points[k]);
+            t.push(offset + times[k]);
+        }
+    };
+    let retreat_to = if query.retreat {
+        append(&mut q, &mut t, &retreat, &time_line(&retreat));
+        Some(retreat.len() - 1)
+    } else {
+        append(&mut q, &mut t, &retreat, &[0.0]);
+        None
+    };
+    let timed = time_parameterize(
+        &transit,
+        &scaled(&speed, TRANSIT_SCALE),
+        &scaled(&accel, TRANSIT_SCALE),
+    );
+    append(&mut q, &mut t, &timed.q, &timed.t);
+    let approach_from = q.len() - 1;
+    append(&mut q, &mut t, &approach, &time_line(&approach));
+    Ok(ReachMotion { q, t, approach_from, retreat_to })
+}

@@ -1,0 +1,149 @@
+//! End-to-end properties of the pipeline (Algorithms 1–3 + plan file + checker).
+
+use std::path::Path;
+
+use nalgebra::{Isometry3, Point2, Translation3, UnitQuaternion};
+use pregrasp_geometry::Mesh;
+use pregrasp_io::plan_file::PlanFile;
+use pregrasp_io::scene::Scene;
+use pregrasp_planner::check::check_plan;
+use pregrasp_planner::pipeline::{plan, PlanOptions};
+
+fn example(name: &str) -> (Scene, Mesh) {
+    let ex = pregrasp_examples::by_name(name).expect("built-in example");
+    let scene = Scene::from_str(&ex.scene_toml, Path::new(&format!("examples/{name}.toml")))
+        .expect("example scene parses");
+    (scene, ex.mesh)
+}
+
+fn run(scene: &Scene, mesh: &Mesh) -> PlanFile {
+    plan(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {}).expect("models build").file
+}
+
+/// The plan file without its timings (the only part allowed to differ between runs).
+fn without_timing(file: &PlanFile) -> String {
+    let mut f = file.clone();
+    f.timing_ms.clear();
+    f.to_json()
+}
+
+fn assert_valid(file: &PlanFile, mesh: &Mesh) {
+    let report = check_plan(file, mesh);
+    for rule in &report.rules {
+        assert_ne!(rule.ok, Some(false), "rule {} failed: {}", rule.rule, rule.detail);
+    }
+}
+
+#[test]
+fn chair_side_plans_and_its_plan_passes_the_check() {
+    let (scene, mesh) = example("chair_side");
+    let file = run(&scene, &mesh);
+    assert_eq!(file.status, "planned", "reason: {:?}", file.reason);
+    assert!(!file.plans.is_empty());
+    assert_valid(&file, &mesh);
+    // The plans are ranked best first, by S_rot.
+    for w in file.plans.windows(2) {
+        assert!(w[0].score >= w[1].score);
+    }
+}
+
+#[test]
+fn same_plan_for_one_and_two_threads_and_across_runs() {
+    let (scene, mesh) = example("chair_side");
+    let in_pool = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| without_timing(&run(&scene, &mesh)))
+    };
+    let one = in_pool(1);
+    let two = in_pool(2);
+    assert_eq!(one, two);
+    assert_eq!(two, in_pool(2));
+}
+
+/// A 0.6 m bar whose two power grasps sit at its two ends: every hull edge near the support is
+/// within Δd_a of one of them.
+#[test]
+fn power_grasps_on_the_axes_give_no_plan_with_the_distance_reason() {
+    let (mut scene, _) = example("chair_side");
+    let outline = [
+        Point2::new(0.0, 0.0),
+        Point2::new(0.6, 0.0),
+        Point2::new(0.6, 0.05),
+        Point2::new(0.0, 0.05),
+    ];
+    let bar = pregrasp_examples::extrude(&outline, &[], 0.03);
+    let down = UnitQuaternion::from_euler_angles(std::f64::consts::PI, 0.0, 0.0);
+    scene.grasps.power = [
+        Isometry3::from_parts(Translation3::new(0.02, 0.025, 0.015), down),
+        Isometry3::from_parts(Translation3::new(0.58, 0.025, 0.015), down),
+    ];
+    let file = run(&scene, &bar);
+    assert_eq!(file.status, "no_plan");
+    assert_eq!(file.reason.as_deref(), Some("no candidate: every power grasp within Δd_a of every axis"));
+    assert!(!file.candidates.is_empty());
+    assert!(file.candidates.iter().all(|c| c.outcome.contains("within Δd_a")));
+}
+
+#[test]
+fn support_grasp_out_of_reach_gives_no_plan_naming_ik() {
+    let (mut scene, mesh) = example("chair_side");
+    // Two metres beyond the part, out of every arm's reach.
+    scene.grasps.support.translation.vector.x += 2.0;
+    let file = run(&scene, &mesh);
+    assert_eq!(file.status, "no_plan");
+    let reason = file.reason.expect("a reason");
+    assert!(reason.starts_with("IK: support grasp unreachable for arm"), "{reason}");
+    assert!(reason.ends_with("at every P_obj"), "{reason}");
+}
+
+mod edited_plans_fail_the_check {
+    use super::*;
+
+    fn planned() -> (PlanFile, Mesh) {
+        let (scene, mesh) = example("chair_side");
+        let mut file = run(&scene, &mesh);
+        assert_eq!(file.status, "planned");
+        file.plans.truncate(1);
+        assert_valid(&file, &mesh);
+        (file, mesh)
+    }
+
+    fn failed_rules(file: &PlanFile, mesh: &Mesh) -> Vec<u8> {
+        check_plan(file, mesh).rules.iter().filter(|r| r.ok == Some(false)).map(|r| r.rule).collect()
+    }
+
+    #[test]
+    fn a_joint_past_its_limit_fails_rule_1() {
+        let (mut file, mesh) = planned();
+        let seg = &mut file.plans[0].segments[2];
+        let k = seg.points.len() / 2;
+        seg.points[k].q[2] = 3.3; // elbow limit is ±π
+        assert!(failed_rules(&file, &mesh).contains(&1));
+    }
+
+    #[test]
+    fn a_point_moved_into_the_table_fails_rule_2() {
+        let (mut file, mesh) = planned();
+        let seg = &mut file.plans[0].segments[0];
+        let k = seg.approach_from.unwrap() / 2;
+        // Swing the shoulder down until the forearm lies in the table.
+        seg.points[k].q[1] = 0.6;
+        assert!(failed_rules(&file, &mesh).contains(&2));
+    }
+
+    #[test]
+    fn a_tool_pose_5_mm_off_fails_rule_4() {
+        let (mut file, mesh) = planned();
+        file.grasps.support.xyz[0] += 0.005;
+        assert_eq!(failed_rules(&file, &mesh), vec![4]);
+    }
+
+    #[test]
+    fn an_object_pose_below_the_support_fails_rule_3() {
+        let (mut file, mesh) = planned();
+        let seg = &mut file.plans[0].segments[1];
+        let k = seg.points.len() / 2;
+        seg.points[k].object_pose.as_mut().unwrap().xyz[2] -= 0.01;
+        assert!(failed_rules(&file, &mesh).contains(&3));
+    }
+}

@@ -1,0 +1,24 @@
+//! Robot models for pregrasp: Universal Robots arms (UR3e, UR5e, UR10e, UR16e, UR5) with
+//! standard-DH forward kinematics and analytic inverse kinematics, the Robotiq 2F-85
+//! gripper, and conservative collision shapes for both.
+//!
+//! Frames: every pose is in the arm's controller *Base* frame unless stated otherwise;
+//! the flange frame (tool0, DH frame 6) has z out of the flange, and the gripper frame is
+//! the flange frame. Units: metres, radians, seconds.
+
+mod angle;
+mod fk;
+mod gripper;
+mod ik;
+mod links;
+mod model;
+
+pub use angle::{atan2, wrap_angle};
+pub use fk::UrKinematics;
+pub use gripper::{Gripper2F85, GripperState, GRIPPER_FRAME, OPEN_PAD_HALF_GAP};
+pub use ik::{joint_distance, IkSolutions, IK_RESIDUAL_TOL};
+pub use links::{
+    arm_geometry, housing_scale, joint_sweep_radii, ArmGeometry, Capsule, LinkShape, Primitive,
+    LINK_MARGIN,
+};
+pub use model::{DhParams, Joints, UnknownModel, UrModel, DEFAULT_JOINT_ACCEL, JOINT_NAMES};

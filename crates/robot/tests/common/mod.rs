@@ -1,0 +1,57 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use nalgebra::Isometry3;
+use pregrasp_robot::{wrap_angle, Joints, UrKinematics};
+
+/// Position (m) and rotation (rad) error between two poses.
+pub fn pose_error(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {
+    let dp = (a.translation.vector - b.translation.vector).norm();
+    let dr = 2.0 * (a.rotation.conjugate() * b.rotation).imag().norm();
+    (dp, dr)
+}
+
+/// Largest joint difference modulo 2π.
+pub fn angle_gap(a: &Joints, b: &Joints) -> f64 {
+    a.iter()
+        .zip(b.iter())
+        .map(|(x, y)| wrap_angle(x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Asserts every solution is finite and reproduces `target` to 1e-9.
+pub fn assert_solutions_exact(kin: &UrKinematics, sols: &[Joints], target: &Isometry3<f64>) {
+    for s in sols {
+        assert!(s.iter().all(|v| v.is_finite()), "non-finite solution {s:?}");
+        let (dp, dr) = pose_error(&kin.fk(s), target);
+        assert!(
+            dp < 1e-9 && dr < 1e-9,
+            "solution {s:?}: residual {dp} m, {dr} rad"
+        );
+    }
+}
+
+use parry3d_f64::query::intersection_test;
+use parry3d_f64::shape::{Capsule as PCapsule, Cuboid, Shape};
+use pregrasp_robot::{LinkShape, Primitive};
+
+/// A link shape placed in the base frame by its frame pose, as a parry shape.
+pub fn placed(shape: &LinkShape, frame_pose: &Isometry3<f64>) -> (Isometry3<f64>, Box<dyn Shape>) {
+    match shape.primitive {
+        Primitive::Capsule(c) => (
+            Isometry3::identity(),
+            Box::new(PCapsule::new(frame_pose * c.a, frame_pose * c.b, c.radius)),
+        ),
+        Primitive::Cuboid { pose, half_extents } => {
+            (frame_pose * pose, Box::new(Cuboid::new(half_extents)))
+        }
+    }
+}
+
+/// True when two placed shapes intersect.
+pub fn intersects(
+    a: &(Isometry3<f64>, Box<dyn Shape>),
+    b: &(Isometry3<f64>, Box<dyn Shape>),
+) -> bool {
+    intersection_test(&a.0, a.1.as_ref(), &b.0, b.1.as_ref()).expect("supported shape pair")
+}

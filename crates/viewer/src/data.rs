@@ -1,0 +1,236 @@
+//! The JSON document embedded in the page: the plan as it is, plus what the browser needs
+//! to draw it — the mesh, the hull's feature edges and each arm's kinematic and geometric
+//! model. Everything is in metres and radians; poses use the plan file's `PoseJson`.
+
+use nalgebra::Isometry3;
+use pregrasp_geometry::{ConvexHull, Mesh};
+use pregrasp_io::plan_file::{PlanFile, PoseJson, RobotJson};
+use pregrasp_robot::{
+    arm_geometry, Gripper2F85, GripperState, Joints, LinkShape, Primitive, UrKinematics, UrModel,
+};
+use serde::Serialize;
+
+use crate::options::ViewOptions;
+
+/// Format tag of the embedded document.
+pub const VIEW_FORMAT: &str = "pregrasp.view/1";
+
+/// Largest number of FK cross-check configurations embedded per arm.
+const MAX_FK_CHECKS: usize = 24;
+
+/// The whole embedded document.
+#[derive(Serialize)]
+pub struct ViewData<'a> {
+    pub format: &'static str,
+    pub title: String,
+    pub three_version: &'static str,
+    pub options: OptionsJson,
+    /// The plan file, field for field.
+    pub plan: &'a PlanFile,
+    /// The part in its object frame.
+    pub mesh: MeshJson,
+    /// Feature edges of the part's convex hull, object frame: `[ax, ay, az, bx, by, bz]`.
+    pub hull_edges: Vec<[f32; 6]>,
+    /// One entry per `plan.robots`, same order.
+    pub robots: Vec<RobotModelJson>,
+}
+
+#[derive(Serialize)]
+pub struct OptionsJson {
+    pub initial_plan: usize,
+    pub speed: f64,
+    pub autoplay: bool,
+}
+
+/// Triangle mesh as flat arrays (three.js `BufferGeometry` layout). Coordinates are stored
+/// as `f32`: ~0.1 µm at a metre, far below what a screen shows, and half the text.
+#[derive(Serialize)]
+pub struct MeshJson {
+    pub positions: Vec<f32>,
+    pub indices: Vec<u32>,
+}
+
+/// What the page needs to draw one arm.
+#[derive(Serialize)]
+pub struct RobotModelJson {
+    pub name: String,
+    pub model: String,
+    /// False when `model` is not a known UR model; the page then draws no arm.
+    pub known: bool,
+    pub dh: DhJson,
+    /// Link shapes in their DH frames (`frame` indexes frames 0..=6 of the FK).
+    pub links: Vec<ShapeJson>,
+    pub gripper: GripperShapesJson,
+    /// Configurations with Rust's flange pose (arm base frame), for the page's FK self-check.
+    pub fk_check: Vec<FkCheckJson>,
+}
+
+/// Standard DH rows: link i transform is `Rz(q_i)·Tz(d_i)·Tx(a_i)·Rx(alpha_i)`.
+#[derive(Serialize, Default)]
+pub struct DhJson {
+    pub d: [f64; 6],
+    pub a: [f64; 6],
+    pub alpha: [f64; 6],
+}
+
+#[derive(Serialize, Default)]
+pub struct GripperShapesJson {
+    pub open: Vec<ShapeJson>,
+    pub closed: Vec<ShapeJson>,
+}
+
+#[derive(Serialize)]
+pub struct FkCheckJson {
+    pub q: Joints,
+    pub flange: PoseJson,
+}
+
+/// A link or gripper primitive in the DH frame `frame`.
+#[derive(Serialize, Debug, Clone, PartialEq)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum ShapeJson {
+    Capsule { name: String, frame: usize, a: [f64; 3], b: [f64; 3], radius: f64 },
+    Cuboid { name: String, frame: usize, pose: PoseJson, half_extents: [f64; 3] },
+}
+
+impl From<&LinkShape> for ShapeJson {
+    fn from(s: &LinkShape) -> Self {
+        match &s.primitive {
+            Primitive::Capsule(c) => ShapeJson::Capsule {
+                name: s.name.to_string(),
+                frame: s.frame,
+                a: c.a.coords.into(),
+                b: c.b.coords.into(),
+                radius: c.radius,
+            },
+            Primitive::Cuboid { pose, half_extents } => ShapeJson::Cuboid {
+                name: s.name.to_string(),
+                frame: s.frame,
+                pose: PoseJson::from(pose),
+                half_extents: (*half_extents).into(),
+            },
+        }
+    }
+}
+
+impl<'a> ViewData<'a> {
+    /// Collects everything the page draws. The hull is recomputed from `mesh` (object frame);
+    /// a degenerate mesh simply has no feature edges.
+    pub fn new(plan: &'a PlanFile, mesh: &Mesh, options: &ViewOptions) -> ViewData<'a> {
+        ViewData {
+            format: VIEW_FORMAT,
+            title: page_title(plan, options),
+            three_version: crate::html::THREE_VERSION,
+            options: OptionsJson {
+                initial_plan: options.initial_plan,
+                speed: options.speed,
+                autoplay: options.autoplay,
+            },
+            plan,
+            mesh: mesh_json(mesh),
+            hull_edges: hull_edges(mesh),
+            robots: plan.robots.iter().map(|r| robot_model(r, plan)).collect(),
+        }
+    }
+}
+
+/// `options.title`, else the scene name, else the scene file.
+pub fn page_title(plan: &PlanFile, options: &ViewOptions) -> String {
+    options
+        .title
+        .clone()
+        .or_else(|| plan.scene.name.clone())
+        .unwrap_or_else(|| format!("pregrasp plan: {}", plan.scene.file))
+}
+
+fn mesh_json(mesh: &Mesh) -> MeshJson {
+    MeshJson {
+        positions: mesh
+            .vertices
+            .iter()
+            .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+            .collect(),
+        indices: mesh.triangles.iter().flatten().copied().collect(),
+    }
+}
+
+/// The hull's feature edges (merged coplanar faces, so no flat-face diagonals).
+pub fn hull_edges(mesh: &Mesh) -> Vec<[f32; 6]> {
+    let Ok(hull) = ConvexHull::of_mesh(mesh) else {
+        return Vec::new();
+    };
+    hull.feature_edges
+        .iter()
+        .map(|&[i, j]| {
+            let (a, b) = (hull.vertices[i], hull.vertices[j]);
+            [a.x, a.y, a.z, b.x, b.y, b.z].map(|v| v as f32)
+        })
+        .collect()
+}
+
+/// The 2F-85 as the plan file configures it (precision and power points on flange z).
+pub fn gripper_of(robot: &RobotJson) -> Gripper2F85 {
+    Gripper2F85 {
+        precision_point_z: robot.precision_point.xyz[2],
+        power_point_z: robot.power_point.xyz[2],
+    }
+}
+
+fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
+    let Some(model) = UrModel::from_name(&robot.model) else {
+        return RobotModelJson {
+            name: robot.name.clone(),
+            model: robot.model.clone(),
+            known: false,
+            dh: DhJson::default(),
+            links: Vec::new(),
+            gripper: GripperShapesJson::default(),
+            fk_check: Vec::new(),
+        };
+    };
+    let dh = model.dh();
+    let mut dh_json = DhJson::default();
+    for i in 0..6 {
+        let (d, a, alpha) = dh.row(i);
+        dh_json.d[i] = d;
+        dh_json.a[i] = a;
+        dh_json.alpha[i] = alpha;
+    }
+    let gripper = gripper_of(robot);
+    let shapes = |state| gripper.shapes(state).iter().map(ShapeJson::from).collect();
+    let kin = UrKinematics::new(model);
+    RobotModelJson {
+        name: robot.name.clone(),
+        model: robot.model.clone(),
+        known: true,
+        dh: dh_json,
+        links: arm_geometry(model).links.iter().map(ShapeJson::from).collect(),
+        gripper: GripperShapesJson {
+            open: shapes(GripperState::Open),
+            closed: shapes(GripperState::Closed),
+        },
+        fk_check: fk_check_configs(robot, plan)
+            .into_iter()
+            .map(|q| FkCheckJson { q, flange: PoseJson::from(&kin.fk(&q)) })
+            .collect(),
+    }
+}
+
+/// Configurations the page re-derives by its own FK: the start, a generic fixed pose, and
+/// the first and last point of each of this robot's segments in the plans (capped).
+fn fk_check_configs(robot: &RobotJson, plan: &PlanFile) -> Vec<Joints> {
+    let mut qs = vec![robot.start, [0.3, -1.2, 1.5, -0.8, 1.1, 0.4]];
+    let segments = plan.plans.iter().flat_map(|p| &p.segments).filter(|s| s.robot == robot.name);
+    for seg in segments {
+        qs.extend(seg.points.first().map(|p| p.q));
+        qs.extend(seg.points.last().map(|p| p.q));
+    }
+    qs.truncate(MAX_FK_CHECKS);
+    qs
+}
+
+/// World pose of a robot's flange frame for joints `q`: base · FK(q).
+pub fn flange_world(robot: &RobotJson, q: &Joints) -> Option<Isometry3<f64>> {
+    let model = UrModel::from_name(&robot.model)?;
+    Some(robot.base.to_isometry() * UrKinematics::new(model).fk(q))
+}

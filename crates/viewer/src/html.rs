@@ -1,0 +1,141 @@
+//! Assembling the single HTML page: template + style + embedded JSON + viewer module.
+
+use pregrasp_geometry::Mesh;
+use pregrasp_io::plan_file::PlanFile;
+
+use crate::data::ViewData;
+use crate::options::ViewOptions;
+
+/// The pinned three.js release the page loads (npm `three`, same version in `ci/browser`).
+pub const THREE_VERSION: &str = "0.170.0";
+/// three.js core, as an ES module.
+pub const THREE_MODULE_URL: &str =
+    "https://cdn.jsdelivr.net/npm/three@0.170.0/build/three.module.js";
+/// Prefix of the three.js add-ons (`OrbitControls` lives at `controls/OrbitControls.js`).
+pub const THREE_ADDONS_URL: &str = "https://cdn.jsdelivr.net/npm/three@0.170.0/examples/jsm/";
+
+const TEMPLATE: &str = include_str!("web/template.html");
+const STYLE: &str = include_str!("web/viewer.css");
+const SCRIPT: &str = include_str!("web/viewer.js");
+
+/// One self-contained HTML page showing `plan` with the part `mesh` (object frame, metres).
+///
+/// Robots whose model is unknown are listed in the data with `known: false` and not drawn;
+/// callers that want an error instead check `UrModel::from_name` first.
+pub fn render_html(plan: &PlanFile, mesh: &Mesh, options: &ViewOptions) -> String {
+    let data = ViewData::new(plan, mesh, options);
+    let json = serde_json::to_string(&data).expect("view data serialises");
+    let import_map = serde_json::json!({
+        "imports": { "three": THREE_MODULE_URL, "three/addons/": THREE_ADDONS_URL }
+    });
+    let import_map = serde_json::to_string_pretty(&import_map).expect("import map serialises");
+    fill_template(TEMPLATE, |key| match key {
+        "TITLE" => Some(escape_html(&data.title)),
+        "VERSION" => Some(env!("CARGO_PKG_VERSION").to_string()),
+        "STYLE" => Some(STYLE.to_string()),
+        "IMPORTMAP" => Some(escape_json_for_script(&import_map)),
+        "DATA" => Some(escape_json_for_script(&json)),
+        "SCRIPT" => Some(SCRIPT.to_string()),
+        _ => None,
+    })
+}
+
+/// Replaces every `{{KEY}}` of `template` in one pass (values are never re-scanned, so data
+/// that happens to contain `{{…}}` stays as it is). Unknown keys are kept verbatim.
+fn fill_template(template: &str, value: impl Fn(&str) -> Option<String>) -> String {
+    let mut out = String::with_capacity(template.len());
+    let mut rest = template;
+    while let Some(start) = rest.find("{{") {
+        out.push_str(&rest[..start]);
+        let after = &rest[start + 2..];
+        match after.find("}}").and_then(|end| value(&after[..end]).map(|v| (end, v))) {
+            Some((end, v)) => {
+                out.push_str(&v);
+                rest = &after[end + 2..];
+            }
+            None => {
+                out.push_str("{{");
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// JSON text made safe inside a `<script>` element: `<`, `>`, `&` and the JavaScript line
+/// separators U+2028/U+2029 become `\uXXXX` escapes. Those characters can only occur inside
+/// JSON strings, where the escapes mean the same, so the text parses to the same value and
+/// can contain neither `</script>` nor `<!--`.
+pub fn escape_json_for_script(json: &str) -> String {
+    let mut out = String::with_capacity(json.len());
+    for c in json.chars() {
+        match c {
+            '<' => out.push_str("\\u003c"),
+            '>' => out.push_str("\\u003e"),
+            '&' => out.push_str("\\u0026"),
+            '\u{2028}' => out.push_str("\\u2028"),
+            '\u{2029}' => out.push_str("\\u2029"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// Text made safe as HTML element content.
+fn escape_html(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '&' => out.push_str("&amp;"),
+            '"' => out.push_str("&quot;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn template_fill_is_single_pass() {
+        let out = fill_template("a{{X}}b{{Y}}c{{Z", |k| match k {
+            "X" => Some("{{Y}}".into()),
+            "Y" => Some("y".into()),
+            _ => None,
+        });
+        assert_eq!(out, "a{{Y}}byc{{Z");
+    }
+
+    #[test]
+    fn script_escape_round_trips_and_hides_closing_tags() {
+        let value = serde_json::json!({ "s": "</script><!-- a&b \u{2028} >" });
+        let text = serde_json::to_string(&value).unwrap();
+        let escaped = escape_json_for_script(&text);
+        assert!(!escaped.contains('<') && !escaped.contains('>') && !escaped.contains('&'));
+        assert!(!escaped.contains('\u{2028}'));
+        let back: serde_json::Value = serde_json::from_str(&escaped).unwrap();
+        assert_eq!(back, value);
+    }
+
+    #[test]
+    fn html_escape() {
+        assert_eq!(escape_html("a<b>&\"c"), "a&lt;b&gt;&amp;&quot;c");
+    }
+
+    #[test]
+    fn urls_use_the_pinned_version() {
+        assert!(THREE_MODULE_URL.contains(&format!("three@{THREE_VERSION}/")));
+        assert!(THREE_ADDONS_URL.contains(&format!("three@{THREE_VERSION}/")));
+    }
+
+    #[test]
+    fn viewer_script_has_no_closing_script_tag() {
+        assert!(!SCRIPT.to_ascii_lowercase().contains("</script"));
+        assert!(!STYLE.to_ascii_lowercase().contains("</style"));
+    }
+}
