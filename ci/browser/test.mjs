@@ -114,7 +114,14 @@ try {
   // ---- the planned page ----
   const { page, errors, rendered } = await open(context, planHtml);
   check('plan page: first frame rendered', rendered);
-  if (rendered) {
+  const hasPlan = embeddedData(planHtml).plan.plans.length > 0;
+  if (!hasPlan) console.log('note: the plan file has no plan; timeline checks skipped');
+  if (rendered && !hasPlan) {
+    const stats = pixelStats(await pixels(page));
+    check('plan page: canvas is not blank', stats.std > 8 && stats.colours > 20, `luminance std ${stats.std.toFixed(1)}, ${stats.colours} colours`);
+    await page.screenshot({ path: screenshot });
+  }
+  if (rendered && hasPlan) {
     const v = (expr) => page.evaluate(expr);
     const stats = pixelStats(await pixels(page));
     check('plan page: canvas is not blank', stats.std > 8 && stats.colours > 20, `luminance std ${stats.std.toFixed(1)}, ${stats.colours} colours`);
@@ -175,6 +182,13 @@ try {
       await v(() => window.pregraspViewer.selectPlan(0));
     }
 
+    // Storyboard: the 3D view at the end of each segment, beside the screenshot.
+    let tEnd = 0;
+    for (const seg of chosen.segments) {
+      tEnd += seg.points[seg.points.length - 1].t;
+      await page.evaluate((t) => window.pregraspViewer.setTime(t), tEnd);
+      await page.locator('#view canvas').screenshot({ path: screenshot.replace(/\.png$/, `-${seg.name}.png`) });
+    }
     await page.evaluate((t) => window.pregraspViewer.setTime(t), tMid);
     await page.screenshot({ path: screenshot });
     console.log(`screenshot: ${screenshot}`);

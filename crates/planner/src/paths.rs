@@ -38,8 +38,24 @@ pub fn motion_seed(seed: u64, candidate: usize, motion: u64) -> u64 {
     x ^ (x >> 31)
 }
 
-/// Algorithm 3 for one candidate: its integrated path, or why there is none (the last
-/// failure met, naming the motion).
+/// The failure that got furthest through Algorithm 3 (μ_rot < μ_sup1 < μ_mas1 < μ_sup2), so a
+/// rejected candidate says where it came closest to a plan.
+struct Furthest {
+    stage: u8,
+    reason: String,
+}
+
+impl Furthest {
+    fn note(&mut self, stage: u8, reason: String) {
+        if stage >= self.stage {
+            self.stage = stage;
+            self.reason = reason;
+        }
+    }
+}
+
+/// Algorithm 3 for one candidate: its integrated path, or why there is none (the failure
+/// that got furthest, naming the motion).
 pub fn integrated_path(
     ctx: &PlanningContext,
     candidate: &RotationAxisCandidate,
@@ -49,13 +65,13 @@ pub fn integrated_path(
     let mas = pose.master;
     let starts = ctx.starts();
     let seed = ctx.scene.planner.seed;
-    let mut last_failure = String::from("no support-grasp IK solution");
+    let mut failure = Furthest { stage: 0, reason: String::from("no support-grasp IK solution") };
 
     for c_ik_s in pose.support_ik.iter().take(MAX_IK_TRIES) {
         let rot = match rotation_path(ctx, candidate, pose, c_ik_s) {
             Ok(rot) => rot,
-            Err(failure) => {
-                last_failure = failure.describe();
+            Err(f) => {
+                failure.note(1, f.describe());
                 continue;
             }
         };
@@ -80,7 +96,7 @@ pub fn integrated_path(
         let sup1 = match reach(ctx, &query) {
             Ok(m) => m,
             Err(f) => {
-                last_failure = format!("μ_sup1: {}", f.describe());
+                failure.note(2, format!("μ_sup1: {}", f.describe()));
                 continue;
             }
         };
@@ -107,17 +123,17 @@ pub fn integrated_path(
             let mas1 = match reach(ctx, &query) {
                 Ok(m) => m,
                 Err(f) => {
-                    last_failure = format!("μ_mas1: {}", f.describe());
+                    failure.note(3, format!("μ_mas1: {}", f.describe()));
                     continue;
                 }
             };
             match regrasp(ctx, candidate, pose, &last, c_ik_p) {
                 Ok(sup2) => return Ok(IntegratedPath { rot, sup1, mas1, sup2 }),
-                Err(f) => last_failure = f,
+                Err(f) => failure.note(4, f),
             }
         }
     }
-    Err(last_failure)
+    Err(failure.reason)
 }
 
 /// μ_sup2: the supportive arm releases G_s, backs out and power-grasps its own G_p while the

@@ -25,8 +25,14 @@ fn main() -> ExitCode {
         none.write_atomic(&dir.join("no-plan.json"))?;
         let plate = fixture::plate_mesh();
         let options = ViewOptions::default();
-        write_atomic(&dir.join("plan.html"), render_html(&plan, &plate, &options).as_bytes())?;
-        write_atomic(&dir.join("no-plan.html"), render_html(&none, &plate, &options).as_bytes())?;
+        write_atomic(
+            &dir.join("plan.html"),
+            render_html(&plan, &plate, &options).as_bytes(),
+        )?;
+        write_atomic(
+            &dir.join("no-plan.html"),
+            render_html(&none, &plate, &options).as_bytes(),
+        )?;
         Ok(())
     };
     match run() {

@@ -2,7 +2,6 @@
 //! to draw it — the mesh, the hull's feature edges and each arm's kinematic and geometric
 //! model. Everything is in metres and radians; poses use the plan file's `PoseJson`.
 
-use nalgebra::Isometry3;
 use pregrasp_geometry::{ConvexHull, Mesh};
 use pregrasp_io::plan_file::{PlanFile, PoseJson, RobotJson};
 use pregrasp_robot::{
@@ -89,8 +88,19 @@ pub struct FkCheckJson {
 #[derive(Serialize, Debug, Clone, PartialEq)]
 #[serde(tag = "kind", rename_all = "lowercase")]
 pub enum ShapeJson {
-    Capsule { name: String, frame: usize, a: [f64; 3], b: [f64; 3], radius: f64 },
-    Cuboid { name: String, frame: usize, pose: PoseJson, half_extents: [f64; 3] },
+    Capsule {
+        name: String,
+        frame: usize,
+        a: [f64; 3],
+        b: [f64; 3],
+        radius: f64,
+    },
+    Cuboid {
+        name: String,
+        frame: usize,
+        pose: PoseJson,
+        half_extents: [f64; 3],
+    },
 }
 
 impl From<&LinkShape> for ShapeJson {
@@ -204,14 +214,21 @@ fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
         model: robot.model.clone(),
         known: true,
         dh: dh_json,
-        links: arm_geometry(model).links.iter().map(ShapeJson::from).collect(),
+        links: arm_geometry(model)
+            .links
+            .iter()
+            .map(ShapeJson::from)
+            .collect(),
         gripper: GripperShapesJson {
             open: shapes(GripperState::Open),
             closed: shapes(GripperState::Closed),
         },
         fk_check: fk_check_configs(robot, plan)
             .into_iter()
-            .map(|q| FkCheckJson { q, flange: PoseJson::from(&kin.fk(&q)) })
+            .map(|q| FkCheckJson {
+                q,
+                flange: PoseJson::from(&kin.fk(&q)),
+            })
             .collect(),
     }
 }
@@ -220,17 +237,15 @@ fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
 /// the first and last point of each of this robot's segments in the plans (capped).
 fn fk_check_configs(robot: &RobotJson, plan: &PlanFile) -> Vec<Joints> {
     let mut qs = vec![robot.start, [0.3, -1.2, 1.5, -0.8, 1.1, 0.4]];
-    let segments = plan.plans.iter().flat_map(|p| &p.segments).filter(|s| s.robot == robot.name);
+    let segments = plan
+        .plans
+        .iter()
+        .flat_map(|p| &p.segments)
+        .filter(|s| s.robot == robot.name);
     for seg in segments {
         qs.extend(seg.points.first().map(|p| p.q));
         qs.extend(seg.points.last().map(|p| p.q));
     }
     qs.truncate(MAX_FK_CHECKS);
     qs
-}
-
-/// World pose of a robot's flange frame for joints `q`: base · FK(q).
-pub fn flange_world(robot: &RobotJson, q: &Joints) -> Option<Isometry3<f64>> {
-    let model = UrModel::from_name(&robot.model)?;
-    Some(robot.base.to_isometry() * UrKinematics::new(model).fk(q))
 }

@@ -11,7 +11,9 @@
 use std::collections::BTreeMap;
 use std::f64::consts::FRAC_PI_2;
 
-use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
+use nalgebra::{
+    Isometry3, Matrix3, Point3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3,
+};
 use pregrasp_geometry::rotation::rotation_about_line;
 use pregrasp_geometry::shapes::cuboid;
 use pregrasp_geometry::Mesh;
@@ -40,7 +42,10 @@ pub enum FixtureError {
 /// The plate as a mesh in its object frame (12 triangles, welded corners).
 pub fn plate_mesh() -> Mesh {
     let [x, y, z] = PLATE;
-    cuboid(Point3::new(-x / 2.0, -y / 2.0, 0.0), Point3::new(x / 2.0, y / 2.0, z))
+    cuboid(
+        Point3::new(-x / 2.0, -y / 2.0, 0.0),
+        Point3::new(x / 2.0, y / 2.0, z),
+    )
 }
 
 /// The demo plan (status `planned`, two plans) with `object.mesh = mesh_path`.
@@ -82,7 +87,10 @@ fn grasp_rotation() -> UnitQuaternion<f64> {
 }
 
 fn grasp(x: f64) -> Isometry3<f64> {
-    Isometry3::from_parts(Translation3::new(x, -PLATE[1] / 2.0 + 0.01, PLATE[2] / 2.0), grasp_rotation())
+    Isometry3::from_parts(
+        Translation3::new(x, -PLATE[1] / 2.0 + 0.01, PLATE[2] / 2.0),
+        grasp_rotation(),
+    )
 }
 
 fn robot(name: &str, x: f64, start: Joints) -> RobotJson {
@@ -109,7 +117,10 @@ fn base_file(mesh_path: &str) -> PlanFile {
     let p_init = Isometry3::translation(0.0, 0.0, LIFT);
     PlanFile {
         format: PLAN_FORMAT.into(),
-        scene: SceneRef { name: Some("viewer fixture: plate".into()), file: "fixture.toml".into() },
+        scene: SceneRef {
+            name: Some("viewer fixture: plate".into()),
+            file: "fixture.toml".into(),
+        },
         status: "no_plan".into(),
         reason: None,
         support_height: 0.0,
@@ -207,25 +218,47 @@ impl Setup {
         let g = Gripper2F85::default();
         Setup {
             kin: UrKinematics::new(UrModel::Ur5e),
-            bases: [plan.robots[0].base.to_isometry(), plan.robots[1].base.to_isometry()],
+            bases: [
+                plan.robots[0].base.to_isometry(),
+                plan.robots[1].base.to_isometry(),
+            ],
             starts: [plan.robots[0].start, plan.robots[1].start],
             precision: g.precision_point(),
             power: g.power_point(),
             p_init: plan.object.initial_pose.to_isometry(),
             g_s: plan.grasps.support.to_isometry(),
-            g_p: [plan.grasps.power[0].to_isometry(), plan.grasps.power[1].to_isometry()],
+            g_p: [
+                plan.grasps.power[0].to_isometry(),
+                plan.grasps.power[1].to_isometry(),
+            ],
         }
     }
 
     /// IK (nearest to `seed`) of a world flange pose for robot `r`.
-    fn ik(&self, r: usize, flange_world: &Isometry3<f64>, seed: &Joints, what: &str) -> Result<Joints, FixtureError> {
+    fn ik(
+        &self,
+        r: usize,
+        flange_world: &Isometry3<f64>,
+        seed: &Joints,
+        what: &str,
+    ) -> Result<Joints, FixtureError> {
         let local = self.bases[r].inverse() * flange_world;
-        self.kin.ik_nearest(&local, seed).ok_or_else(|| FixtureError::Unreachable(what.into()))
+        self.kin
+            .ik_nearest(&local, seed)
+            .ok_or_else(|| FixtureError::Unreachable(what.into()))
     }
 
     /// Straight tool motion from `a` to `b` (world flange poses, same orientation): `n`
     /// further points after `seed`'s configuration (which is at `a`).
-    fn straight(&self, r: usize, a: &Isometry3<f64>, b: &Isometry3<f64>, n: usize, seed: Joints, what: &str) -> Result<Vec<Joints>, FixtureError> {
+    fn straight(
+        &self,
+        r: usize,
+        a: &Isometry3<f64>,
+        b: &Isometry3<f64>,
+        n: usize,
+        seed: Joints,
+        what: &str,
+    ) -> Result<Vec<Joints>, FixtureError> {
         let mut q = seed;
         let mut out = Vec::new();
         for k in 1..=n {
@@ -255,10 +288,16 @@ fn timed(qs: &[Joints], object: Option<&[Isometry3<f64>]>) -> Vec<PointJson> {
         .enumerate()
         .map(|(k, q)| {
             if k > 0 {
-                let dq = (0..6).map(|i| (q[i] - qs[k - 1][i]).abs()).fold(0.0, f64::max);
+                let dq = (0..6)
+                    .map(|i| (q[i] - qs[k - 1][i]).abs())
+                    .fold(0.0, f64::max);
                 t += (dq / SPEED).max(0.02);
             }
-            PointJson { t, q: *q, object_pose: object.map(|o| PoseJson::from(&o[k])) }
+            PointJson {
+                t,
+                q: *q,
+                object_pose: object.map(|o| PoseJson::from(&o[k])),
+            }
         })
         .collect()
 }
@@ -289,11 +328,17 @@ fn build_plan(s: &Setup, cand: &CandidateJson, theta_goal: f64) -> Result<PlanJs
 
     // rot: the precision point follows object_pose · G_s while the plate turns about the axis.
     let n_rot = 14;
-    let poses: Vec<Isometry3<f64>> =
-        (0..=n_rot).map(|k| object_at(theta_goal * k as f64 / n_rot as f64)).collect();
+    let poses: Vec<Isometry3<f64>> = (0..=n_rot)
+        .map(|k| object_at(theta_goal * k as f64 / n_rot as f64))
+        .collect();
     let mut rot = vec![*sup1.last().expect("sup1 has points")];
     for pose in &poses[1..] {
-        let q = s.ik(sup, &(pose * s.g_s * s.precision.inverse()), rot.last().unwrap(), "rot")?;
+        let q = s.ik(
+            sup,
+            &(pose * s.g_s * s.precision.inverse()),
+            rot.last().unwrap(),
+            "rot",
+        )?;
         rot.push(q);
     }
 
@@ -322,15 +367,18 @@ fn build_plan(s: &Setup, cand: &CandidateJson, theta_goal: f64) -> Result<PlanJs
     sup2.extend(s.straight(sup, &stand_s, &power_s, 5, q_stand_s, "sup2 approach")?);
 
     let names = ["left", "right"];
-    let segment = |name: &str, r: usize, kind: &str, grasp: &str, points, retreat_to, approach_from| SegmentJson {
-        name: name.into(),
-        robot: names[r].into(),
-        kind: kind.into(),
-        grasp: grasp.into(),
-        retreat_to,
-        approach_from,
-        points,
-    };
+    let segment =
+        |name: &str, r: usize, kind: &str, grasp: &str, points, retreat_to, approach_from| {
+            SegmentJson {
+                name: name.into(),
+                robot: names[r].into(),
+                kind: kind.into(),
+                grasp: grasp.into(),
+                retreat_to,
+                approach_from,
+                points,
+            }
+        };
     Ok(PlanJson {
         candidate: cand.id,
         score: cand.score,
@@ -338,10 +386,42 @@ fn build_plan(s: &Setup, cand: &CandidateJson, theta_goal: f64) -> Result<PlanJs
         supportive: names[sup].into(),
         object_goal_pose: PoseJson::from(&p_obj),
         segments: vec![
-            segment("sup1", sup, "reach", "support", timed(&sup1, None), None, Some(approach_sup1)),
-            segment("rot", sup, "rotate", "support", timed(&rot, Some(&poses)), None, None),
-            segment("mas1", mas, "reach", "power", timed(&mas1, None), None, Some(approach_mas1)),
-            segment("sup2", sup, "regrasp", "power", timed(&sup2, None), Some(retreat_to), Some(approach_sup2)),
+            segment(
+                "sup1",
+                sup,
+                "reach",
+                "support",
+                timed(&sup1, None),
+                None,
+                Some(approach_sup1),
+            ),
+            segment(
+                "rot",
+                sup,
+                "rotate",
+                "support",
+                timed(&rot, Some(&poses)),
+                None,
+                None,
+            ),
+            segment(
+                "mas1",
+                mas,
+                "reach",
+                "power",
+                timed(&mas1, None),
+                None,
+                Some(approach_mas1),
+            ),
+            segment(
+                "sup2",
+                sup,
+                "regrasp",
+                "power",
+                timed(&sup2, None),
+                Some(retreat_to),
+                Some(approach_sup2),
+            ),
         ],
     })
 }
@@ -383,7 +463,10 @@ mod tests {
         let c = candidates();
         assert_eq!(c.len(), 8);
         assert!(c.windows(2).all(|w| w[0].score >= w[1].score));
-        let small = c.iter().find(|c| c.length > 0.5 && c.theta_max < 0.1).unwrap();
+        let small = c
+            .iter()
+            .find(|c| c.length > 0.5 && c.theta_max < 0.1)
+            .unwrap();
         assert!((small.theta_max.sin() * PLATE[1] - LIFT).abs() < 1e-12);
     }
 }

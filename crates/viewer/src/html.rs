@@ -48,7 +48,10 @@ fn fill_template(template: &str, value: impl Fn(&str) -> Option<String>) -> Stri
     while let Some(start) = rest.find("{{") {
         out.push_str(&rest[..start]);
         let after = &rest[start + 2..];
-        match after.find("}}").and_then(|end| value(&after[..end]).map(|v| (end, v))) {
+        match after
+            .find("}}")
+            .and_then(|end| value(&after[..end]).map(|v| (end, v)))
+        {
             Some((end, v)) => {
                 out.push_str(&v);
                 rest = &after[end + 2..];

@@ -15,6 +15,11 @@ pub struct ViewOptions {
 
 impl Default for ViewOptions {
     fn default() -> Self {
-        ViewOptions { title: None, initial_plan: 0, speed: 1.0, autoplay: true }
+        ViewOptions {
+            title: None,
+            initial_plan: 0,
+            speed: 1.0,
+            autoplay: true,
+        }
     }
 }

@@ -12,6 +12,11 @@ use crate::world::{CollisionWorld, WorldState};
 /// Edge resolution (m of arm-point travel between checked states) used by the benchmark.
 pub const DEFAULT_RESOLUTION: f64 = 0.01;
 
+/// Safety margin (m) used by the benchmark: equal to the resolution, so every returned
+/// edge is collision-free in continuous motion, self-collision pairs included (see
+/// [`crate::validity`]).
+pub const DEFAULT_MARGIN: f64 = DEFAULT_RESOLUTION;
+
 /// How each query is planned.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReachSettings {
@@ -28,7 +33,7 @@ impl Default for ReachSettings {
     fn default() -> Self {
         ReachSettings {
             resolution: DEFAULT_RESOLUTION,
-            margin: 0.0,
+            margin: DEFAULT_MARGIN,
             rrt: RrtConnectSettings { max_iterations: 20_000, ..RrtConnectSettings::default() },
         }
     }
@@ -65,6 +70,31 @@ impl ReachPlanner {
     /// Plans one query (arm 1 at zero, open grippers, no part).
     pub fn plan(&self, query: &ReachQuery, seed: u64) -> PlanResult<6> {
         self.plan_in(WorldState::new([[0.0; 6]; 2]), query, seed)
+    }
+
+    /// The space queries are drawn from: the joint limits narrowed to one turn, `[−π, π]`
+    /// per joint. With the full ±2π limits, the shoulder-lift angles that keep the upper arm
+    /// above the table form two intervals a turn apart that no collision-free path joins,
+    /// so uniformly drawn pairs would be infeasible half of the time.
+    pub fn query_space(&self) -> JointSpace<6> {
+        let mut s = self.space.clone();
+        for i in 0..6 {
+            s.lower[i] = s.lower[i].max(-std::f64::consts::PI);
+            s.upper[i] = s.upper[i].min(std::f64::consts::PI);
+        }
+        s
+    }
+
+    /// A valid state of arm 0 drawn uniformly from [`query_space`](Self::query_space)
+    /// (rejection sampling).
+    pub fn sample_valid(&self, rng: &mut impl rand::Rng) -> Joints {
+        let space = self.query_space();
+        loop {
+            let q = space.sample(rng);
+            if self.is_valid(&q) {
+                return q;
+            }
+        }
     }
 
     /// Whether `q` is a valid state of arm 0 (default state for the rest).

@@ -198,6 +198,7 @@ class Arm {
       new THREE.BufferGeometry().setAttribute('position', new THREE.Float32BufferAttribute(new Float32Array(36), 3)),
       new THREE.LineBasicMaterial({ color: 0x404858 }));
     this.skeleton.frustumCulled = false;
+    this.skeleton.visible = model.links.length === 0;
     this.root.add(this.skeleton);
     this.setState(robotJson.start, false);
   }
@@ -258,6 +259,29 @@ function buildDummies(plan) {
     for (const s of model.gripper.open) g.add(shapeMesh(s, material));
     dummyGroup.add(g);
   });
+}
+
+// The chosen axis's rotation sense: a cone along the signed axis (right-hand rule: "ccw" is
+// positive about axis[1] − axis[0]) at the end it points to.
+const arrowGroup = new THREE.Group();
+scene.add(arrowGroup);
+
+function buildArrow(plan) {
+  arrowGroup.clear();
+  const c = plan ? PLAN.candidates.find((x) => x.id === plan.candidate) : undefined;
+  if (!c) return;
+  const a = new THREE.Vector3(...c.axis[0]), b = new THREE.Vector3(...c.axis[1]);
+  const dir = b.clone().sub(a);
+  if (dir.lengthSq() === 0) return;
+  dir.normalize();
+  const tip = c.direction === 'ccw' ? b : a;
+  if (c.direction !== 'ccw') dir.negate();
+  const cone = new THREE.Mesh(new THREE.ConeGeometry(0.015, 0.05, 16),
+    new THREE.MeshStandardMaterial({ color: COLORS.chosen, depthTest: false }));
+  cone.renderOrder = 2;
+  cone.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), dir);
+  cone.position.copy(tip).addScaledVector(dir, 0.025);
+  arrowGroup.add(cone);
 }
 
 // ---------- timeline ----------
@@ -355,6 +379,7 @@ let timeline = buildTimeline(null);
 let time = 0;
 let playing = false;
 let framesRendered = 0;
+let dirty = true; // the view changed since the last frame
 
 const fmt = (x, d = 3) => (x === null || x === undefined ? '—' : Number(x).toFixed(d));
 const deg = (x) => (x === null || x === undefined ? '—' : (x * 180 / Math.PI).toFixed(1) + '°');
@@ -364,12 +389,16 @@ function candidateText(c) {
 }
 
 function highlightCandidates(hoverId) {
+  dirty = true;
   const chosen = currentPlan ? currentPlan.candidate : -1;
   for (const [id, mesh] of candidateMeshes) {
     const c = mesh.userData.candidate;
     const isChosen = id === chosen, isHover = id === hoverId;
     mesh.material.color.setHex(isChosen ? COLORS.chosen : candidateColor(c));
     mesh.material.opacity = isChosen || isHover ? 1.0 : 0.85;
+    // The chosen and hovered axes show through the part (an axis lies on its edge).
+    mesh.material.depthTest = !(isChosen || isHover);
+    mesh.renderOrder = isChosen || isHover ? 2 : 0;
     const s = isChosen ? 2.2 : isHover ? 1.8 : 1.0;
     mesh.scale.set(s, 1, s);
   }
@@ -404,6 +433,7 @@ function fillCandidateTable() {
 
 function applyTime(t) {
   time = Math.min(Math.max(t, 0), timeline.total);
+  dirty = true;
   const st = stateAt(currentPlan, timeline, time);
   arms.forEach((arm, i) => arm && arm.setState(st.q[i], st.closed[i]));
   part.matrix.copy(st.object);
@@ -425,6 +455,7 @@ function selectPlan(k) {
   }
   timeline = buildTimeline(currentPlan);
   buildDummies(currentPlan);
+  buildArrow(currentPlan);
   highlightCandidates(-1);
   applyTime(0);
   render();
@@ -461,7 +492,10 @@ function setupUi() {
   ui.speed.value = String(DATA.options.speed);
   if (ui.speed.value === '') ui.speed.value = '1';
   ui.showHull.addEventListener('change', () => { part.getObjectByName('hull-edges').visible = ui.showHull.checked; });
-  ui.showCandidates.addEventListener('change', () => { candidateGroup.visible = ui.showCandidates.checked; });
+  ui.showCandidates.addEventListener('change', () => {
+    candidateGroup.visible = ui.showCandidates.checked;
+    arrowGroup.visible = ui.showCandidates.checked;
+  });
   ui.showDummies.addEventListener('change', () => { dummyGroup.visible = ui.showDummies.checked; });
   fillCandidateTable();
 
@@ -490,11 +524,17 @@ function setupUi() {
 
 // ---------- camera and loop ----------
 
+/** Looks at the part from beyond it, away from the arms' bases, from above and a little aside. */
 function fitCamera() {
   const radius = Math.max(sceneSize.x, sceneSize.y, 1.0) * 0.75;
   const target = new THREE.Vector3().setFromMatrixPosition(pInit);
   target.z = PLAN.support_height + 0.2;
-  camera.position.set(target.x + radius * 0.9, target.y - radius * 1.3, target.z + radius * 0.9);
+  const bases = new THREE.Vector3();
+  for (const r of PLAN.robots) bases.add(new THREE.Vector3(...r.base.xyz).multiplyScalar(1 / PLAN.robots.length));
+  const dir = new THREE.Vector3(target.x - bases.x, target.y - bases.y, 0);
+  if (dir.lengthSq() < 1e-6) dir.set(1, -1, 0);
+  dir.normalize().applyAxisAngle(new THREE.Vector3(0, 0, 1), 0.6);
+  camera.position.copy(target).addScaledVector(dir, 1.5 * radius).add(new THREE.Vector3(0, 0, 1.1 * radius));
   controls.target.copy(target);
   controls.update();
 }
@@ -512,6 +552,11 @@ function onResize() {
 }
 window.addEventListener('resize', onResize);
 
+// Frames are drawn while playing and after any change of view or state, not when idle.
+controls.addEventListener('change', () => { dirty = true; });
+for (const el of [ui.showHull, ui.showCandidates, ui.showDummies]) el.addEventListener('change', () => { dirty = true; });
+renderer.domElement.addEventListener('pointermove', () => { dirty = true; });
+
 let lastFrame = performance.now();
 function tick(now) {
   const dt = Math.min((now - lastFrame) / 1000, 0.1);
@@ -520,9 +565,13 @@ function tick(now) {
     const next = time + dt * Number(ui.speed.value || 1);
     applyTime(next);
     if (next >= timeline.total) setPlaying(false);
+    dirty = true;
   }
   controls.update();
-  render();
+  if (dirty) {
+    render();
+    dirty = false;
+  }
   requestAnimationFrame(tick);
 }
 

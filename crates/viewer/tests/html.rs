@@ -1,0 +1,198 @@
+//! The page embeds valid JSON that round-trips the plan, loads the pinned three.js, escapes
+//! script-closing text, and carries correct robot models and hull edges.
+
+use pregrasp_io::plan_file::PlanFile;
+use pregrasp_robot::{UrKinematics, UrModel};
+use pregrasp_viewer::{fixture, render_html, ViewOptions, THREE_ADDONS_URL, THREE_MODULE_URL};
+use serde_json::Value;
+
+const DATA_OPEN: &str = r#"<script type="application/json" id="pregrasp-data">"#;
+
+/// The text of the embedded data script, parsed.
+fn embedded(html: &str) -> Value {
+    let start = html.find(DATA_OPEN).expect("data script present") + DATA_OPEN.len();
+    let end = start + html[start..].find("</script>").expect("data script closed");
+    serde_json::from_str(&html[start..end]).expect("embedded data is valid JSON")
+}
+
+fn demo() -> (PlanFile, String) {
+    let plan = fixture::demo_plan("plate.stl").expect("fixture builds");
+    let html = render_html(&plan, &fixture::plate_mesh(), &ViewOptions::default());
+    (plan, html)
+}
+
+#[test]
+fn embedded_plan_round_trips() {
+    let (plan, html) = demo();
+    let data = embedded(&html);
+    assert_eq!(data["format"], "pregrasp.view/1");
+    let back: PlanFile = serde_json::from_value(data["plan"].clone()).unwrap();
+    assert_eq!(back, plan);
+    assert_eq!(data["plan"], serde_json::to_value(&plan).unwrap());
+}
+
+#[test]
+fn loads_pinned_three_through_an_import_map() {
+    let (_, html) = demo();
+    let map_start = html
+        .find(r#"<script type="importmap">"#)
+        .expect("import map");
+    let module_start = html
+        .find(r#"<script type="module">"#)
+        .expect("module script");
+    assert!(
+        map_start < module_start,
+        "the import map must precede the module"
+    );
+    let map_text = &html[map_start + 25..];
+    let map: Value =
+        serde_json::from_str(&map_text[..map_text.find("</script>").unwrap()]).unwrap();
+    assert_eq!(map["imports"]["three"], THREE_MODULE_URL);
+    assert_eq!(map["imports"]["three/addons/"], THREE_ADDONS_URL);
+    assert_eq!(
+        THREE_MODULE_URL,
+        "https://cdn.jsdelivr.net/npm/three@0.170.0/build/three.module.js"
+    );
+    assert!(html.contains("from 'three/addons/controls/OrbitControls.js'"));
+}
+
+#[test]
+fn script_closing_text_in_the_data_is_escaped() {
+    let mut plan = fixture::no_plan("a</script><script>alert(1)</script>.stl");
+    plan.reason = Some("</SCRIPT> <!-- & \u{2028}".into());
+    plan.scene.name = Some("<b>x</b>".into());
+    let html = render_html(&plan, &fixture::plate_mesh(), &ViewOptions::default());
+    // Exactly the page's own three scripts are closed; nothing from the data.
+    assert_eq!(html.to_ascii_lowercase().matches("</script").count(), 3);
+    assert!(!html.contains("<b>x</b>"), "the title is HTML-escaped");
+    assert!(html.contains("<title>&lt;b&gt;x&lt;/b&gt;</title>"));
+    let back: PlanFile = serde_json::from_value(embedded(&html)["plan"].clone()).unwrap();
+    assert_eq!(back, plan);
+}
+
+#[test]
+fn mesh_and_hull_edges_match_the_part() {
+    let (_, html) = demo();
+    let data = embedded(&html);
+    let mesh = fixture::plate_mesh();
+    let positions: Vec<f64> = data["mesh"]["positions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert_eq!(positions.len(), 3 * mesh.vertices.len());
+    for (p, v) in positions.chunks(3).zip(&mesh.vertices) {
+        assert!(
+            (p[0] - v.x).abs() < 1e-6 && (p[1] - v.y).abs() < 1e-6 && (p[2] - v.z).abs() < 1e-6
+        );
+    }
+    let indices: Vec<u64> = data["mesh"]["indices"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_u64().unwrap())
+        .collect();
+    let expected: Vec<u64> = mesh.triangles.iter().flatten().map(|&i| i as u64).collect();
+    assert_eq!(indices, expected);
+    // A box has exactly 12 feature edges, each parallel to one axis (no face diagonals).
+    let edges = data["hull_edges"].as_array().unwrap();
+    assert_eq!(edges.len(), 12);
+    for e in edges {
+        let e: Vec<f64> = e
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        let moved = (0..3).filter(|&k| (e[k] - e[k + 3]).abs() > 1e-6).count();
+        assert_eq!(moved, 1, "edge {e:?} is not axis-parallel");
+    }
+}
+
+#[test]
+fn robot_models_carry_dh_shapes_and_a_correct_fk_check() {
+    let (plan, html) = demo();
+    let data = embedded(&html);
+    let robots = data["robots"].as_array().unwrap();
+    assert_eq!(robots.len(), plan.robots.len());
+    let kin = UrKinematics::new(UrModel::Ur5e);
+    let dh = UrModel::Ur5e.dh();
+    for r in robots {
+        assert_eq!(r["known"], true);
+        for i in 0..6 {
+            let (d, a, alpha) = dh.row(i);
+            assert_eq!(r["dh"]["d"][i].as_f64().unwrap(), d);
+            assert_eq!(r["dh"]["a"][i].as_f64().unwrap(), a);
+            assert_eq!(r["dh"]["alpha"][i].as_f64().unwrap(), alpha);
+        }
+        assert_eq!(
+            r["links"].as_array().unwrap().len(),
+            pregrasp_robot::arm_geometry(UrModel::Ur5e).links.len()
+        );
+        for shape in r["links"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .chain(r["gripper"]["open"].as_array().unwrap())
+        {
+            let kind = shape["kind"].as_str().unwrap();
+            assert!(kind == "capsule" || kind == "cuboid", "{kind}");
+            assert!(shape["frame"].as_u64().unwrap() <= 6);
+        }
+        let checks = r["fk_check"].as_array().unwrap();
+        assert!(checks.len() >= 2);
+        for c in checks {
+            let q: [f64; 6] = serde_json::from_value(c["q"].clone()).unwrap();
+            let pose: pregrasp_io::plan_file::PoseJson =
+                serde_json::from_value(c["flange"].clone()).unwrap();
+            let want = kin.fk(&q);
+            assert!(
+                (pose.to_isometry().translation.vector - want.translation.vector).norm() < 1e-12
+            );
+        }
+    }
+}
+
+#[test]
+fn unknown_robot_model_is_marked_not_drawn() {
+    let mut plan = fixture::no_plan("plate.stl");
+    plan.robots[1].model = "ur7".into();
+    let html = render_html(&plan, &fixture::plate_mesh(), &ViewOptions::default());
+    let data = embedded(&html);
+    assert_eq!(data["robots"][0]["known"], true);
+    assert_eq!(data["robots"][1]["known"], false);
+    assert_eq!(data["robots"][1]["links"].as_array().unwrap().len(), 0);
+}
+
+#[test]
+fn options_and_title_reach_the_page() {
+    let plan = fixture::no_plan("plate.stl");
+    let options = ViewOptions {
+        title: Some("my view".into()),
+        initial_plan: 1,
+        speed: 2.0,
+        autoplay: false,
+    };
+    let html = render_html(&plan, &fixture::plate_mesh(), &options);
+    let data = embedded(&html);
+    assert_eq!(data["title"], "my view");
+    assert_eq!(data["options"]["initial_plan"], 1);
+    assert_eq!(data["options"]["speed"], 2.0);
+    assert_eq!(data["options"]["autoplay"], false);
+    assert!(html.contains("<title>my view</title>"));
+    // Default title: the scene name.
+    let html = render_html(&plan, &fixture::plate_mesh(), &ViewOptions::default());
+    assert_eq!(embedded(&html)["title"], "viewer fixture: plate");
+}
+
+#[test]
+fn a_degenerate_mesh_still_renders_without_hull_edges() {
+    let plan = fixture::no_plan("plate.stl");
+    let mesh = pregrasp_geometry::Mesh {
+        vertices: vec![],
+        triangles: vec![],
+    };
+    let html = render_html(&plan, &mesh, &ViewOptions::default());
+    assert_eq!(embedded(&html)["hull_edges"].as_array().unwrap().len(), 0);
+}
