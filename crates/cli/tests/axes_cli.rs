@@ -5,21 +5,31 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data")
+        .join(name)
 }
 
 fn pregrasp(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pregrasp")).args(args).output().expect("runs pregrasp")
+    Command::new(env!("CARGO_BIN_EXE_pregrasp"))
+        .args(args)
+        .output()
+        .expect("runs pregrasp")
 }
 
 /// A temp dir holding `scene.toml` (the fixture scene with `edit` applied) and the mesh
 /// fixture `mesh` copied as `part.<ext>`.
 fn scene_with(mesh: &str, edit: impl Fn(String) -> String) -> (tempfile::TempDir, PathBuf) {
     let dir = tempfile::tempdir().unwrap();
-    let ext = Path::new(mesh).extension().and_then(|e| e.to_str()).unwrap_or("stl");
+    let ext = Path::new(mesh)
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("stl");
     let part = format!("part.{ext}");
     std::fs::copy(data(mesh), dir.path().join(&part)).unwrap();
-    let text = std::fs::read_to_string(data("box_scene.toml")).unwrap().replace("box.stl", &part);
+    let text = std::fs::read_to_string(data("box_scene.toml"))
+        .unwrap()
+        .replace("box.stl", &part);
     let path = dir.path().join("scene.toml");
     std::fs::write(&path, edit(text)).unwrap();
     (dir, path)
@@ -44,7 +54,11 @@ fn table_lists_the_four_bottom_edges_both_ways() {
         .collect();
     assert_eq!(rows.len(), 8, "{text}");
     assert_eq!(rows.iter().filter(|r| r.contains(" ccw ")).count(), 4);
-    assert_eq!(rows.iter().filter(|r| r.contains("90.0000")).count(), 4, "{text}");
+    assert_eq!(
+        rows.iter().filter(|r| r.contains("90.0000")).count(),
+        4,
+        "{text}"
+    );
     assert!(text.contains("8 candidate(s)"));
 }
 
@@ -57,8 +71,16 @@ fn json_is_the_plan_formats_candidates_array() {
     assert_eq!(arr.len(), 8);
     for (i, c) in arr.iter().enumerate() {
         let keys: Vec<&str> = c.as_object().unwrap().keys().map(String::as_str).collect();
-        let mut expected =
-            ["id", "axis", "direction", "length", "theta_max", "score", "theta_goal", "outcome"];
+        let mut expected = [
+            "id",
+            "axis",
+            "direction",
+            "length",
+            "theta_max",
+            "score",
+            "theta_goal",
+            "outcome",
+        ];
         let mut keys_sorted = keys.clone();
         keys_sorted.sort_unstable();
         expected.sort_unstable();
@@ -143,7 +165,10 @@ fn bad_scenes_fail_naming_file_and_key() {
         let out = pregrasp(&["axes", scene.to_str().unwrap()]);
         let err = stderr(&out);
         assert_eq!(out.status.code(), Some(1), "{to}: {err}");
-        assert!(err.starts_with(&format!("error: {}: ", scene.display())), "{err}");
+        assert!(
+            err.starts_with(&format!("error: {}: ", scene.display())),
+            "{err}"
+        );
         assert!(err.contains(words), "expected {words:?} in {err}");
         assert_eq!(err.lines().count(), 1, "one message: {err}");
     }
@@ -155,8 +180,9 @@ fn bad_scenes_fail_naming_file_and_key() {
 #[test]
 fn no_candidates_exits_2() {
     // Raised 5 cm above the support: no edge within Δd_s.
-    let (_dir, scene) =
-        scene_with("box.stl", |t| t.replace("xyz = [0.5, -0.3, 0.0]", "xyz = [0.5, -0.3, 0.05]"));
+    let (_dir, scene) = scene_with("box.stl", |t| {
+        t.replace("xyz = [0.5, -0.3, 0.0]", "xyz = [0.5, -0.3, 0.05]")
+    });
     let out = pregrasp(&["axes", scene.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     assert!(stderr(&out).contains("no rotation-axis candidates"));

@@ -28,9 +28,20 @@ fn plan_writes_a_plan_that_check_accepts_and_is_the_same_for_1_and_2_threads() {
     let tmp = tempfile::tempdir().unwrap();
     let scene = examples_dir().join("chair_side.toml");
     let scene = scene.to_str().unwrap();
-    let one = pregrasp(tmp.path(), &["plan", scene, "-o", "one.json", "--threads", "1", "--quiet"]);
-    assert_eq!(one.status.code(), Some(0), "{}", String::from_utf8_lossy(&one.stderr));
-    let two = pregrasp(tmp.path(), &["plan", scene, "-o", "two.json", "--threads", "2", "--quiet"]);
+    let one = pregrasp(
+        tmp.path(),
+        &["plan", scene, "-o", "one.json", "--threads", "1", "--quiet"],
+    );
+    assert_eq!(
+        one.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&one.stderr)
+    );
+    let two = pregrasp(
+        tmp.path(),
+        &["plan", scene, "-o", "two.json", "--threads", "2", "--quiet"],
+    );
     assert_eq!(two.status.code(), Some(0));
     assert_eq!(
         plan_without_timing(&tmp.path().join("one.json")),
@@ -60,7 +71,11 @@ fn a_broken_mesh_exits_1_and_writes_nothing() {
     assert!(err.contains("chair_side.stl"), "{err}");
     assert!(err.contains("object.mesh"), "{err}");
     assert!(!tmp.path().join("plan.json").exists());
-    assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 2, "no temp file left behind");
+    assert_eq!(
+        std::fs::read_dir(tmp.path()).unwrap().count(),
+        2,
+        "no temp file left behind"
+    );
 }
 
 #[test]
@@ -74,12 +89,19 @@ fn an_unreachable_support_grasp_exits_2_with_a_no_plan_file() {
     // Move G_s two metres along object x by rewriting its first coordinate.
     let scene = fix_support_x(&scene);
     std::fs::write(tmp.path().join("scene.toml"), scene).unwrap();
-    let out = pregrasp(tmp.path(), &["plan", "scene.toml", "-o", "plan.json", "--quiet"]);
+    let out = pregrasp(
+        tmp.path(),
+        &["plan", "scene.toml", "-o", "plan.json", "--quiet"],
+    );
     assert_eq!(out.status.code(), Some(2));
     let plan: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("plan.json")).unwrap()).unwrap();
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("plan.json")).unwrap())
+            .unwrap();
     assert_eq!(plan["status"], "no_plan");
-    assert!(plan["reason"].as_str().unwrap().starts_with("IK: support grasp unreachable"));
+    assert!(plan["reason"]
+        .as_str()
+        .unwrap()
+        .starts_with("IK: support grasp unreachable"));
     assert_eq!(plan["plans"].as_array().unwrap().len(), 0);
 }
 
@@ -89,21 +111,34 @@ fn fix_support_x(scene: &str) -> String {
     let start = scene.find(key).expect("support line") + key.len();
     let end = start + scene[start..].find(',').unwrap();
     let x: f64 = scene[start..end].trim().parse().unwrap();
-    format!("{}support = {{ xyz = [{}{}", &scene[..start - key.len()], x + 2.0, &scene[end..])
+    format!(
+        "{}support = {{ xyz = [{}{}",
+        &scene[..start - key.len()],
+        x + 2.0,
+        &scene[end..]
+    )
 }
 
 #[test]
 fn check_reports_the_failed_rule_and_exits_2() {
     let tmp = tempfile::tempdir().unwrap();
     let scene = examples_dir().join("chair_side.toml");
-    let out = pregrasp(tmp.path(), &["plan", scene.to_str().unwrap(), "-o", "plan.json", "--quiet"]);
+    let out = pregrasp(
+        tmp.path(),
+        &[
+            "plan",
+            scene.to_str().unwrap(),
+            "-o",
+            "plan.json",
+            "--quiet",
+        ],
+    );
     assert_eq!(out.status.code(), Some(0));
     let path = tmp.path().join("plan.json");
     let mut plan: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-    plan["grasps"]["support"]["xyz"][2] = serde_json::json!(
-        plan["grasps"]["support"]["xyz"][2].as_f64().unwrap() + 0.005
-    );
+    plan["grasps"]["support"]["xyz"][2] =
+        serde_json::json!(plan["grasps"]["support"]["xyz"][2].as_f64().unwrap() + 0.005);
     std::fs::write(&path, serde_json::to_string(&plan).unwrap()).unwrap();
     let check = pregrasp(tmp.path(), &["check", "plan.json"]);
     let out = String::from_utf8_lossy(&check.stdout);
@@ -125,9 +160,64 @@ fn demo_runs_from_nothing_and_writes_a_valid_plan() {
     let tmp = tempfile::tempdir().unwrap();
     let out = pregrasp(tmp.path(), &["demo"]);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(out.status.code(), Some(0), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(stdout.contains("plan: candidate"), "{stdout}");
     assert!(tmp.path().join("demo-plan.json").exists());
     let check = pregrasp(tmp.path(), &["check", "demo-plan.json"]);
-    assert_eq!(check.status.code(), Some(0), "{}", String::from_utf8_lossy(&check.stdout));
+    assert_eq!(
+        check.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&check.stdout)
+    );
+}
+
+/// Every plan file `plan` writes — planned or not — matches `shared/spec/plan.schema.json`.
+#[test]
+fn plan_files_match_the_json_schema() {
+    let schema_path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/spec/plan.schema.json");
+    let schema: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(&schema_path).expect("shared/ beside the repo"),
+    )
+    .unwrap();
+    let validator = jsonschema::validator_for(&schema).expect("the schema compiles");
+    let tmp = tempfile::tempdir().unwrap();
+    for name in ["chair_side", "shelf_side", "stool_side"] {
+        let scene = examples_dir().join(format!("{name}.toml"));
+        let out = pregrasp(
+            tmp.path(),
+            &["plan", scene.to_str().unwrap(), "-o", "p.json", "--quiet"],
+        );
+        assert_eq!(out.status.code(), Some(0), "{name}");
+        let plan: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(tmp.path().join("p.json")).unwrap())
+                .unwrap();
+        let errors: Vec<String> = validator
+            .iter_errors(&plan)
+            .map(|e| format!("{e} at {}", e.instance_path()))
+            .collect();
+        assert!(errors.is_empty(), "{name}: {errors:?}");
+    }
+    // A no-plan file too.
+    let scene = std::fs::read_to_string(examples_dir().join("chair_side.toml")).unwrap();
+    let mesh = examples_dir().join("meshes/chair_side.stl");
+    let scene = scene
+        .replace("meshes/chair_side.stl", mesh.to_str().unwrap())
+        .replace("support = { xyz = [", "support = { xyz = [2.0 + ");
+    std::fs::write(tmp.path().join("far.toml"), fix_support_x(&scene)).unwrap();
+    let out = pregrasp(
+        tmp.path(),
+        &["plan", "far.toml", "-o", "none.json", "--quiet"],
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("none.json")).unwrap())
+            .unwrap();
+    assert!(validator.is_valid(&plan));
 }

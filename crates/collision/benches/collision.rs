@@ -17,7 +17,10 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 use pregrasp_collision::fixtures::plate_10k;
 use pregrasp_collision::reach::{ReachPlanner, ReachProblemSet, ReachQuery, ReachSettings};
-use pregrasp_collision::{joint_space, ArmModel, CollisionWorld, ObjectPlacement, WorldState};
+use pregrasp_collision::{
+    joint_space, ArmModel, ArmValidity, CollisionWorld, ObjectPlacement, WorldState,
+};
+use pregrasp_motion::StateValidator;
 use pregrasp_robot::{Gripper2F85, Joints, UrModel};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -33,8 +36,12 @@ fn plate_pose() -> Isometry3<f64> {
 fn stand_off(x: f64, y: f64, height: f64, yaw: f64) -> Isometry3<f64> {
     let top = 0.02;
     let g = Gripper2F85::default();
-    let rot = UnitQuaternion::from_euler_angles(0.0, 0.0, yaw) * UnitQuaternion::from_euler_angles(PI, 0.0, 0.0);
-    Isometry3::from_parts(Translation3::new(x, y, top + height + g.precision_point_z), rot)
+    let rot = UnitQuaternion::from_euler_angles(0.0, 0.0, yaw)
+        * UnitQuaternion::from_euler_angles(PI, 0.0, 0.0);
+    Isometry3::from_parts(
+        Translation3::new(x, y, top + height + g.precision_point_z),
+        rot,
+    )
 }
 
 fn check_arm(c: &mut Criterion) {
@@ -44,7 +51,10 @@ fn check_arm(c: &mut Criterion) {
         ArmModel::new(
             "right",
             UrModel::Ur5e,
-            Isometry3::from_parts(Translation3::new(1.0, 0.0, 0.0), UnitQuaternion::from_euler_angles(0.0, 0.0, PI)),
+            Isometry3::from_parts(
+                Translation3::new(1.0, 0.0, 0.0),
+                UnitQuaternion::from_euler_angles(0.0, 0.0, PI),
+            ),
             g,
         ),
     ];
@@ -55,8 +65,22 @@ fn check_arm(c: &mut Criterion) {
     let space = joint_space(&world.arms()[0]);
     let mut rng = ChaCha8Rng::seed_from_u64(1);
     let configs: Vec<Joints> = (0..1024).map(|_| space.sample(&mut rng)).collect();
-    let free = configs.iter().filter(|q| world.is_arm_free(0, &WorldState { q: [**q, UP], ..state })).count();
-    eprintln!("check_arm/random: {free} of {} configurations free", configs.len());
+    let free = configs
+        .iter()
+        .filter(|q| {
+            world.is_arm_free(
+                0,
+                &WorldState {
+                    q: [**q, UP],
+                    ..state
+                },
+            )
+        })
+        .count();
+    eprintln!(
+        "check_arm/random: {free} of {} configurations free",
+        configs.len()
+    );
     let mut k = 0;
     c.bench_function("check_arm/random", |b| {
         b.iter(|| {
@@ -67,12 +91,19 @@ fn check_arm(c: &mut Criterion) {
         })
     });
     let kin = world.arms()[0].kin;
-    let near = kin.ik_nearest(&stand_off(0.5, 0.05, 0.02, 0.3), &[PI, -FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, -FRAC_PI_2, 0.0]).expect("stand-off reachable");
+    let near = kin
+        .ik_nearest(
+            &stand_off(0.5, 0.05, 0.02, 0.3),
+            &[PI, -FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, -FRAC_PI_2, 0.0],
+        )
+        .expect("stand-off reachable");
     let mut s = state;
     s.q[0] = near;
     let (d, a, bname) = world.clearance_arm(0, &s);
     eprintln!("check_arm/stand_off: clearance {d:.4} m ({a} – {bname})");
-    c.bench_function("check_arm/stand_off", |b| b.iter(|| black_box(world.is_arm_free(0, black_box(&s)))));
+    c.bench_function("check_arm/stand_off", |b| {
+        b.iter(|| black_box(world.is_arm_free(0, black_box(&s))))
+    });
 }
 
 fn reach_query(c: &mut Criterion) {
@@ -85,22 +116,41 @@ fn reach_query(c: &mut Criterion) {
     let arm = set.arm();
     let world = CollisionWorld::single_arm(None, Some(&plate), arm)
         .unwrap()
-        .with_obstacle_cuboid("table", set.obstacles[0].pose(), set.obstacles[0].half_extents);
+        .with_obstacle_cuboid(
+            "table",
+            set.obstacles[0].pose(),
+            set.obstacles[0].half_extents,
+        );
     let planner = ReachPlanner::for_world(world, ReachSettings::default());
     let mut base = WorldState::new([UP, UP]);
     base.object = ObjectPlacement::Fixed(Isometry3::translation(0.5, 0.0, -0.005));
     let kin = planner.world.arms()[0].kin;
+    let validity = ArmValidity::new(&planner.world, 0, base);
     let mut queries = Vec::new();
     for (i, pan) in [FRAC_PI_2, -FRAC_PI_2, 0.0, PI * 0.75].iter().enumerate() {
         let start = [*pan, UP[1], UP[2], UP[3], UP[4], UP[5]];
         for (j, (x, y)) in [(0.4, -0.1), (0.6, 0.12)].iter().enumerate() {
             let goal_pose = stand_off(*x, *y, 0.05, 0.4 * (i + j) as f64);
-            let goal = kin.ik_nearest(&goal_pose, &start).expect("stand-off reachable");
+            // The IK solution nearest to the start that is collision-free at the stand-off.
+            let goal = kin
+                .ik(&goal_pose, &start)
+                .into_iter()
+                .find(|q| validity.is_valid(q))
+                .expect("stand-off reachable");
             queries.push(ReachQuery { start, goal });
         }
     }
-    let solved = queries.iter().filter(|q| planner.plan_in(base, q, 0).is_solved()).count();
-    eprintln!("reach_query: {solved} of {} solved", queries.len());
+    for (k, q) in queries.iter().enumerate() {
+        let r = planner.plan_in(base, q, k as u64);
+        eprintln!(
+            "reach_query {k}: {:?}, {:.3} ms, {} iterations, {} states checked, {} waypoints",
+            r.status,
+            r.stats.time.as_secs_f64() * 1e3,
+            r.stats.iterations,
+            r.stats.states_checked,
+            r.path.len()
+        );
+    }
     let mut k = 0;
     c.bench_function("reach_query", |b| {
         b.iter(|| {
@@ -111,7 +161,8 @@ fn reach_query(c: &mut Criterion) {
 }
 
 fn reach_problem_set(c: &mut Criterion) {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/reach-ur5-table-boxes.json");
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/reach-ur5-table-boxes.json");
     let set = ReachProblemSet::load(&path).expect("shipped problem set");
     let planner = ReachPlanner::new(&set, ReachSettings::default());
     let mut k = 0;

@@ -72,23 +72,41 @@ impl ArmModel {
             let n_links = geometry.links.len();
             let count = n_links + grip.len();
             if count > MAX_ARM_SHAPES {
-                return Err(CollisionError::TooManyShapes { arm: name.to_string(), count, max: MAX_ARM_SHAPES });
+                return Err(CollisionError::TooManyShapes {
+                    arm: name.to_string(),
+                    count,
+                    max: MAX_ARM_SHAPES,
+                });
             }
             let all = geometry.links.iter().chain(grip.iter());
             let parts = all.clone().map(|l| (l.frame, l.primitive)).collect();
             let names = all.map(|l| format!("{name}/{}", l.name)).collect();
             let is_gripper = (0..count).map(|i| i >= n_links).collect();
-            let mut self_pairs: Vec<(u8, u8)> =
-                geometry.self_collision_pairs.iter().map(|&(i, j)| (i as u8, j as u8)).collect();
+            let mut self_pairs: Vec<(u8, u8)> = geometry
+                .self_collision_pairs
+                .iter()
+                .map(|&(i, j)| (i as u8, j as u8))
+                .collect();
             for g in 0..grip.len() {
                 for &l in &forbidden {
                     self_pairs.push((l as u8, (n_links + g) as u8));
                 }
             }
-            Ok(ShapeSet { parts, names, is_gripper, self_pairs })
+            Ok(ShapeSet {
+                parts,
+                names,
+                is_gripper,
+                self_pairs,
+            })
         };
         let sets = [make(GripperState::Open)?, make(GripperState::Closed)?];
-        Ok(ArmModel { name: name.to_string(), kin: UrKinematics::new(model), base, gripper, sets })
+        Ok(ArmModel {
+            name: name.to_string(),
+            kin: UrKinematics::new(model),
+            base,
+            gripper,
+            sets,
+        })
     }
 
     /// The arm model.
@@ -118,12 +136,23 @@ impl ArmModel {
         for (f, l) in frames.iter_mut().zip(local.iter()) {
             *f = self.base * l;
         }
-        let mut posed = PosedArm { shapes: [Bounded::EMPTY; MAX_ARM_SHAPES], len: set.parts.len(), flange: frames[6] };
+        let mut posed = PosedArm {
+            shapes: [Bounded::EMPTY; MAX_ARM_SHAPES],
+            len: set.parts.len(),
+            flange: frames[6],
+        };
         for (slot, (frame, prim)) in posed.shapes.iter_mut().zip(set.parts.iter()) {
             let t = &frames[*frame];
             let placed = match prim {
-                Primitive::Capsule(c) => Placed::Capsule { a: t * c.a, b: t * c.b, radius: c.radius },
-                Primitive::Cuboid { pose, half_extents } => Placed::Cuboid { pose: t * pose, half: *half_extents },
+                Primitive::Capsule(c) => Placed::Capsule {
+                    a: t * c.a,
+                    b: t * c.b,
+                    radius: c.radius,
+                },
+                Primitive::Cuboid { pose, half_extents } => Placed::Cuboid {
+                    pose: t * pose,
+                    half: *half_extents,
+                },
             };
             *slot = Bounded::new(placed);
         }
@@ -135,7 +164,12 @@ impl ArmModel {
     pub fn placed_shapes(&self, q: &Joints, state: GripperState) -> Vec<(String, Placed)> {
         let posed = self.pose(q, state);
         let set = self.set(state);
-        posed.shapes().iter().zip(set.names.iter()).map(|(b, n)| (n.clone(), b.shape)).collect()
+        posed
+            .shapes()
+            .iter()
+            .zip(set.names.iter())
+            .map(|(b, n)| (n.clone(), b.shape))
+            .collect()
     }
 
     /// Whether primitive `i` is rigidly attached to the base (DH frame 0): its pose never

@@ -40,7 +40,11 @@ pub fn segment_segment_sq(p1: &P, q1: &P, p2: &P, q2: &P) -> f64 {
         } else {
             let b = d1.dot(&d2);
             let denom = a * e - b * b;
-            let mut s0 = if denom > EPS * a * e { ((b * f - c * e) / denom).clamp(0.0, 1.0) } else { 0.0 };
+            let mut s0 = if denom > EPS * a * e {
+                ((b * f - c * e) / denom).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
             let mut t0 = (b * s0 + f) / e;
             if t0 < 0.0 {
                 t0 = 0.0;
@@ -165,33 +169,68 @@ mod tests {
 
     #[test]
     fn parallel_segments_at_unit_distance() {
-        let d = segment_segment_sq(&p(0., 0., 0.), &p(1., 0., 0.), &p(0.5, 1., 0.), &p(3., 1., 0.));
+        let d = segment_segment_sq(
+            &p(0., 0., 0.),
+            &p(1., 0., 0.),
+            &p(0.5, 1., 0.),
+            &p(3., 1., 0.),
+        );
         assert!((d - 1.0).abs() < 1e-15);
     }
 
     #[test]
     fn skew_segments_closest_at_interior_points() {
         // x-axis segment and a z-offset y-axis segment crossing above it.
-        let d = segment_segment_sq(&p(-1., 0., 0.), &p(1., 0., 0.), &p(0.2, -1., 0.3), &p(0.2, 1., 0.3));
+        let d = segment_segment_sq(
+            &p(-1., 0., 0.),
+            &p(1., 0., 0.),
+            &p(0.2, -1., 0.3),
+            &p(0.2, 1., 0.3),
+        );
         assert!((d - 0.09).abs() < 1e-15);
     }
 
     #[test]
     fn segment_endpoint_regions_and_degenerate_points() {
-        let d = segment_segment_sq(&p(0., 0., 0.), &p(1., 0., 0.), &p(2., 1., 0.), &p(3., 2., 0.));
+        let d = segment_segment_sq(
+            &p(0., 0., 0.),
+            &p(1., 0., 0.),
+            &p(2., 1., 0.),
+            &p(3., 2., 0.),
+        );
         assert!((d - 2.0).abs() < 1e-15); // (1,0,0)-(2,1,0)
-        let d = segment_segment_sq(&p(0., 0., 0.), &p(0., 0., 0.), &p(1., 1., 0.), &p(1., 1., 0.));
+        let d = segment_segment_sq(
+            &p(0., 0., 0.),
+            &p(0., 0., 0.),
+            &p(1., 1., 0.),
+            &p(1., 1., 0.),
+        );
         assert!((d - 2.0).abs() < 1e-15);
-        let d = segment_segment_sq(&p(0., 2., 0.), &p(0., 2., 0.), &p(-1., 0., 0.), &p(1., 0., 0.));
+        let d = segment_segment_sq(
+            &p(0., 2., 0.),
+            &p(0., 2., 0.),
+            &p(-1., 0., 0.),
+            &p(1., 0., 0.),
+        );
         assert!((d - 4.0).abs() < 1e-15);
     }
 
     #[test]
     fn segment_segment_matches_dense_sampling() {
         let cases = [
-            [p(0.1, 0.2, 0.3), p(1.0, -0.4, 0.2), p(0.5, 0.5, -0.5), p(0.2, -0.8, 0.9)],
+            [
+                p(0.1, 0.2, 0.3),
+                p(1.0, -0.4, 0.2),
+                p(0.5, 0.5, -0.5),
+                p(0.2, -0.8, 0.9),
+            ],
             [p(0., 0., 0.), p(1., 1., 1.), p(2., 0., 0.), p(0., 2., 0.5)],
-            [p(-1., 0.3, 0.), p(1., 0.3, 0.), p(-0.5, 0.3, 0.), p(2., 0.3, 0.)],
+            [
+                p(-1., 0.3, 0.),
+                p(1., 0.3, 0.),
+                p(-0.5, 0.3, 0.),
+                p(2., 0.3, 0.),
+            ],
         ];
         for [a, b, c, d] in cases {
             let exact = segment_segment_sq(&a, &b, &c, &d);
@@ -205,16 +244,25 @@ mod tests {
                 }
             }
             assert!(exact <= best + 1e-12, "exact {exact} > sampled {best}");
-            assert!(best - exact < 1e-4, "exact {exact} far below sampled {best}");
+            assert!(
+                best - exact < 1e-4,
+                "exact {exact} far below sampled {best}"
+            );
         }
     }
 
     #[test]
     fn triangle_closest_point_regions() {
         let (a, b, c) = (p(0., 0., 0.), p(1., 0., 0.), p(0., 1., 0.));
-        assert!((closest_point_on_triangle(&p(0.2, 0.2, 1.), &a, &b, &c) - p(0.2, 0.2, 0.)).norm() < 1e-15);
+        assert!(
+            (closest_point_on_triangle(&p(0.2, 0.2, 1.), &a, &b, &c) - p(0.2, 0.2, 0.)).norm()
+                < 1e-15
+        );
         assert_eq!(closest_point_on_triangle(&p(-1., -1., 0.), &a, &b, &c), a);
-        assert_eq!(closest_point_on_triangle(&p(0.5, -1., 0.), &a, &b, &c), p(0.5, 0., 0.));
+        assert_eq!(
+            closest_point_on_triangle(&p(0.5, -1., 0.), &a, &b, &c),
+            p(0.5, 0., 0.)
+        );
         let q = closest_point_on_triangle(&p(1., 1., 0.), &a, &b, &c);
         assert!((q - p(0.5, 0.5, 0.)).norm() < 1e-15);
     }
@@ -222,7 +270,10 @@ mod tests {
     #[test]
     fn segment_through_triangle_is_zero_and_beside_it_is_not() {
         let (a, b, c) = (p(0., 0., 0.), p(1., 0., 0.), p(0., 1., 0.));
-        assert_eq!(segment_triangle_sq(&p(0.2, 0.2, -1.), &p(0.2, 0.2, 1.), &a, &b, &c), 0.0);
+        assert_eq!(
+            segment_triangle_sq(&p(0.2, 0.2, -1.), &p(0.2, 0.2, 1.), &a, &b, &c),
+            0.0
+        );
         // Passes beside the hypotenuse at distance 0.1·√2/… : check against the edge distance.
         let d = segment_triangle_sq(&p(0.6, 0.6, -1.), &p(0.6, 0.6, 1.), &a, &b, &c);
         assert!((d - 0.02).abs() < 1e-12, "{d}");
@@ -233,8 +284,21 @@ mod tests {
 
     #[test]
     fn aabb_gap() {
-        let d = aabb_aabb_sq(&p(0., 0., 0.), &p(1., 1., 1.), &p(2., 0., 3.), &p(3., 1., 4.));
+        let d = aabb_aabb_sq(
+            &p(0., 0., 0.),
+            &p(1., 1., 1.),
+            &p(2., 0., 3.),
+            &p(3., 1., 4.),
+        );
         assert!((d - 5.0).abs() < 1e-15);
-        assert_eq!(aabb_aabb_sq(&p(0., 0., 0.), &p(1., 1., 1.), &p(0.5, 0.5, 0.5), &p(2., 2., 2.)), 0.0);
+        assert_eq!(
+            aabb_aabb_sq(
+                &p(0., 0., 0.),
+                &p(1., 1., 1.),
+                &p(0.5, 0.5, 0.5),
+                &p(2., 2., 2.)
+            ),
+            0.0
+        );
     }
 }

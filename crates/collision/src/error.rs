@@ -10,7 +10,11 @@ pub enum CollisionError {
     EmptyMesh,
     /// A triangle indexes a vertex that does not exist.
     #[error("object mesh triangle {triangle} {indices:?} indexes past its {vertices} vertices")]
-    BadTriangle { triangle: usize, indices: [u32; 3], vertices: usize },
+    BadTriangle {
+        triangle: usize,
+        indices: [u32; 3],
+        vertices: usize,
+    },
     /// A vertex has a NaN or infinite coordinate.
     #[error("object mesh has a non-finite vertex")]
     NonFiniteVertex,
@@ -19,5 +23,9 @@ pub enum CollisionError {
     Mesh(String),
     /// An arm has more collision primitives than the fixed-size pose buffer holds.
     #[error("arm {arm:?} has {count} collision primitives, at most {max} are supported")]
-    TooManyShapes { arm: String, count: usize, max: usize },
+    TooManyShapes {
+        arm: String,
+        count: usize,
+        max: usize,
+    },
 }

@@ -31,8 +31,10 @@ pub fn box_mesh(center: Point3<f64>, half: Vector3<f64>, n: usize) -> Mesh {
             let id = |i: usize, j: usize| base + (i * (n + 1) + j) as u32;
             for i in 0..n {
                 for j in 0..n {
-                    mesh.triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-                    mesh.triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+                    mesh.triangles
+                        .push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                    mesh.triangles
+                        .push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
                 }
             }
         }
@@ -46,7 +48,11 @@ pub fn merge(meshes: &[Mesh]) -> Mesh {
     for m in meshes {
         let base = out.vertices.len() as u32;
         out.vertices.extend_from_slice(&m.vertices);
-        out.triangles.extend(m.triangles.iter().map(|t| [t[0] + base, t[1] + base, t[2] + base]));
+        out.triangles.extend(
+            m.triangles
+                .iter()
+                .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
+        );
     }
     out
 }
@@ -61,17 +67,33 @@ pub fn frame_mesh(outer_x: f64, outer_y: f64, bar: f64, thickness: f64) -> Mesh 
     merge(&[
         // Bars along x at y = ±(hy − hb), full length.
         box_mesh(Point3::new(0.0, hy - hb, hz), Vector3::new(hx, hb, hz), 1),
-        box_mesh(Point3::new(0.0, -(hy - hb), hz), Vector3::new(hx, hb, hz), 1),
+        box_mesh(
+            Point3::new(0.0, -(hy - hb), hz),
+            Vector3::new(hx, hb, hz),
+            1,
+        ),
         // Bars along y at x = ±(hx − hb), between the x bars.
-        box_mesh(Point3::new(hx - hb, 0.0, hz), Vector3::new(hb, hy - bar, hz), 1),
-        box_mesh(Point3::new(-(hx - hb), 0.0, hz), Vector3::new(hb, hy - bar, hz), 1),
+        box_mesh(
+            Point3::new(hx - hb, 0.0, hz),
+            Vector3::new(hb, hy - bar, hz),
+            1,
+        ),
+        box_mesh(
+            Point3::new(-(hx - hb), 0.0, hz),
+            Vector3::new(hb, hy - bar, hz),
+            1,
+        ),
     ])
 }
 
 /// A `0.6 × 0.4 × 0.02` m plate (`z ∈ [0, 0.02]`, centred in `xy`) with 10 092 triangles:
 /// the "10k-triangle part" of the benchmarks.
 pub fn plate_10k() -> Mesh {
-    box_mesh(Point3::new(0.0, 0.0, 0.01), Vector3::new(0.3, 0.2, 0.01), 29)
+    box_mesh(
+        Point3::new(0.0, 0.0, 0.01),
+        Vector3::new(0.3, 0.2, 0.01),
+        29,
+    )
 }
 
 #[cfg(test)]
@@ -83,7 +105,11 @@ mod tests {
         m.triangles
             .iter()
             .map(|t| {
-                let (a, b, c) = (m.vertices[t[0] as usize], m.vertices[t[1] as usize], m.vertices[t[2] as usize]);
+                let (a, b, c) = (
+                    m.vertices[t[0] as usize],
+                    m.vertices[t[1] as usize],
+                    m.vertices[t[2] as usize],
+                );
                 a.coords.dot(&b.coords.cross(&c.coords)) / 6.0
             })
             .sum()

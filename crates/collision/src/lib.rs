@@ -31,4 +31,4 @@ pub use error::CollisionError;
 pub use object::ObjectGeometry;
 pub use shape::Placed;
 pub use validity::{attached_reach, joint_space, joint_space_with_payload, ArmValidity};
-pub use world::{CollisionWorld, Contact, Obstacle, ObjectPlacement, WorldState};
+pub use world::{CollisionWorld, Contact, ObjectPlacement, Obstacle, WorldState};

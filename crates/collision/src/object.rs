@@ -43,10 +43,23 @@ impl ObjectGeometry {
             return Err(CollisionError::EmptyMesh);
         }
         let n = mesh.vertices.len();
-        if let Some((t, tri)) = mesh.triangles.iter().enumerate().find(|(_, tri)| tri.iter().any(|&i| i as usize >= n)) {
-            return Err(CollisionError::BadTriangle { triangle: t, indices: *tri, vertices: n });
+        if let Some((t, tri)) = mesh
+            .triangles
+            .iter()
+            .enumerate()
+            .find(|(_, tri)| tri.iter().any(|&i| i as usize >= n))
+        {
+            return Err(CollisionError::BadTriangle {
+                triangle: t,
+                indices: *tri,
+                vertices: n,
+            });
         }
-        if mesh.vertices.iter().any(|v| !v.coords.iter().all(|c| c.is_finite())) {
+        if mesh
+            .vertices
+            .iter()
+            .any(|v| !v.coords.iter().all(|c| c.is_finite()))
+        {
             return Err(CollisionError::NonFiniteVertex);
         }
         let trimesh = TriMesh::new(mesh.vertices.clone(), mesh.triangles.clone())
@@ -54,7 +67,11 @@ impl ObjectGeometry {
         let aabb = trimesh.local_aabb();
         let center = aabb.center();
         let radius = aabb.half_extents().norm();
-        Ok(ObjectGeometry { mesh: trimesh, center, radius })
+        Ok(ObjectGeometry {
+            mesh: trimesh,
+            center,
+            radius,
+        })
     }
 
     /// The parry mesh (object frame).
@@ -87,14 +104,35 @@ impl ObjectGeometry {
                 self.capsule_hits(&la, &lb, radius + margin)
             }
             Placed::Cuboid { pose: bp, half } => {
-                let cub = PCuboid::new(half);
-                if margin > 0.0 {
-                    query::distance(pose, &self.mesh, &bp, &cub).unwrap_or(0.0) < margin
-                } else {
-                    query::intersection_test(pose, &self.mesh, &bp, &cub).unwrap_or(true)
-                }
+                self.cuboid_hits(&pose.inv_mul(&bp), &(half + Vector3::repeat(margin)))
             }
         }
+    }
+
+    /// Whether the box `half` at `box_pose` (box → object frame) touches a triangle: BVH
+    /// descent with the box's AABB, parry's separating-axis box–triangle test at the leaves.
+    /// A margin is applied by growing the half extents (conservative at edges and corners).
+    fn cuboid_hits(&self, box_pose: &Isometry3<f64>, half: &Vector3<f64>) -> bool {
+        let ext = box_pose.rotation.to_rotation_matrix().matrix().abs() * half;
+        let c = P::from(box_pose.translation.vector);
+        let (lo, hi) = (c - ext, c + ext);
+        let cub = PCuboid::new(*half);
+        let id = Isometry3::identity();
+        let mut hit = false;
+        self.mesh.bvh().traverse(|node| {
+            if aabb_aabb_sq(&lo, &hi, &node.mins(), &node.maxs()) > 0.0 {
+                return TraversalAction::Prune;
+            }
+            if let Some(leaf) = node.leaf_data() {
+                let tri = self.mesh.triangle(leaf);
+                if query::intersection_test(box_pose, &cub, &id, &tri).unwrap_or(true) {
+                    hit = true;
+                    return TraversalAction::EarlyExit;
+                }
+            }
+            TraversalAction::Continue
+        });
+        hit
     }
 
     /// Distance from the primitive to the part at `pose` (signed for capsules).
@@ -150,7 +188,13 @@ impl ObjectGeometry {
             }
             if let Some(leaf) = node.leaf_data() {
                 let [i, j, k] = idx[leaf as usize];
-                let d = segment_triangle_sq(a, b, &verts[i as usize], &verts[j as usize], &verts[k as usize]);
+                let d = segment_triangle_sq(
+                    a,
+                    b,
+                    &verts[i as usize],
+                    &verts[j as usize],
+                    &verts[k as usize],
+                );
                 best = best.min(d);
             }
             TraversalAction::Continue

@@ -36,16 +36,29 @@ pub(crate) struct Bounded {
 }
 
 impl Bounded {
-    pub const EMPTY: Bounded =
-        Bounded { shape: Placed::Capsule { a: P::new(0.0, 0.0, 0.0), b: P::new(0.0, 0.0, 0.0), radius: 0.0 }, center: P::new(0.0, 0.0, 0.0), radius: 0.0 };
+    pub const EMPTY: Bounded = Bounded {
+        shape: Placed::Capsule {
+            a: P::new(0.0, 0.0, 0.0),
+            b: P::new(0.0, 0.0, 0.0),
+            radius: 0.0,
+        },
+        center: P::new(0.0, 0.0, 0.0),
+        radius: 0.0,
+    };
 
     #[inline]
     pub fn new(shape: Placed) -> Self {
         let (center, radius) = match shape {
-            Placed::Capsule { a, b, radius } => (nalgebra::center(&a, &b), 0.5 * (b - a).norm() + radius),
+            Placed::Capsule { a, b, radius } => {
+                (nalgebra::center(&a, &b), 0.5 * (b - a).norm() + radius)
+            }
             Placed::Cuboid { pose, half } => (P::from(pose.translation.vector), half.norm()),
         };
-        Bounded { shape, center, radius }
+        Bounded {
+            shape,
+            center,
+            radius,
+        }
     }
 
     /// Axis-aligned bounding box `(min, max)` of the primitive.
@@ -94,9 +107,18 @@ pub fn plane_distance(shape: &Placed, height: f64) -> f64 {
 /// Distance between two primitives (signed for capsule pairs, `0` in contact otherwise).
 pub fn pair_distance(s1: &Placed, s2: &Placed) -> f64 {
     match (s1, s2) {
-        (Placed::Capsule { a: a1, b: b1, radius: r1 }, Placed::Capsule { a: a2, b: b2, radius: r2 }) => {
-            segment_segment_sq(a1, b1, a2, b2).sqrt() - r1 - r2
-        }
+        (
+            Placed::Capsule {
+                a: a1,
+                b: b1,
+                radius: r1,
+            },
+            Placed::Capsule {
+                a: a2,
+                b: b2,
+                radius: r2,
+            },
+        ) => segment_segment_sq(a1, b1, a2, b2).sqrt() - r1 - r2,
         (Placed::Capsule { a, b, radius }, Placed::Cuboid { pose, half })
         | (Placed::Cuboid { pose, half }, Placed::Capsule { a, b, radius }) => {
             let seg = PSegment::new(*a, *b);
@@ -110,10 +132,25 @@ pub fn pair_distance(s1: &Placed, s2: &Placed) -> f64 {
 }
 
 /// Whether two primitives are closer than `margin` (touching counts when `margin == 0`).
+///
+/// Exact for capsule pairs and capsule–box (the capsule radius grows by `margin`); for
+/// box–box the margin grows one box's half extents, which is conservative by at most
+/// `(√3 − 1)·margin` near its corners.
 #[inline]
 pub fn pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
     match (s1, s2) {
-        (Placed::Capsule { a: a1, b: b1, radius: r1 }, Placed::Capsule { a: a2, b: b2, radius: r2 }) => {
+        (
+            Placed::Capsule {
+                a: a1,
+                b: b1,
+                radius: r1,
+            },
+            Placed::Capsule {
+                a: a2,
+                b: b2,
+                radius: r2,
+            },
+        ) => {
             let r = r1 + r2 + margin;
             segment_segment_sq(a1, b1, a2, b2) <= r * r
         }
@@ -122,12 +159,9 @@ pub fn pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
             capsule_cuboid_intersects(a, b, radius + margin, pose, half)
         }
         (Placed::Cuboid { pose: p1, half: h1 }, Placed::Cuboid { pose: p2, half: h2 }) => {
-            let (c1, c2) = (PCuboid::new(*h1), PCuboid::new(*h2));
-            if margin > 0.0 {
-                query::distance(p1, &c1, p2, &c2).unwrap_or(0.0) < margin
-            } else {
-                query::intersection_test(p1, &c1, p2, &c2).unwrap_or(true)
-            }
+            // Margin by growing one box (conservative at its edges and corners), then SAT.
+            let (c1, c2) = (PCuboid::new(h1 + V::repeat(margin)), PCuboid::new(*h2));
+            query::intersection_test(p1, &c1, p2, &c2).unwrap_or(true)
         }
     }
 }
@@ -156,8 +190,13 @@ fn capsule_cuboid_intersects(a: &P, b: &P, r: f64, pose: &Isometry3<f64>, half: 
         return false;
     }
     let cap = PCapsule::new(la, lb, r);
-    query::intersection_test(&Isometry3::identity(), &cap, &Isometry3::identity(), &PCuboid::new(*half))
-        .unwrap_or(true)
+    query::intersection_test(
+        &Isometry3::identity(),
+        &cap,
+        &Isometry3::identity(),
+        &PCuboid::new(*half),
+    )
+    .unwrap_or(true)
 }
 
 #[cfg(test)]
@@ -166,7 +205,11 @@ mod tests {
     use nalgebra::UnitQuaternion;
 
     fn cap(a: [f64; 3], b: [f64; 3], r: f64) -> Placed {
-        Placed::Capsule { a: P::from(a), b: P::from(b), radius: r }
+        Placed::Capsule {
+            a: P::from(a),
+            b: P::from(b),
+            radius: r,
+        }
     }
 
     #[test]
@@ -182,7 +225,10 @@ mod tests {
             nalgebra::Translation3::new(0., 0., 1.),
             UnitQuaternion::from_euler_angles(std::f64::consts::FRAC_PI_4, 0., 0.),
         );
-        let c = Placed::Cuboid { pose, half: V::new(0.5, 0.5, 0.5) };
+        let c = Placed::Cuboid {
+            pose,
+            half: V::new(0.5, 0.5, 0.5),
+        };
         let expect = 1.0 - 0.5 * std::f64::consts::SQRT_2;
         assert!((plane_distance(&c, 0.0) - expect).abs() < 1e-12);
     }
@@ -203,12 +249,23 @@ mod tests {
             nalgebra::Translation3::new(0.3, -0.2, 0.1),
             UnitQuaternion::from_euler_angles(0.3, -0.5, 1.1),
         );
-        let cub = Placed::Cuboid { pose, half: V::new(0.2, 0.1, 0.05) };
+        let cub = Placed::Cuboid {
+            pose,
+            half: V::new(0.2, 0.1, 0.05),
+        };
         for (i, z) in [0.0, 0.1, 0.2, 0.3, 0.4, 0.6].iter().enumerate() {
             let c = cap([-0.5, -0.2, *z], [0.8, 0.1, *z + 0.05], 0.03);
             let d = pair_distance(&c, &cub);
-            assert_eq!(pair_intersects(&c, &cub, 0.0), d <= 1e-9, "case {i}: d = {d}");
-            assert_eq!(pair_intersects(&c, &cub, 0.02), d < 0.02 + 1e-9, "case {i}: d = {d}");
+            assert_eq!(
+                pair_intersects(&c, &cub, 0.0),
+                d <= 1e-9,
+                "case {i}: d = {d}"
+            );
+            assert_eq!(
+                pair_intersects(&c, &cub, 0.02),
+                d < 0.02 + 1e-9,
+                "case {i}: d = {d}"
+            );
         }
     }
 

@@ -2,8 +2,8 @@
 //!
 //! # Resolution bound
 //! [`joint_space`] weights joint `i` by `w_i` = `pregrasp_robot::joint_sweep_radii`, an upper
-//! bound on the distance of any point of the links beyond joint `i` (gripper and a held part
-//! excluded, see below) from joint axis `i`. Along a straight joint-space edge every point
+//! bound on the distance of any point of the links beyond joint `i` (gripper included, a held
+//! part not, see below) from joint axis `i`. Along a straight joint-space edge every point
 //! then moves at most `Σ_i w_i |Δq_i|`, and `MotionValidator` checks states no more than
 //! `resolution` (m) of such travel apart. Between two checked states each point is within
 //! `resolution / 2` of where it was at one of them, so:
@@ -14,6 +14,9 @@
 //!   can be missed;
 //! - for self-collision pairs both sides move, so the bound is `resolution` (margin
 //!   `m ≥ resolution` for the continuous guarantee).
+//!
+//! The reach benchmark uses `resolution = 0.01` m and `margin = 0.005` m
+//! (`reach::DEFAULT_RESOLUTION`, `reach::DEFAULT_MARGIN`).
 //!
 //! A part attached to the moving flange reaches farther than the gripper: its radius is
 //! not in `w_i`. [`joint_space_with_payload`] adds the attached part's reach to every weight.
@@ -36,7 +39,11 @@ pub struct ArmValidity<'a> {
 
 impl<'a> ArmValidity<'a> {
     pub fn new(world: &'a CollisionWorld, arm: usize, base_state: WorldState) -> Self {
-        ArmValidity { world, arm, base_state }
+        ArmValidity {
+            world,
+            arm,
+            base_state,
+        }
     }
 
     /// The full world state with arm `arm` at `q`.
@@ -52,7 +59,11 @@ impl StateValidator<6> for ArmValidity<'_> {
     #[inline]
     fn is_valid(&self, q: &State<6>) -> bool {
         let limits = self.world.arms()[self.arm].model().joint_limits();
-        if !q.iter().zip(limits.iter()).all(|(x, (lo, hi))| *x >= *lo && *x <= *hi) {
+        if !q
+            .iter()
+            .zip(limits.iter())
+            .all(|(x, (lo, hi))| *x >= *lo && *x <= *hi)
+        {
             return false;
         }
         self.world.is_arm_free(self.arm, &self.state_at(q))
@@ -74,13 +85,23 @@ pub fn joint_space_with_payload(arm: &ArmModel, payload_reach: f64) -> JointSpac
     let lower = limits.map(|l| l.0);
     let upper = limits.map(|l| l.1);
     let weights = radii.map(|r| r + payload_reach.max(0.0));
-    JointSpace { lower, upper, weights }
+    JointSpace {
+        lower,
+        upper,
+        weights,
+    }
 }
 
 /// Reach of the part attached to `arm` in `state` from its flange origin (m), or 0.
 pub fn attached_reach(world: &CollisionWorld, arm: usize, state: &WorldState) -> f64 {
     match (state.object, world.object()) {
-        (ObjectPlacement::Attached { arm: a, flange_to_object }, Some(obj)) if a == arm => {
+        (
+            ObjectPlacement::Attached {
+                arm: a,
+                flange_to_object,
+            },
+            Some(obj),
+        ) if a == arm => {
             let (c, r) = obj.world_sphere(&flange_to_object);
             c.coords.norm() + r
         }

@@ -34,7 +34,10 @@ pub enum ObjectPlacement {
     /// The part at a fixed pose (object frame → world).
     Fixed(Isometry3<f64>),
     /// The part moves with the flange of arm `arm`: `object = flange_world(q[arm]) · flange_to_object`.
-    Attached { arm: usize, flange_to_object: Isometry3<f64> },
+    Attached {
+        arm: usize,
+        flange_to_object: Isometry3<f64>,
+    },
 }
 
 /// Everything that changes between queries: both arms' joints and grippers, the part.
@@ -136,7 +139,14 @@ impl CollisionWorld {
         arms: [ArmModel; 2],
     ) -> Result<Self, CollisionError> {
         let object = object_mesh.map(ObjectGeometry::new).transpose()?;
-        Ok(CollisionWorld { support: support_height, object, arms, active: [true; 2], obstacles: Vec::new(), margin: 0.0 })
+        Ok(CollisionWorld {
+            support: support_height,
+            object,
+            arms,
+            active: [true; 2],
+            obstacles: Vec::new(),
+            margin: 0.0,
+        })
     }
 
     /// A world with one arm only (as arm 0; `WorldState::q[1]` is ignored), an optional
@@ -152,9 +162,20 @@ impl CollisionWorld {
     }
 
     /// Adds a static cuboid named `name` (box frame → world `pose`, half extents in m).
-    pub fn with_obstacle_cuboid(mut self, name: &str, pose: Isometry3<f64>, half_extents: Vector3<f64>) -> Self {
-        let shape = Bounded::new(Placed::Cuboid { pose, half: half_extents });
-        self.obstacles.push(Obstacle { name: name.to_string(), shape });
+    pub fn with_obstacle_cuboid(
+        mut self,
+        name: &str,
+        pose: Isometry3<f64>,
+        half_extents: Vector3<f64>,
+    ) -> Self {
+        let shape = Bounded::new(Placed::Cuboid {
+            pose,
+            half: half_extents,
+        });
+        self.obstacles.push(Obstacle {
+            name: name.to_string(),
+            shape,
+        });
         self
     }
 
@@ -201,9 +222,10 @@ impl CollisionWorld {
         match state.object {
             ObjectPlacement::Absent => None,
             ObjectPlacement::Fixed(p) => Some(p),
-            ObjectPlacement::Attached { arm, flange_to_object } => {
-                Some(self.arms[arm].flange_world(&state.q[arm]) * flange_to_object)
-            }
+            ObjectPlacement::Attached {
+                arm,
+                flange_to_object,
+            } => Some(self.arms[arm].flange_world(&state.q[arm]) * flange_to_object),
         }
     }
 
@@ -250,7 +272,10 @@ impl CollisionWorld {
     }
 
     fn clearance_of(&self, only: Option<usize>, state: &WorldState) -> (f64, String, String) {
-        let mut sink = MinDistance { best: f64::INFINITY, ids: None };
+        let mut sink = MinDistance {
+            best: f64::INFINITY,
+            ids: None,
+        };
         let _ = self.visit(only, state, &mut sink);
         match sink.ids {
             None => (f64::INFINITY, String::new(), String::new()),
@@ -262,7 +287,10 @@ impl CollisionWorld {
     }
 
     fn first_contact(&self, only: Option<usize>, state: &WorldState) -> Option<(Id, Id)> {
-        let mut sink = FirstContact { margin: self.margin, ids: None };
+        let mut sink = FirstContact {
+            margin: self.margin,
+            ids: None,
+        };
         let _ = self.visit(only, state, &mut sink);
         sink.ids
     }
@@ -277,15 +305,26 @@ impl CollisionWorld {
     }
 
     fn contact(&self, state: &WorldState, (a, b): (Id, Id)) -> Contact {
-        Contact { a: self.name(state, a), b: self.name(state, b) }
+        Contact {
+            a: self.name(state, a),
+            b: self.name(state, b),
+        }
     }
 
     /// Enumerates every pair to check (restricted to arm `only` if given), feeding `sink`.
-    fn visit(&self, only: Option<usize>, state: &WorldState, sink: &mut impl Sink) -> ControlFlow<()> {
+    fn visit(
+        &self,
+        only: Option<usize>,
+        state: &WorldState,
+        sink: &mut impl Sink,
+    ) -> ControlFlow<()> {
         // Both active arms are posed: in a single-arm query the other one is an obstacle.
-        let posed: [Option<PosedArm>; 2] =
-            [0, 1].map(|i| self.active[i].then(|| self.arms[i].pose(&state.q[i], state.gripper[i])));
-        let object = self.object.as_ref().zip(self.object_pose_posed(state, &posed));
+        let posed: [Option<PosedArm>; 2] = [0, 1]
+            .map(|i| self.active[i].then(|| self.arms[i].pose(&state.q[i], state.gripper[i])));
+        let object = self
+            .object
+            .as_ref()
+            .zip(self.object_pose_posed(state, &posed));
         let attached_to = match state.object {
             ObjectPlacement::Attached { arm, .. } if object.is_some() => Some(arm),
             _ => None,
@@ -365,9 +404,19 @@ impl CollisionWorld {
     }
 
     /// [`object_pose`](Self::object_pose), reusing the flange of an already posed arm.
-    fn object_pose_posed(&self, state: &WorldState, posed: &[Option<PosedArm>; 2]) -> Option<Isometry3<f64>> {
+    fn object_pose_posed(
+        &self,
+        state: &WorldState,
+        posed: &[Option<PosedArm>; 2],
+    ) -> Option<Isometry3<f64>> {
         match (state.object, self.object.as_ref()) {
-            (ObjectPlacement::Attached { arm, flange_to_object }, Some(_)) => match &posed[arm] {
+            (
+                ObjectPlacement::Attached {
+                    arm,
+                    flange_to_object,
+                },
+                Some(_),
+            ) => match &posed[arm] {
                 Some(p) => Some(p.flange() * flange_to_object),
                 None => self.object_pose(state),
             },
@@ -418,7 +467,13 @@ trait Sink {
     fn skip_gap_sq(&self, gap_sq: f64) -> bool;
     fn plane(&mut self, s: &Placed, height: f64, ids: (Id, Id)) -> ControlFlow<()>;
     fn pair(&mut self, s1: &Placed, s2: &Placed, ids: (Id, Id)) -> ControlFlow<()>;
-    fn object(&mut self, obj: &ObjectGeometry, pose: &Isometry3<f64>, s: &Bounded, ids: (Id, Id)) -> ControlFlow<()>;
+    fn object(
+        &mut self,
+        obj: &ObjectGeometry,
+        pose: &Isometry3<f64>,
+        s: &Bounded,
+        ids: (Id, Id),
+    ) -> ControlFlow<()>;
 }
 
 struct FirstContact {
@@ -456,7 +511,13 @@ impl Sink for FirstContact {
         self.hit(pair_intersects(s1, s2, self.margin), ids)
     }
     #[inline]
-    fn object(&mut self, obj: &ObjectGeometry, pose: &Isometry3<f64>, s: &Bounded, ids: (Id, Id)) -> ControlFlow<()> {
+    fn object(
+        &mut self,
+        obj: &ObjectGeometry,
+        pose: &Isometry3<f64>,
+        s: &Bounded,
+        ids: (Id, Id),
+    ) -> ControlFlow<()> {
         self.hit(obj.intersects(pose, s, self.margin), ids)
     }
 }
@@ -489,7 +550,13 @@ impl Sink for MinDistance {
     fn pair(&mut self, s1: &Placed, s2: &Placed, ids: (Id, Id)) -> ControlFlow<()> {
         self.offer(pair_distance(s1, s2), ids)
     }
-    fn object(&mut self, obj: &ObjectGeometry, pose: &Isometry3<f64>, s: &Bounded, ids: (Id, Id)) -> ControlFlow<()> {
+    fn object(
+        &mut self,
+        obj: &ObjectGeometry,
+        pose: &Isometry3<f64>,
+        s: &Bounded,
+        ids: (Id, Id),
+    ) -> ControlFlow<()> {
         let (c, r) = obj.world_sphere(pose);
         if (c - s.center).norm() - r - s.radius >= self.best {
             return ControlFlow::Continue(());

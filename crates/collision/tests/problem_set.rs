@@ -5,7 +5,9 @@
 
 use std::path::PathBuf;
 
-use pregrasp_collision::reach::{generate_table_boxes, run_reach, ReachPlanner, ReachProblemSet, ReachSettings, GENERATOR_SEED};
+use pregrasp_collision::reach::{
+    generate_table_boxes, run_reach, ReachPlanner, ReachProblemSet, ReachSettings, GENERATOR_SEED,
+};
 use pregrasp_robot::UrModel;
 
 /// Queries in the shipped set.
@@ -20,7 +22,12 @@ fn shipped_path() -> PathBuf {
 #[test]
 #[ignore = "writes data/reach-ur5-table-boxes.json; run explicitly to regenerate"]
 fn regenerate() {
-    let set = generate_table_boxes(UrModel::Ur5e, GENERATOR_SEED, SHIPPED_QUERIES, CHECK_ITERATIONS);
+    let set = generate_table_boxes(
+        UrModel::Ur5e,
+        GENERATOR_SEED,
+        SHIPPED_QUERIES,
+        CHECK_ITERATIONS,
+    );
     let text = serde_json::to_string_pretty(&set.to_json()).unwrap() + "\n";
     std::fs::write(shipped_path(), text).unwrap();
 }
@@ -30,10 +37,16 @@ fn shipped_set_loads_with_valid_queries() {
     let set = ReachProblemSet::load(&shipped_path()).unwrap();
     assert!(set.queries.len() >= 100);
     assert_eq!(set.obstacles.len(), 5);
-    assert!(set.obstacles[0].center.z + set.obstacles[0].half_extents.z < 0.0, "table top below the base plane");
+    assert!(
+        set.obstacles[0].center.z + set.obstacles[0].half_extents.z < 0.0,
+        "table top below the base plane"
+    );
     let planner = ReachPlanner::new(&set, ReachSettings::default());
     for (k, q) in set.queries.iter().enumerate() {
-        assert!(planner.is_valid(&q.start) && planner.is_valid(&q.goal), "query {k}");
+        assert!(
+            planner.is_valid(&q.start) && planner.is_valid(&q.goal),
+            "query {k}"
+        );
     }
 }
 

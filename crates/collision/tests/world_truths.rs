@@ -20,7 +20,10 @@ fn arm(name: &str, base: Isometry3<f64>) -> ArmModel {
 
 /// Left arm at the origin, right arm far away (5 m along y).
 fn two_arms() -> [ArmModel; 2] {
-    [arm("left", Isometry3::identity()), arm("right", Isometry3::translation(0.0, 5.0, 0.0))]
+    [
+        arm("left", Isometry3::identity()),
+        arm("right", Isometry3::translation(0.0, 5.0, 0.0)),
+    ]
 }
 
 fn capsule_of(arm: &ArmModel, q: &Joints, name: &str) -> (Point3<f64>, Point3<f64>, f64) {
@@ -41,11 +44,17 @@ fn arm_through_the_table_collides_with_the_support() {
     // Shoulder lift turned down: the upper arm points into the table.
     let q: Joints = [0.0, FRAC_PI_2, 0.0, 0.0, 0.0, 0.0];
     let elbow = world.arms()[0].kin.fk_frames(&q)[2].translation.vector;
-    assert!(elbow.z < -0.2, "the test pose must put the elbow under the table: {elbow}");
+    assert!(
+        elbow.z < -0.2,
+        "the test pose must put the elbow under the table: {elbow}"
+    );
     let down = WorldState::new([q, [0.0; 6]]);
     let c = world.check(&down).unwrap_err();
     assert_eq!(c.b, "support");
-    assert!(c.a.starts_with("left/") && !c.a.contains("gripper"), "{c:?}");
+    assert!(
+        c.a.starts_with("left/") && !c.a.contains("gripper"),
+        "{c:?}"
+    );
     assert_eq!(world.check_arm(0, &down).unwrap_err(), c);
     assert_eq!(world.check_arm(1, &down), Ok(()), "arm 1 is not involved");
     let (d, a, b) = world.clearance(&down);
@@ -86,7 +95,10 @@ fn frame_across_forearm(arm: &ArmModel, q: &Joints, offset: f64) -> (Isometry3<f
     // The frame mesh spans z ∈ [0, t]: centre it on the midpoint along the axis.
     let t = 0.03;
     let origin = mid - axis * (0.5 * t) + in_plane * offset;
-    (Isometry3::from_parts(Translation3::from(origin.coords), rot), r)
+    (
+        Isometry3::from_parts(Translation3::from(origin.coords), rot),
+        r,
+    )
 }
 
 #[test]
@@ -100,12 +112,24 @@ fn arm_through_a_frame_opening_is_free_through_its_bar_collides() {
     assert!(r + 0.01 < 0.5 * (outer - 2.0 * bar));
     let mut s = WorldState::new([q, [0.0; 6]]);
     s.object = ObjectPlacement::Fixed(through_opening);
-    assert_eq!(world.check(&s), Ok(()), "the forearm passes through the opening");
+    assert_eq!(
+        world.check(&s),
+        Ok(()),
+        "the forearm passes through the opening"
+    );
+    // Clearance and margin agree: the first contact appears exactly at the clearance.
+    let (d, a, b) = world.clearance(&s);
+    assert!(d > 0.0, "{a}–{b} at {d}");
+    assert_eq!(world.clone().with_margin(d - 1e-4).check(&s), Ok(()));
+    assert!(world.clone().with_margin(d + 1e-4).check(&s).is_err());
     // The part's convex hull would have collided: the opening is what makes it free.
     let (through_bar, _) = frame_across_forearm(&world.arms()[0], &q, 0.5 * (outer - bar));
     s.object = ObjectPlacement::Fixed(through_bar);
     let c = world.check(&s).unwrap_err();
-    assert_eq!((c.a.as_str(), c.b.as_str()), ("left/forearm_tube", "object"));
+    assert_eq!(
+        (c.a.as_str(), c.b.as_str()),
+        ("left/forearm_tube", "object")
+    );
     let (d, _, _) = world.clearance(&s);
     assert!(d <= 0.0);
 }
@@ -124,7 +148,10 @@ fn gripper_may_touch_the_bar_it_grasps_only_with_the_grasp_flag() {
     s.gripper[0] = GripperState::Closed;
     for placement in [
         ObjectPlacement::Fixed(flange * g.power_point()),
-        ObjectPlacement::Attached { arm: 0, flange_to_object: g.power_point() },
+        ObjectPlacement::Attached {
+            arm: 0,
+            flange_to_object: g.power_point(),
+        },
     ] {
         s.object = placement;
         s.grasping = [false, false];
@@ -146,22 +173,37 @@ fn two_arms_touching_name_both_links() {
     let facing = |x: f64| {
         [
             arm("left", Isometry3::identity()),
-            arm("right", Isometry3::from_parts(Translation3::new(-x, 0.0, 0.0), UnitQuaternion::from_euler_angles(0.0, 0.0, PI))),
+            arm(
+                "right",
+                Isometry3::from_parts(
+                    Translation3::new(-x, 0.0, 0.0),
+                    UnitQuaternion::from_euler_angles(0.0, 0.0, PI),
+                ),
+            ),
         ]
     };
     let s = WorldState::new([[0.0; 6], [0.0; 6]]);
     let near = CollisionWorld::new(-1.0, None, facing(1.4));
     let c = near.check(&s).unwrap_err();
-    assert!(c.a.starts_with("left/") && c.b.starts_with("right/"), "{c:?}");
+    assert!(
+        c.a.starts_with("left/") && c.b.starts_with("right/"),
+        "{c:?}"
+    );
     assert_eq!(near.check_arm(0, &s).unwrap_err(), c);
     let c1 = near.check_arm(1, &s).unwrap_err();
-    assert!(c1.a.starts_with("right/") && c1.b.starts_with("left/"), "{c1:?}");
+    assert!(
+        c1.a.starts_with("right/") && c1.b.starts_with("left/"),
+        "{c1:?}"
+    );
     let far = CollisionWorld::new(-1.0, None, facing(2.6));
     assert_eq!(far.check(&s), Ok(()));
     let (d, a, b) = far.clearance(&s);
     assert!(d > 0.0, "{a}–{b} at {d}");
     let (d, a, b) = near.clearance(&s);
-    assert!(d <= 0.0 && a.starts_with("left/") && b.starts_with("right/"), "{a}–{b} at {d}");
+    assert!(
+        d <= 0.0 && a.starts_with("left/") && b.starts_with("right/"),
+        "{a}–{b} at {d}"
+    );
 }
 
 #[test]
@@ -171,7 +213,9 @@ fn static_cuboid_obstacle_is_named() {
         Isometry3::translation(-0.2, 0.0, 0.163),
         Vector3::new(0.05, 0.3, 0.05),
     );
-    let c = world.check(&WorldState::new([[0.0; 6], [0.0; 6]])).unwrap_err();
+    let c = world
+        .check(&WorldState::new([[0.0; 6], [0.0; 6]]))
+        .unwrap_err();
     assert!(c.a.starts_with("left/upper_arm") && c.b == "box", "{c:?}");
     assert_eq!(world.check(&WorldState::new([UP, [0.0; 6]])), Ok(()));
 }
@@ -186,18 +230,28 @@ fn attached_part_moves_with_the_flange_and_hits_obstacles() {
     // A cuboid just around where the held plate is, far from the gripper itself.
     let world = world.with_obstacle_cuboid(
         "post",
-        Isometry3::translation(part_world.translation.x + 0.09, part_world.translation.y + 0.09, part_world.translation.z),
+        Isometry3::translation(
+            part_world.translation.x + 0.09,
+            part_world.translation.y + 0.09,
+            part_world.translation.z,
+        ),
         Vector3::new(0.02, 0.02, 0.02),
     );
     let mut s = WorldState::new([UP, [0.0; 6]]);
     s.gripper[0] = GripperState::Closed;
     s.grasping[0] = true;
-    s.object = ObjectPlacement::Attached { arm: 0, flange_to_object: g.power_point() };
+    s.object = ObjectPlacement::Attached {
+        arm: 0,
+        flange_to_object: g.power_point(),
+    };
     let c = world.check_arm(0, &s).unwrap_err();
     assert_eq!((c.a.as_str(), c.b.as_str()), ("object", "post"));
     assert_eq!(world.check(&s).unwrap_err(), c);
     // The same part held by the far arm is not near the post.
-    s.object = ObjectPlacement::Attached { arm: 1, flange_to_object: g.power_point() };
+    s.object = ObjectPlacement::Attached {
+        arm: 1,
+        flange_to_object: g.power_point(),
+    };
     s.grasping = [false, true];
     s.gripper = [GripperState::Open, GripperState::Closed];
     assert_eq!(world.check(&s), Ok(()));

@@ -96,7 +96,10 @@ impl PartDesign {
         } else {
             self.thickness / 2.0
         };
-        Isometry3::from_parts(Translation3::new(site.point.x, site.point.y, height), rotation)
+        Isometry3::from_parts(
+            Translation3::new(site.point.x, site.point.y, height),
+            rotation,
+        )
     }
 
     /// The power point (flange `z`, m) for a bar of this part's thickness held against the

@@ -282,7 +282,10 @@ fn grasps_suit_the_2f85_point_frames() {
             "{name}: bar reaches into the palm"
         );
         let support_height = design.grasp_pose(&design.support).translation.z;
-        assert!(support_height <= design.thickness, "{name}: support grasp above the part");
+        assert!(
+            support_height <= design.thickness,
+            "{name}: support grasp above the part"
+        );
         assert!(
             support_height - PAD_HALF_LENGTH >= 0.005,
             "{name}: fingertips within 5 mm of the table"

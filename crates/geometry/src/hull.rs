@@ -65,8 +65,13 @@ impl ConvexHull {
                 used[i as usize] = true;
             }
         }
-        let points: Vec<Point> =
-            mesh.vertices.iter().zip(&used).filter(|(_, u)| **u).map(|(p, _)| *p).collect();
+        let points: Vec<Point> = mesh
+            .vertices
+            .iter()
+            .zip(&used)
+            .filter(|(_, u)| **u)
+            .map(|(p, _)| *p)
+            .collect();
         ConvexHull::from_points(&points)
     }
 
@@ -76,7 +81,10 @@ impl ConvexHull {
         if points.len() < 3 {
             return Err(HullError::TooFewPoints(points.len()));
         }
-        if !points.iter().all(|p| p.coords.iter().all(|c| c.is_finite())) {
+        if !points
+            .iter()
+            .all(|p| p.coords.iter().all(|c| c.is_finite()))
+        {
             return Err(HullError::NonFinite);
         }
         let (lo, hi) = bounds(points);
@@ -106,7 +114,9 @@ impl ConvexHull {
 }
 
 fn bounds(points: &[Point]) -> (Point, Point) {
-    points.iter().fold((points[0], points[0]), |(lo, hi), p| (lo.inf(p), hi.sup(p)))
+    points
+        .iter()
+        .fold((points[0], points[0]), |(lo, hi), p| (lo.inf(p), hi.sup(p)))
 }
 
 /// If all points lie within `tol` of one plane, that plane's unit normal (least-variance
@@ -121,16 +131,25 @@ fn flat_normal(points: &[Point], tol: f64) -> Option<Unit<Vector>> {
     let eig = cov.symmetric_eigen();
     let k = eig.eigenvalues.imin();
     let normal = Unit::new_normalize(eig.eigenvectors.column(k).into_owned());
-    let flat = points.iter().all(|p| normal.dot(&(p.coords - centroid)).abs() <= tol);
+    let flat = points
+        .iter()
+        .all(|p| normal.dot(&(p.coords - centroid)).abs() <= tol);
     flat.then_some(normal)
 }
 
 /// Two-sided hull of a flat point set: the 2-D hull polygon in the plane ⊥ `normal`.
 fn planar_hull(points: &[Point], normal: Unit<Vector>, tol: f64) -> Result<ConvexHull, HullError> {
-    let helper = if normal.x.abs() < 0.9 { Vector::x() } else { Vector::y() };
+    let helper = if normal.x.abs() < 0.9 {
+        Vector::x()
+    } else {
+        Vector::y()
+    };
     let e1 = Unit::new_normalize(normal.cross(&helper));
     let e2 = normal.cross(&e1);
-    let uv: Vec<[f64; 2]> = points.iter().map(|p| [e1.dot(&p.coords), e2.dot(&p.coords)]).collect();
+    let uv: Vec<[f64; 2]> = points
+        .iter()
+        .map(|p| [e1.dot(&p.coords), e2.dot(&p.coords)])
+        .collect();
     let ring = monotone_chain(&uv, tol);
     if ring.len() < 3 {
         return Err(HullError::Collinear);
@@ -145,12 +164,27 @@ fn planar_hull(points: &[Point], normal: Unit<Vector>, tol: f64) -> Result<Conve
     let offset = normal.dot(&vertices[0].coords);
     let all: Vec<usize> = (0..m).collect();
     let faces = vec![
-        HullFace { normal, offset, vertices: all.clone() },
-        HullFace { normal: -normal, offset: -offset, vertices: all },
+        HullFace {
+            normal,
+            offset,
+            vertices: all.clone(),
+        },
+        HullFace {
+            normal: -normal,
+            offset: -offset,
+            vertices: all,
+        },
     ];
     let feature_edges: Vec<[usize; 2]> = (0..m).map(|i| sorted2(i, (i + 1) % m)).collect();
     let edge_faces = vec![[0, 1]; m];
-    Ok(ConvexHull { vertices, triangles, faces, feature_edges, edge_faces, tolerance: tol })
+    Ok(ConvexHull {
+        vertices,
+        triangles,
+        faces,
+        feature_edges,
+        edge_faces,
+        tolerance: tol,
+    })
 }
 
 /// Andrew's monotone chain; returns indices of the counter-clockwise hull polygon without
@@ -171,8 +205,11 @@ fn monotone_chain(uv: &[[f64; 2]], tol: f64) -> Vec<usize> {
     let mut hull: Vec<usize> = Vec::with_capacity(order.len() + 1);
     for pass in 0..2 {
         let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &usize>> =
-            if pass == 0 { Box::new(order.iter()) } else { Box::new(order.iter().rev()) };
+        let iter: Box<dyn Iterator<Item = &usize>> = if pass == 0 {
+            Box::new(order.iter())
+        } else {
+            Box::new(order.iter().rev())
+        };
         for &i in iter {
             while hull.len() >= start + 2
                 && !keeps_left(hull[hull.len() - 2], hull[hull.len() - 1], i)
@@ -249,7 +286,8 @@ fn merge_faces(vertices: Vec<Point>, mut triangles: Vec<[u32; 3]>, tol: f64) -> 
         let n0 = Unit::new_normalize(area[seed]);
         let d0 = n0.dot(&vertices[triangles[seed][0] as usize].coords);
         let on_plane = |t: &[u32; 3]| {
-            t.iter().all(|&i| (n0.dot(&vertices[i as usize].coords) - d0).abs() <= tol)
+            t.iter()
+                .all(|&i| (n0.dot(&vertices[i as usize].coords) - d0).abs() <= tol)
         };
         face_of[seed] = f;
         stack.push(seed);
@@ -269,19 +307,34 @@ fn merge_faces(vertices: Vec<Point>, mut triangles: Vec<[u32; 3]>, tol: f64) -> 
         }
         let sum = members.iter().fold(Vector::zeros(), |s, &t| s + area[t]);
         let normal = Unit::new_normalize(sum);
-        let mut vs: Vec<usize> =
-            members.iter().flat_map(|&t| triangles[t].map(|i| i as usize)).collect();
+        let mut vs: Vec<usize> = members
+            .iter()
+            .flat_map(|&t| triangles[t].map(|i| i as usize))
+            .collect();
         vs.sort_unstable();
         vs.dedup();
-        let offset = vs.iter().map(|&i| normal.dot(&vertices[i].coords)).fold(f64::MIN, f64::max);
-        faces.push(HullFace { normal, offset, vertices: vs });
+        let offset = vs
+            .iter()
+            .map(|&i| normal.dot(&vertices[i].coords))
+            .fold(f64::MIN, f64::max);
+        faces.push(HullFace {
+            normal,
+            offset,
+            vertices: vs,
+        });
     }
     // Feature edges: triangulation edges between different faces, grouped by face pair; each
     // group is one segment (two convex faces meet along one segment), spanned by its extremes.
     let mut by_pair: Vec<([usize; 2], u32, u32)> = pairs
         .iter()
         .filter(|(_, t1, t2)| face_of[*t1] != face_of[*t2])
-        .map(|&(key, t1, t2)| (sorted2(face_of[t1], face_of[t2]), (key >> 32) as u32, key as u32))
+        .map(|&(key, t1, t2)| {
+            (
+                sorted2(face_of[t1], face_of[t2]),
+                (key >> 32) as u32,
+                key as u32,
+            )
+        })
         .collect();
     by_pair.sort_unstable();
     let mut feature_edges = Vec::new();
@@ -295,9 +348,18 @@ fn merge_faces(vertices: Vec<Point>, mut triangles: Vec<[u32; 3]>, tol: f64) -> 
             .clone()
             .min_by(|x, y| key(x).total_cmp(&key(y)).then(x.cmp(y)))
             .expect("non-empty");
-        let hi = ends.max_by(|x, y| key(x).total_cmp(&key(y)).then(y.cmp(x))).expect("non-empty");
+        let hi = ends
+            .max_by(|x, y| key(x).total_cmp(&key(y)).then(y.cmp(x)))
+            .expect("non-empty");
         feature_edges.push(sorted2(lo, hi));
         edge_faces.push(group[0].0);
     }
-    ConvexHull { vertices, triangles, faces, feature_edges, edge_faces, tolerance: tol }
+    ConvexHull {
+        vertices,
+        triangles,
+        faces,
+        feature_edges,
+        edge_faces,
+        tolerance: tol,
+    }
 }

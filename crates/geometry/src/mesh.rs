@@ -13,7 +13,10 @@ pub struct Mesh {
 
 impl Mesh {
     pub fn new(vertices: Vec<Point>, triangles: Vec<[u32; 3]>) -> Self {
-        Self { vertices, triangles }
+        Self {
+            vertices,
+            triangles,
+        }
     }
 
     /// The same mesh with every vertex mapped by `pose`.

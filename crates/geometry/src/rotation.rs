@@ -37,7 +37,11 @@ impl HeightSinusoid {
     pub fn of_point(x: &Point, point: &Point, axis: &Unit<Vector>) -> HeightSinusoid {
         let r = x - point;
         let along = r.dot(axis);
-        HeightSinusoid { c: point.z + along * axis.z, a: r.z - along * axis.z, b: axis.cross(&r).z }
+        HeightSinusoid {
+            c: point.z + along * axis.z,
+            a: r.z - along * axis.z,
+            b: axis.cross(&r).z,
+        }
     }
 
     pub fn eval(&self, theta: f64) -> f64 {

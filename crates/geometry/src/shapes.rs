@@ -8,7 +8,11 @@ use crate::{Mesh, Point};
 
 /// The axis-aligned box with opposite corners `lo` and `hi` (8 vertices, 12 triangles).
 pub fn cuboid(lo: Point, hi: Point) -> Mesh {
-    prism(&[[lo.x, lo.y], [hi.x, lo.y], [hi.x, hi.y], [lo.x, hi.y]], lo.z, hi.z)
+    prism(
+        &[[lo.x, lo.y], [hi.x, lo.y], [hi.x, hi.y], [lo.x, hi.y]],
+        lo.z,
+        hi.z,
+    )
 }
 
 /// The convex polygon `outline` (counter-clockwise in the `xy` plane) extruded from `z0` to
@@ -58,7 +62,12 @@ pub fn uv_sphere(center: Point, radius: f64, rings: u32, segments: u32) -> Mesh 
     }
     for r in 1..rings - 1 {
         for s in 0..segments {
-            let (a, b, c, d) = (ring(r, s), ring(r, s + 1), ring(r + 1, s), ring(r + 1, s + 1));
+            let (a, b, c, d) = (
+                ring(r, s),
+                ring(r, s + 1),
+                ring(r + 1, s),
+                ring(r + 1, s + 1),
+            );
             triangles.push([a, c, d]);
             triangles.push([a, d, b]);
         }
@@ -72,7 +81,8 @@ pub fn union(parts: &[Mesh]) -> Mesh {
     for m in parts {
         let offset = out.vertices.len() as u32;
         out.vertices.extend_from_slice(&m.vertices);
-        out.triangles.extend(m.triangles.iter().map(|t| t.map(|i| i + offset)));
+        out.triangles
+            .extend(m.triangles.iter().map(|t| t.map(|i| i + offset)));
     }
     out
 }
@@ -85,9 +95,14 @@ pub fn subdivided_cuboid(lo: Point, hi: Point, n: u32) -> Mesh {
     let at = |axis: usize, i: u32| lo[axis] + (hi[axis] - lo[axis]) * f64::from(i) / f64::from(n);
     let mut mesh = Mesh::default();
     // (normal axis, side, u axis, v axis) with u × v pointing outwards.
-    for (k, side, u, v) in
-        [(2, 0, 1, 0), (2, 1, 0, 1), (0, 0, 2, 1), (0, 1, 1, 2), (1, 0, 0, 2), (1, 1, 2, 0)]
-    {
+    for (k, side, u, v) in [
+        (2, 0, 1, 0),
+        (2, 1, 0, 1),
+        (0, 0, 2, 1),
+        (0, 1, 1, 2),
+        (1, 0, 0, 2),
+        (1, 1, 2, 0),
+    ] {
         let base = mesh.vertices.len() as u32;
         for i in 0..=n {
             for j in 0..=n {
@@ -101,8 +116,10 @@ pub fn subdivided_cuboid(lo: Point, hi: Point, n: u32) -> Mesh {
         let id = |i: u32, j: u32| base + i * (n + 1) + j;
         for i in 0..n {
             for j in 0..n {
-                mesh.triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-                mesh.triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+                mesh.triangles
+                    .push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                mesh.triangles
+                    .push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
             }
         }
     }

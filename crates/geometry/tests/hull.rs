@@ -18,7 +18,10 @@ fn assert_box_edges(hull: &ConvexHull, size: [f64; 3]) {
     for (i, &[a, b]) in hull.feature_edges.iter().enumerate() {
         let d = hull.vertices[b] - hull.vertices[a];
         let k = d.iamax();
-        assert!((d.norm() - d[k].abs()).abs() < 1e-12, "edge {i} is not axis-aligned: {d:?}");
+        assert!(
+            (d.norm() - d[k].abs()).abs() < 1e-12,
+            "edge {i} is not axis-aligned: {d:?}"
+        );
         assert!((hull.feature_edge_length(i) - size[k]).abs() < 1e-12);
         per_axis[k] += 1;
     }
@@ -51,7 +54,11 @@ fn collinear_and_coplanar_extra_points_do_not_split_edges() {
     for i in 0..5 {
         for j in 0..4 {
             for k in 0..3 {
-                pts.push(p(x * i as f64 / 4.0, y * j as f64 / 3.0, z * k as f64 / 2.0));
+                pts.push(p(
+                    x * i as f64 / 4.0,
+                    y * j as f64 / 3.0,
+                    z * k as f64 / 2.0,
+                ));
             }
         }
     }
@@ -67,7 +74,13 @@ fn triangular_prism_has_five_faces_and_nine_edges() {
     assert_eq!(hull.feature_edges.len(), 9);
     let mut lengths: Vec<f64> = (0..9).map(|i| hull.feature_edge_length(i)).collect();
     lengths.sort_by(f64::total_cmp);
-    let mut expected = vec![0.5, 0.5, 0.1f64.hypot(0.3), 0.1f64.hypot(0.3), 0.4f64.hypot(0.3)];
+    let mut expected = vec![
+        0.5,
+        0.5,
+        0.1f64.hypot(0.3),
+        0.1f64.hypot(0.3),
+        0.4f64.hypot(0.3),
+    ];
     expected.push(0.4f64.hypot(0.3));
     expected.extend([0.8, 0.8, 0.8]);
     expected.sort_by(f64::total_cmp);
@@ -81,8 +94,11 @@ fn rotated_box_with_f32_rounding_still_merges_faces() {
     let rot = UnitQuaternion::from_euler_angles(0.3, -0.7, 1.1);
     let pose = Isometry3::from_parts(Translation3::new(0.4, -0.2, 0.9), rot);
     let mesh = cuboid(p(0.0, 0.0, 0.0), p(0.6, 0.4, 0.03)).transformed(&pose);
-    let rounded: Vec<Point3<f64>> =
-        mesh.vertices.iter().map(|v| v.map(|c| f64::from(c as f32))).collect();
+    let rounded: Vec<Point3<f64>> = mesh
+        .vertices
+        .iter()
+        .map(|v| v.map(|c| f64::from(c as f32)))
+        .collect();
     let hull = ConvexHull::from_points(&rounded).unwrap();
     assert_eq!(hull.faces.len(), 6);
     assert_eq!(hull.feature_edges.len(), 12);
@@ -128,7 +144,12 @@ fn degenerate_inputs_are_errors() {
     );
     let line: Vec<_> = (0..5).map(|i| p(i as f64, 2.0 * i as f64, 0.0)).collect();
     assert_eq!(ConvexHull::from_points(&line), Err(HullError::Collinear));
-    let nan = [p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(0.0, f64::NAN, 0.0), p(0.0, 0.0, 1.0)];
+    let nan = [
+        p(0.0, 0.0, 0.0),
+        p(1.0, 0.0, 0.0),
+        p(0.0, f64::NAN, 0.0),
+        p(0.0, 0.0, 1.0),
+    ];
     assert_eq!(ConvexHull::from_points(&nan), Err(HullError::NonFinite));
 }
 

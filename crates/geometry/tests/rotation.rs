@@ -43,7 +43,10 @@ fn point_rising_first_comes_down_after_half_a_turn_or_more() {
         &Point3::origin(),
         &unit(0.0, -1.0, 0.0),
     );
-    assert_eq!(s.first_descent_below(0.0, 1e-12), Some(std::f64::consts::PI));
+    assert_eq!(
+        s.first_descent_below(0.0, 1e-12),
+        Some(std::f64::consts::PI)
+    );
     // A point circling about a line high above the level never reaches it.
     let s = HeightSinusoid::of_point(
         &Point3::new(0.5, 0.0, 1.0),
@@ -63,8 +66,11 @@ fn point_rising_first_comes_down_after_half_a_turn_or_more() {
 #[test]
 fn max_rotation_is_capped_and_ignores_points_on_the_axis() {
     let axis = unit(0.0, 1.0, 0.0);
-    let pts =
-        [Point3::new(0.0, 0.0, 0.0), Point3::new(0.0, 1.0, 0.0), Point3::new(-0.3, 0.0, 0.02)];
+    let pts = [
+        Point3::new(0.0, 0.0, 0.0),
+        Point3::new(0.0, 1.0, 0.0),
+        Point3::new(-0.3, 0.0, 0.02),
+    ];
     // Rotating about +y lifts the point at negative x... until it passes over the top.
     let t = max_rotation_above(&pts, &Point3::origin(), &axis, 0.0, 1.0, 1e-12);
     assert_eq!(t, 1.0);

@@ -37,12 +37,20 @@ pub enum MeshError {
     #[error("{file}: truncated STL: {reason}")]
     Truncated { file: String, reason: String },
     #[error("{file}: malformed {format}: {reason}")]
-    Malformed { file: String, format: &'static str, reason: String },
+    Malformed {
+        file: String,
+        format: &'static str,
+        reason: String,
+    },
     #[error("{file}: mesh has no triangles")]
     NoTriangles { file: String },
     /// `index` counts vertices in file order (for STL, `3 × triangle + corner`).
     #[error("{file}: vertex {index} (in file order) has a non-finite coordinate {value:?}")]
-    NonFinite { file: String, index: usize, value: [f64; 3] },
+    NonFinite {
+        file: String,
+        index: usize,
+        value: [f64; 3],
+    },
     #[error("{file}: scale must be a finite number > 0, found {scale}")]
     Scale { file: String, scale: f64 },
 }
@@ -54,9 +62,14 @@ pub fn load_mesh(path: &Path, scale: f64) -> Result<LoadedMesh, MeshError> {
     if !(scale.is_finite() && scale > 0.0) {
         return Err(MeshError::Scale { file, scale });
     }
-    let bytes =
-        std::fs::read(path).map_err(|error| MeshError::Read { file: file.clone(), error })?;
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let bytes = std::fs::read(path).map_err(|error| MeshError::Read {
+        file: file.clone(),
+        error,
+    })?;
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("stl") => parse_stl(&bytes, &file, scale),
         Some("obj") => parse_obj(&bytes, &file, scale),
@@ -71,12 +84,18 @@ pub fn parse_stl(bytes: &[u8], file: &str, scale: f64) -> Result<LoadedMesh, Mes
         return Err(MeshError::Empty { file });
     }
     if let Some(kind) = foreign_magic(bytes) {
-        return Err(MeshError::NotAMesh { file, reason: format!("looks like {kind}") });
+        return Err(MeshError::NotAMesh {
+            file,
+            reason: format!("looks like {kind}"),
+        });
     }
     // A binary STL is exactly 84 + 50·n bytes, n the little-endian count at byte 80. That test
     // comes first: many exporters start binary headers with "solid" too.
     let binary_len = (bytes.len() >= 84).then(|| {
-        84 + 50 * u64::from(u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]))
+        84 + 50
+            * u64::from(u32::from_le_bytes([
+                bytes[80], bytes[81], bytes[82], bytes[83],
+            ]))
     });
     let triangles = if binary_len == Some(bytes.len() as u64) {
         read_binary_stl(bytes)
@@ -117,8 +136,10 @@ fn read_ascii_stl(bytes: &[u8], file: &str) -> Result<Vec<[[f32; 3]; 3]>, MeshEr
         format: "ASCII STL",
         reason: e.to_string(),
     };
-    let truncated =
-        |reason: &str| MeshError::Truncated { file: file.to_string(), reason: reason.to_string() };
+    let truncated = |reason: &str| MeshError::Truncated {
+        file: file.to_string(),
+        reason: reason.to_string(),
+    };
     if !ends_with_endsolid(bytes) {
         return Err(truncated("no closing `endsolid` line"));
     }
@@ -175,7 +196,10 @@ fn foreign_magic(bytes: &[u8]) -> Option<&'static str> {
         (b"\x7fELF", "an executable"),
         (b"\x1f\x8b", "a gzip archive"),
     ];
-    MAGICS.iter().find(|(m, _)| bytes.starts_with(m)).map(|(_, k)| *k)
+    MAGICS
+        .iter()
+        .find(|(m, _)| bytes.starts_with(m))
+        .map(|(_, k)| *k)
 }
 
 /// Hasher for welding: the key is already three well-mixed 32-bit words.
@@ -226,7 +250,10 @@ fn weld(tris: &[[[f32; 3]; 3]], scale: f64, file: &str) -> Result<LoadedMesh, Me
         }
         triangles.push(tri);
     }
-    Ok(LoadedMesh { mesh: Mesh::new(vertices, triangles), warnings: Vec::new() })
+    Ok(LoadedMesh {
+        mesh: Mesh::new(vertices, triangles),
+        warnings: Vec::new(),
+    })
 }
 
 /// Common checks after parsing: drops degenerate index triangles, refuses an empty mesh and
@@ -234,10 +261,13 @@ fn weld(tris: &[[[f32; 3]; 3]], scale: f64, file: &str) -> Result<LoadedMesh, Me
 fn finish(loaded: &mut LoadedMesh, file: &str) -> Result<(), MeshError> {
     let mesh = &mut loaded.mesh;
     let before = mesh.triangles.len();
-    mesh.triangles.retain(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2]);
+    mesh.triangles
+        .retain(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2]);
     let dropped = before - mesh.triangles.len();
     if mesh.triangles.is_empty() {
-        return Err(MeshError::NoTriangles { file: file.to_string() });
+        return Err(MeshError::NoTriangles {
+            file: file.to_string(),
+        });
     }
     if dropped > 0 {
         loaded.warnings.push(format!(
@@ -285,7 +315,10 @@ pub fn parse_obj(bytes: &[u8], file: &str, scale: f64) -> Result<LoadedMesh, Mes
         return Err(MeshError::Empty { file: file_s });
     }
     if let Some(kind) = foreign_magic(bytes) {
-        return Err(MeshError::NotAMesh { file: file_s, reason: format!("looks like {kind}") });
+        return Err(MeshError::NotAMesh {
+            file: file_s,
+            reason: format!("looks like {kind}"),
+        });
     }
     if std::str::from_utf8(bytes).is_err() {
         return Err(MeshError::NotAMesh {
@@ -293,16 +326,20 @@ pub fn parse_obj(bytes: &[u8], file: &str, scale: f64) -> Result<LoadedMesh, Mes
             reason: "OBJ must be text, found binary data".into(),
         });
     }
-    let options =
-        tobj::LoadOptions { triangulate: true, single_index: false, ..Default::default() };
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ..Default::default()
+    };
     let mut reader = std::io::BufReader::new(bytes);
-    let (models, _materials) =
-        tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::OpenFileFailed))
-            .map_err(|e| MeshError::Malformed {
-                file: file_s.clone(),
-                format: "OBJ",
-                reason: e.to_string(),
-            })?;
+    let (models, _materials) = tobj::load_obj_buf(&mut reader, &options, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|e| MeshError::Malformed {
+        file: file_s.clone(),
+        format: "OBJ",
+        reason: e.to_string(),
+    })?;
     let mut vertices = Vec::new();
     let mut triangles = Vec::new();
     for model in &models {
@@ -311,7 +348,11 @@ pub fn parse_obj(bytes: &[u8], file: &str, scale: f64) -> Result<LoadedMesh, Mes
         for p in m.positions.chunks_exact(3) {
             let v = [p[0], p[1], p[2]].map(f64::from);
             if !v.iter().all(|c| c.is_finite()) {
-                return Err(MeshError::NonFinite { file: file_s, index: vertices.len(), value: v });
+                return Err(MeshError::NonFinite {
+                    file: file_s,
+                    index: vertices.len(),
+                    value: v,
+                });
             }
             vertices.push(Point::new(v[0], v[1], v[2]) * scale);
         }
@@ -319,7 +360,10 @@ pub fn parse_obj(bytes: &[u8], file: &str, scale: f64) -> Result<LoadedMesh, Mes
             triangles.push([t[0] + offset, t[1] + offset, t[2] + offset]);
         }
     }
-    let mut loaded = LoadedMesh { mesh: Mesh::new(vertices, triangles), warnings: Vec::new() };
+    let mut loaded = LoadedMesh {
+        mesh: Mesh::new(vertices, triangles),
+        warnings: Vec::new(),
+    };
     finish(&mut loaded, file)?;
     Ok(loaded)
 }
@@ -341,7 +385,9 @@ pub fn write_stl(path: &Path, mesh: &Mesh) -> Result<(), MeshError> {
             }
         })
         .collect();
-    let mut out = std::fs::File::create(path)
-        .map_err(|error| MeshError::Write { file: file.clone(), error })?;
+    let mut out = std::fs::File::create(path).map_err(|error| MeshError::Write {
+        file: file.clone(),
+        error,
+    })?;
     stl_io::write_stl(&mut out, tris.iter()).map_err(|error| MeshError::Write { file, error })
 }

@@ -28,7 +28,10 @@ impl From<&Isometry3<f64>> for PoseJson {
         if q.w < 0.0 {
             q = -q;
         }
-        PoseJson { xyz: [t.x, t.y, t.z], quat_xyzw: [q.i, q.j, q.k, q.w] }
+        PoseJson {
+            xyz: [t.x, t.y, t.z],
+            quat_xyzw: [q.i, q.j, q.k, q.w],
+        }
     }
 }
 
@@ -169,7 +172,10 @@ pub enum PlanFileError {
     #[error("{path}: cannot read: {error}")]
     Read { path: String, error: std::io::Error },
     #[error("{path}: not a pregrasp plan file: {error}")]
-    Parse { path: String, error: serde_json::Error },
+    Parse {
+        path: String,
+        error: serde_json::Error,
+    },
     #[error("{path}: format is {found:?}, expected {PLAN_FORMAT:?}")]
     Format { path: String, found: String },
     #[error("{path}: cannot write: {error}")]
@@ -187,12 +193,19 @@ impl PlanFile {
     /// Reads and parses a plan file, checking its `format`.
     pub fn read(path: &Path) -> Result<PlanFile, PlanFileError> {
         let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|error| PlanFileError::Read { path: shown.clone(), error })?;
-        let plan: PlanFile = serde_json::from_str(&text)
-            .map_err(|error| PlanFileError::Parse { path: shown.clone(), error })?;
+        let text = std::fs::read_to_string(path).map_err(|error| PlanFileError::Read {
+            path: shown.clone(),
+            error,
+        })?;
+        let plan: PlanFile = serde_json::from_str(&text).map_err(|error| PlanFileError::Parse {
+            path: shown.clone(),
+            error,
+        })?;
         if plan.format != PLAN_FORMAT {
-            return Err(PlanFileError::Format { path: shown, found: plan.format });
+            return Err(PlanFileError::Format {
+                path: shown,
+                found: plan.format,
+            });
         }
         Ok(plan)
     }
@@ -207,7 +220,10 @@ impl PlanFile {
 /// Writes `bytes` to `path` through a temporary file in the same directory and a rename.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), PlanFileError> {
     let shown = path.display().to_string();
-    let err = |error| PlanFileError::Write { path: shown.clone(), error };
+    let err = |error| PlanFileError::Write {
+        path: shown.clone(),
+        error,
+    };
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -219,7 +235,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), PlanFileError> {
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;
-        tmp.as_file().set_permissions(std::fs::Permissions::from_mode(0o644)).map_err(err)?;
+        tmp.as_file()
+            .set_permissions(std::fs::Permissions::from_mode(0o644))
+            .map_err(err)?;
     }
     tmp.persist(path).map_err(|e| err(e.error))?;
     Ok(())

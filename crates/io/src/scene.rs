@@ -177,7 +177,11 @@ pub enum SceneError {
     Syntax { file: String, message: String },
     /// A key is missing, has the wrong type or an unusable value.
     #[error("{file}: {key}: {message}")]
-    Key { file: String, key: String, message: String },
+    Key {
+        file: String,
+        key: String,
+        message: String,
+    },
 }
 
 impl SceneError {
@@ -193,20 +197,29 @@ impl SceneError {
 impl Scene {
     /// Reads and validates the scene file at `path`.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|error| SceneError::Read { file: path.display().to_string(), error })?;
+        let text = std::fs::read_to_string(path).map_err(|error| SceneError::Read {
+            file: path.display().to_string(),
+            error,
+        })?;
         Scene::from_str(&text, path)
     }
 
     /// Parses and validates scene text; `file` is used for messages and to resolve the mesh path.
     #[allow(clippy::should_implement_trait)]
     pub fn from_str(text: &str, file: &Path) -> Result<Scene, SceneError> {
-        let mut cx = Cx { file: file.display().to_string(), warnings: Vec::new() };
+        let mut cx = Cx {
+            file: file.display().to_string(),
+            warnings: Vec::new(),
+        };
         let root: Table = text.parse::<Table>().map_err(|e| SceneError::Syntax {
             file: cx.file.clone(),
             message: e.to_string().trim_end().replace('\n', " | "),
         })?;
-        cx.unknown(&root, "", &["name", "support", "object", "grasps", "robot", "planner"]);
+        cx.unknown(
+            &root,
+            "",
+            &["name", "support", "object", "grasps", "robot", "planner"],
+        );
 
         let name = match root.get("name") {
             None => None,
@@ -323,16 +336,22 @@ impl Cx {
     }
 
     fn opt_f64(&self, t: &Table, path: &str, name: &str) -> Result<Option<f64>, SceneError> {
-        t.get(name).map(|v| self.number(v, &join(path, name))).transpose()
+        t.get(name)
+            .map(|v| self.number(v, &join(path, name)))
+            .transpose()
     }
 
     fn req_f64(&self, t: &Table, path: &str, name: &str) -> Result<f64, SceneError> {
-        self.opt_f64(t, path, name)?.ok_or_else(|| self.err(&join(path, name), "missing key"))
+        self.opt_f64(t, path, name)?
+            .ok_or_else(|| self.err(&join(path, name), "missing key"))
     }
 
     fn array<const N: usize>(&self, v: &Value, key: &str) -> Result<[f64; N], SceneError> {
         let a = v.as_array().ok_or_else(|| {
-            self.err(key, format!("expected an array of {N} numbers, found {}", type_name(v)))
+            self.err(
+                key,
+                format!("expected an array of {N} numbers, found {}", type_name(v)),
+            )
         })?;
         if a.len() != N {
             return Err(self.err(key, format!("expected {N} numbers, found {}", a.len())));
@@ -349,10 +368,10 @@ impl Cx {
     fn angle(&self, t: &Table, path: &str, name: &str) -> Result<Option<f64>, SceneError> {
         let deg_name = format!("{name}_deg");
         match (t.get(name), t.get(&deg_name)) {
-            (Some(_), Some(_)) => {
-                Err(self
-                    .err(&join(path, name), format!("give either {name} or {deg_name}, not both")))
-            }
+            (Some(_), Some(_)) => Err(self.err(
+                &join(path, name),
+                format!("give either {name} or {deg_name}, not both"),
+            )),
             (Some(v), None) => Ok(Some(self.number(v, &join(path, name))?)),
             (None, Some(v)) => Ok(Some(self.number(v, &join(path, &deg_name))?.to_radians())),
             (None, None) => Ok(None),
@@ -363,12 +382,19 @@ impl Cx {
     fn pose(&mut self, v: &Value, key: &str) -> Result<Isometry3<f64>, SceneError> {
         let t = self.as_table(v, key)?;
         self.unknown(t, key, &["xyz", "rpy", "rpy_deg", "quat_xyzw"]);
-        let xyz_v = t.get("xyz").ok_or_else(|| self.err(&join(key, "xyz"), "missing key"))?;
+        let xyz_v = t
+            .get("xyz")
+            .ok_or_else(|| self.err(&join(key, "xyz"), "missing key"))?;
         let xyz: [f64; 3] = self.array(xyz_v, &join(key, "xyz"))?;
-        let given: Vec<&str> =
-            ["rpy", "rpy_deg", "quat_xyzw"].into_iter().filter(|k| t.contains_key(*k)).collect();
+        let given: Vec<&str> = ["rpy", "rpy_deg", "quat_xyzw"]
+            .into_iter()
+            .filter(|k| t.contains_key(*k))
+            .collect();
         if given.len() > 1 {
-            return Err(self.err(key, format!("give one rotation, found {}", given.join(" and "))));
+            return Err(self.err(
+                key,
+                format!("give one rotation, found {}", given.join(" and ")),
+            ));
         }
         let rotation = match given.first().copied() {
             None => UnitQuaternion::identity(),
@@ -391,13 +417,18 @@ impl Cx {
                 UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2])
             }
         };
-        Ok(Isometry3::from_parts(Translation3::new(xyz[0], xyz[1], xyz[2]), rotation))
+        Ok(Isometry3::from_parts(
+            Translation3::new(xyz[0], xyz[1], xyz[2]),
+            rotation,
+        ))
     }
 
     fn object(&mut self, root: &Table, file: &Path) -> Result<ObjectSpec, SceneError> {
         let t = self.table(root, "", "object")?;
         self.unknown(t, "object", &["mesh", "scale", "pose", "mass"]);
-        let mesh_v = t.get("mesh").ok_or_else(|| self.err("object.mesh", "missing key"))?;
+        let mesh_v = t
+            .get("mesh")
+            .ok_or_else(|| self.err("object.mesh", "missing key"))?;
         let mesh_entry = self.string(mesh_v, "object.mesh")?;
         if mesh_entry.trim().is_empty() {
             return Err(self.err("object.mesh", "empty path"));
@@ -410,7 +441,9 @@ impl Cx {
         if scale <= 0.0 {
             return Err(self.err("object.scale", format!("must be > 0, found {scale}")));
         }
-        let pose_v = t.get("pose").ok_or_else(|| self.err("object.pose", "missing key"))?;
+        let pose_v = t
+            .get("pose")
+            .ok_or_else(|| self.err("object.pose", "missing key"))?;
         let pose = self.pose(pose_v, "object.pose")?;
         let mass = self.opt_f64(t, "object", "mass")?;
         if let Some(m) = mass {
@@ -418,13 +451,21 @@ impl Cx {
                 return Err(self.err("object.mass", format!("must be > 0, found {m}")));
             }
         }
-        Ok(ObjectSpec { mesh_path, mesh_entry, scale, pose, mass })
+        Ok(ObjectSpec {
+            mesh_path,
+            mesh_entry,
+            scale,
+            pose,
+            mass,
+        })
     }
 
     fn grasps(&mut self, root: &Table) -> Result<Grasps, SceneError> {
         let t = self.table(root, "", "grasps")?;
         self.unknown(t, "grasps", &["power", "support"]);
-        let pv = t.get("power").ok_or_else(|| self.err("grasps.power", "missing key"))?;
+        let pv = t
+            .get("power")
+            .ok_or_else(|| self.err("grasps.power", "missing key"))?;
         let pa = pv.as_array().ok_or_else(|| {
             self.err(
                 "grasps.power",
@@ -432,15 +473,21 @@ impl Cx {
             )
         })?;
         if pa.len() != 2 {
-            return Err(
-                self.err("grasps.power", format!("expected exactly 2 poses, found {}", pa.len()))
-            );
+            return Err(self.err(
+                "grasps.power",
+                format!("expected exactly 2 poses, found {}", pa.len()),
+            ));
         }
         let p0 = self.pose(&pa[0], "grasps.power[0]")?;
         let p1 = self.pose(&pa[1], "grasps.power[1]")?;
-        let sv = t.get("support").ok_or_else(|| self.err("grasps.support", "missing key"))?;
+        let sv = t
+            .get("support")
+            .ok_or_else(|| self.err("grasps.support", "missing key"))?;
         let support = self.pose(sv, "grasps.support")?;
-        Ok(Grasps { power: [p0, p1], support })
+        Ok(Grasps {
+            power: [p0, p1],
+            support,
+        })
     }
 
     fn robots(&mut self, root: &Table) -> Result<[RobotSpec; 2], SceneError> {
@@ -448,7 +495,10 @@ impl Cx {
             .get("robot")
             .ok_or_else(|| self.err("robot", "missing: exactly two [[robot]] tables are needed"))?;
         let a = v.as_array().ok_or_else(|| {
-            self.err("robot", format!("expected [[robot]] tables, found {}", type_name(v)))
+            self.err(
+                "robot",
+                format!("expected [[robot]] tables, found {}", type_name(v)),
+            )
         })?;
         if a.len() != 2 {
             return Err(self.err(
@@ -459,7 +509,10 @@ impl Cx {
         let r0 = self.robot(&a[0], "robot[0]")?;
         let r1 = self.robot(&a[1], "robot[1]")?;
         if r0.name == r1.name {
-            return Err(self.err("robot[1].name", format!("duplicate robot name {:?}", r1.name)));
+            return Err(self.err(
+                "robot[1].name",
+                format!("duplicate robot name {:?}", r1.name),
+            ));
         }
         Ok([r0, r1])
     }
@@ -480,12 +533,16 @@ impl Cx {
                 "power_point_z",
             ],
         );
-        let name_v = t.get("name").ok_or_else(|| self.err(&join(key, "name"), "missing key"))?;
+        let name_v = t
+            .get("name")
+            .ok_or_else(|| self.err(&join(key, "name"), "missing key"))?;
         let name = self.string(name_v, &join(key, "name"))?;
         if name.is_empty() {
             return Err(self.err(&join(key, "name"), "empty name"));
         }
-        let model_v = t.get("model").ok_or_else(|| self.err(&join(key, "model"), "missing key"))?;
+        let model_v = t
+            .get("model")
+            .ok_or_else(|| self.err(&join(key, "model"), "missing key"))?;
         let model = self.string(model_v, &join(key, "model"))?;
         if !ROBOT_MODELS.contains(&model.as_str()) {
             return Err(self.err(
@@ -496,16 +553,21 @@ impl Cx {
                 ),
             ));
         }
-        let base_v = t.get("base").ok_or_else(|| self.err(&join(key, "base"), "missing key"))?;
+        let base_v = t
+            .get("base")
+            .ok_or_else(|| self.err(&join(key, "base"), "missing key"))?;
         let base = self.pose(base_v, &join(key, "base"))?;
         let start = match (t.get("start"), t.get("start_deg")) {
             (Some(_), Some(_)) => {
-                return Err(
-                    self.err(&join(key, "start"), "give either start or start_deg, not both")
-                )
+                return Err(self.err(
+                    &join(key, "start"),
+                    "give either start or start_deg, not both",
+                ))
             }
             (Some(v), None) => self.array::<6>(v, &join(key, "start"))?,
-            (None, Some(v)) => self.array::<6>(v, &join(key, "start_deg"))?.map(f64::to_radians),
+            (None, Some(v)) => self
+                .array::<6>(v, &join(key, "start_deg"))?
+                .map(f64::to_radians),
             (None, None) => return Err(self.err(&join(key, "start"), "missing key")),
         };
         let gripper = match t.get("gripper") {
@@ -515,13 +577,27 @@ impl Cx {
         if !GRIPPERS.contains(&gripper.as_str()) {
             return Err(self.err(
                 &join(key, "gripper"),
-                format!("unknown gripper {gripper:?} (expected one of {})", GRIPPERS.join(", ")),
+                format!(
+                    "unknown gripper {gripper:?} (expected one of {})",
+                    GRIPPERS.join(", ")
+                ),
             ));
         }
-        let precision_point_z =
-            self.opt_f64(t, key, "precision_point_z")?.unwrap_or(DEFAULT_PRECISION_POINT_Z);
-        let power_point_z = self.opt_f64(t, key, "power_point_z")?.unwrap_or(DEFAULT_POWER_POINT_Z);
-        Ok(RobotSpec { name, model, base, start, gripper, precision_point_z, power_point_z })
+        let precision_point_z = self
+            .opt_f64(t, key, "precision_point_z")?
+            .unwrap_or(DEFAULT_PRECISION_POINT_Z);
+        let power_point_z = self
+            .opt_f64(t, key, "power_point_z")?
+            .unwrap_or(DEFAULT_POWER_POINT_Z);
+        Ok(RobotSpec {
+            name,
+            model,
+            base,
+            start,
+            gripper,
+            precision_point_z,
+            power_point_z,
+        })
     }
 
     fn planner(&mut self, t: &Table) -> Result<PlannerParams, SceneError> {
@@ -558,8 +634,11 @@ impl Cx {
         let positive_angle = |cx: &Cx, name: &str, default: f64| -> Result<f64, SceneError> {
             let x = cx.angle(t, P, name)?.unwrap_or(default);
             if x <= 0.0 {
-                let shown =
-                    if t.contains_key(name) { name.to_string() } else { format!("{name}_deg") };
+                let shown = if t.contains_key(name) {
+                    name.to_string()
+                } else {
+                    format!("{name}_deg")
+                };
                 return Err(cx.err(&join(P, &shown), "must be > 0"));
             }
             Ok(x)
@@ -571,9 +650,10 @@ impl Cx {
                 Some(Value::Integer(i)) => {
                     Err(cx.err(&join(P, name), format!("must be >= 0, found {i}")))
                 }
-                Some(v) => Err(
-                    cx.err(&join(P, name), format!("expected an integer, found {}", type_name(v)))
-                ),
+                Some(v) => Err(cx.err(
+                    &join(P, name),
+                    format!("expected an integer, found {}", type_name(v)),
+                )),
             }
         };
         let extra_steps = match integer(self, "extra_steps")? {
@@ -587,8 +667,12 @@ impl Cx {
             min_axis_length: non_negative(self, "min_axis_length", d.min_axis_length)?,
             step: positive_angle(self, "step", d.step)?,
             max_angle: positive_angle(self, "max_angle", d.max_angle)?,
-            weight_length: self.opt_f64(t, P, "weight_length")?.unwrap_or(d.weight_length),
-            weight_angle: self.opt_f64(t, P, "weight_angle")?.unwrap_or(d.weight_angle),
+            weight_length: self
+                .opt_f64(t, P, "weight_length")?
+                .unwrap_or(d.weight_length),
+            weight_angle: self
+                .opt_f64(t, P, "weight_angle")?
+                .unwrap_or(d.weight_angle),
             extra_steps,
             min_grasp_axis_distance: non_negative(
                 self,

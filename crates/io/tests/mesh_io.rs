@@ -8,7 +8,9 @@ use pregrasp_geometry::Point;
 use pregrasp_io::mesh_io::{load_mesh, parse_stl, write_stl, MeshError};
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data")
+        .join(name)
 }
 
 fn sorted_vertices(m: &pregrasp_geometry::Mesh) -> Vec<[f64; 3]> {
@@ -31,10 +33,18 @@ fn binary_ascii_and_obj_boxes_agree_and_are_welded() {
     assert_eq!(bin.mesh, solid.mesh);
     // STL stores f32; compare the corner sets at f32 precision.
     let close = |a: &[[f64; 3]], b: &[[f64; 3]]| {
-        a.iter().zip(b).all(|(x, y)| (0..3).all(|k| (x[k] - y[k]).abs() < 1e-7))
+        a.iter()
+            .zip(b)
+            .all(|(x, y)| (0..3).all(|k| (x[k] - y[k]).abs() < 1e-7))
     };
-    assert!(close(&sorted_vertices(&bin.mesh), &sorted_vertices(&ascii.mesh)));
-    assert!(close(&sorted_vertices(&bin.mesh), &sorted_vertices(&obj.mesh)));
+    assert!(close(
+        &sorted_vertices(&bin.mesh),
+        &sorted_vertices(&ascii.mesh)
+    ));
+    assert!(close(
+        &sorted_vertices(&bin.mesh),
+        &sorted_vertices(&obj.mesh)
+    ));
 }
 
 #[test]
@@ -45,7 +55,10 @@ fn scale_multiplies_coordinates() {
         assert!((a * 0.001 - b).norm() < 1e-15);
     }
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        assert!(matches!(load_mesh(&data("box.stl"), bad), Err(MeshError::Scale { .. })));
+        assert!(matches!(
+            load_mesh(&data("box.stl"), bad),
+            Err(MeshError::Scale { .. })
+        ));
     }
 }
 
@@ -53,8 +66,14 @@ fn scale_multiplies_coordinates() {
 fn write_then_read_round_trips() {
     let dir = tempfile::tempdir().unwrap();
     for (name, mesh) in [
-        ("box.stl", cuboid(Point::new(-0.25, 0.0, 0.5), Point::new(0.5, 0.125, 0.75))),
-        ("sphere.stl", uv_sphere(Point::new(0.0, 0.0, 0.0), 0.5, 10, 16)),
+        (
+            "box.stl",
+            cuboid(Point::new(-0.25, 0.0, 0.5), Point::new(0.5, 0.125, 0.75)),
+        ),
+        (
+            "sphere.stl",
+            uv_sphere(Point::new(0.0, 0.0, 0.0), 0.5, 10, 16),
+        ),
     ] {
         let path = dir.path().join(name);
         write_stl(&path, &mesh).unwrap();
@@ -64,7 +83,10 @@ fn write_then_read_round_trips() {
         assert_eq!(back.mesh.triangles.len(), mesh.triangles.len());
         for (t0, t1) in mesh.triangles.iter().zip(&back.mesh.triangles) {
             for k in 0..3 {
-                let (a, b) = (mesh.vertices[t0[k] as usize], back.mesh.vertices[t1[k] as usize]);
+                let (a, b) = (
+                    mesh.vertices[t0[k] as usize],
+                    back.mesh.vertices[t1[k] as usize],
+                );
                 assert!((a - b).norm() < 1e-6, "{a} vs {b}");
             }
         }
@@ -102,7 +124,10 @@ fn bad_files_are_refused_with_their_name() {
         let err = load_mesh(&data(file), 1.0).expect_err(file);
         let msg = err.to_string();
         assert!(msg.contains(file), "{file}: {msg}");
-        assert!(msg.contains(expected), "{file}: expected {expected:?} in {msg}");
+        assert!(
+            msg.contains(expected),
+            "{file}: expected {expected:?} in {msg}"
+        );
     }
 }
 
@@ -118,11 +143,9 @@ fn short_garbage_is_not_an_stl() {
 
 #[test]
 fn ascii_stl_with_a_bare_solid_line_loads() {
-    let text = std::fs::read_to_string(data("box_ascii.stl")).unwrap().replacen(
-        "solid box\n",
-        "solid\n",
-        1,
-    );
+    let text = std::fs::read_to_string(data("box_ascii.stl"))
+        .unwrap()
+        .replacen("solid box\n", "solid\n", 1);
     let m = parse_stl(text.as_bytes(), "bare.stl", 1.0).unwrap();
     assert_eq!((m.mesh.vertices.len(), m.mesh.triangles.len()), (8, 12));
 }
@@ -131,5 +154,8 @@ fn ascii_stl_with_a_bare_solid_line_loads() {
 fn non_finite_message_points_at_the_vertex() {
     let err = load_mesh(&data("nan.stl"), 1.0).unwrap_err();
     // Triangle 3, corner 1 of the fixture is NaN.
-    assert!(err.to_string().contains("vertex 10 (in file order)"), "{err}");
+    assert!(
+        err.to_string().contains("vertex 10 (in file order)"),
+        "{err}"
+    );
 }

@@ -69,7 +69,10 @@ fn spec_example_loads_with_its_values() {
     let s = load(EXAMPLE).unwrap();
     assert_eq!(s.name.as_deref(), Some("chair side"));
     assert_eq!(s.support_height, 0.0);
-    assert_eq!(s.object.mesh_path, Path::new("scenes/meshes/chair_side.stl"));
+    assert_eq!(
+        s.object.mesh_path,
+        Path::new("scenes/meshes/chair_side.stl")
+    );
     assert_eq!(s.object.scale, 0.001);
     assert_eq!(s.object.mass, Some(4.0));
     let t = s.object.pose.translation.vector;
@@ -99,7 +102,10 @@ fn spec_example_loads_with_its_values() {
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
     // The plan file echoes the degrees exactly as written.
     let j = s.planner.to_json();
-    assert_eq!((j.step_deg, j.max_angle_deg, j.max_joint_step_deg), (1.0, 90.0, 10.0));
+    assert_eq!(
+        (j.step_deg, j.max_angle_deg, j.max_joint_step_deg),
+        (1.0, 90.0, 10.0)
+    );
     assert_eq!(s.initial_object_pose().translation.vector.z, 0.001);
 }
 
@@ -111,10 +117,21 @@ fn planner_defaults_follow_the_spec() {
     let j = s.planner.to_json();
     assert_eq!(j.support_distance, 0.01);
     assert_eq!(j.min_axis_length, 0.05);
-    assert_eq!((j.step_deg, j.max_angle_deg, j.max_joint_step_deg), (1.0, 90.0, 10.0));
-    assert_eq!((j.weight_length, j.weight_angle, j.extra_steps), (1.0, 1.0, 3));
     assert_eq!(
-        (j.min_grasp_axis_distance, j.lift, j.approach_distance, j.seed),
+        (j.step_deg, j.max_angle_deg, j.max_joint_step_deg),
+        (1.0, 90.0, 10.0)
+    );
+    assert_eq!(
+        (j.weight_length, j.weight_angle, j.extra_steps),
+        (1.0, 1.0, 3)
+    );
+    assert_eq!(
+        (
+            j.min_grasp_axis_distance,
+            j.lift,
+            j.approach_distance,
+            j.seed
+        ),
         (0.10, 0.001, 0.05, 0)
     );
 }
@@ -165,7 +182,11 @@ fn mesh_path_is_relative_to_the_scene_file() {
 fn the_briefs_example_message() {
     let text = EXAMPLE;
     let i = text.rfind("model = \"ur5e\"").unwrap();
-    let text = format!("{}model = \"ur7\"{}", &text[..i], &text[i + "model = \"ur5e\"".len()..]);
+    let text = format!(
+        "{}model = \"ur7\"{}",
+        &text[..i],
+        &text[i + "model = \"ur5e\"".len()..]
+    );
     let err = load(&text).unwrap_err();
     assert_eq!(
         err.to_string(),
@@ -223,8 +244,14 @@ fn every_bad_scene_names_file_and_key() {
         let text = EXAMPLE.replacen(from, to, 1);
         let err = load(&text).expect_err(&format!("{from:?} -> {to:?} should fail"));
         let msg = err.to_string();
-        assert!(msg.starts_with(&format!("scenes/x.toml: {key}: ")), "{from:?} -> {to:?}: {msg}");
-        assert!(msg.contains(words), "{from:?} -> {to:?}: expected {words:?} in {msg}");
+        assert!(
+            msg.starts_with(&format!("scenes/x.toml: {key}: ")),
+            "{from:?} -> {to:?}: {msg}"
+        );
+        assert!(
+            msg.contains(words),
+            "{from:?} -> {to:?}: expected {words:?} in {msg}"
+        );
     }
 }
 
@@ -232,11 +259,16 @@ fn every_bad_scene_names_file_and_key() {
 fn syntax_errors_and_unreadable_files() {
     let err = load("name = \"unterminated\n").unwrap_err();
     assert!(matches!(err, SceneError::Syntax { .. }));
-    assert!(err.to_string().starts_with("scenes/x.toml: not valid TOML: "), "{err}");
+    assert!(
+        err.to_string()
+            .starts_with("scenes/x.toml: not valid TOML: "),
+        "{err}"
+    );
     assert!(!err.to_string().contains('\n'));
     let err = Scene::load(Path::new("/nonexistent/dir/scene.toml")).unwrap_err();
     assert!(
-        err.to_string().starts_with("/nonexistent/dir/scene.toml: cannot read scene file"),
+        err.to_string()
+            .starts_with("/nonexistent/dir/scene.toml: cannot read scene file"),
         "{err}"
     );
 }

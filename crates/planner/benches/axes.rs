@@ -49,7 +49,11 @@ fn algorithm1(path: &Path, params: &PlannerParams) -> usize {
 fn bench(c: &mut Criterion) {
     let dir = tempfile::tempdir().expect("temp dir");
     let params = PlannerParams::default();
-    for (name, mesh) in [("frame_100k", frame(41)), ("lens_100k", lens()), ("frame_1k", frame(4))] {
+    for (name, mesh) in [
+        ("frame_100k", frame(41)),
+        ("lens_100k", lens()),
+        ("frame_1k", frame(4)),
+    ] {
         let path = dir.path().join(format!("{name}.stl"));
         write_stl(&path, &mesh).expect("write bench mesh");
         let loaded = load_mesh(&path, 1.0).expect("bench mesh loads").mesh;

@@ -146,7 +146,12 @@ pub fn rotation_axis_candidates(
         }
     };
     let candidates = candidates_of_hull(&hull, &p_init, support_height, params);
-    AxesResult { p_init, hull, candidates, warnings: Vec::new() }
+    AxesResult {
+        p_init,
+        hull,
+        candidates,
+        warnings: Vec::new(),
+    }
 }
 
 /// Algorithm 1 on an already computed hull (object frame) at P_init (lift included).
@@ -166,7 +171,11 @@ pub fn candidates_of_hull(
         if !(near_support(&a) && near_support(&b)) || length <= params.min_axis_length {
             continue;
         }
-        let axis = if lex_cmp(&a, &b) == Ordering::Greater { [b, a] } else { [a, b] };
+        let axis = if lex_cmp(&a, &b) == Ordering::Greater {
+            [b, a]
+        } else {
+            [a, b]
+        };
         for direction in [Direction::Ccw, Direction::Cw] {
             let u = Unit::new_normalize((axis[1] - axis[0]) * direction.sign());
             let theta_max =
@@ -199,7 +208,9 @@ pub fn candidates_of_hull(
 }
 
 fn lex_cmp(a: &Point3<f64>, b: &Point3<f64>) -> Ordering {
-    a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)).then(a.z.total_cmp(&b.z))
+    a.x.total_cmp(&b.x)
+        .then(a.y.total_cmp(&b.y))
+        .then(a.z.total_cmp(&b.z))
 }
 
 fn empty_hull() -> ConvexHull {

@@ -28,6 +28,8 @@ pub const GRASP_ANGLE_TOLERANCE: f64 = 0.01;
 pub const LINE_POSITION_TOLERANCE: f64 = 0.002;
 pub const LINE_ANGLE_TOLERANCE: f64 = 0.01;
 
+const STRUCTURE: &str = "plan structure (segments, robots, times, continuity)";
+
 /// The verdict on one rule.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RuleResult {
@@ -62,7 +64,11 @@ struct Rule {
 
 impl Rule {
     fn new() -> Self {
-        Rule { worst: f64::NEG_INFINITY, worst_at: String::new(), violation: None }
+        Rule {
+            worst: f64::NEG_INFINITY,
+            worst_at: String::new(),
+            violation: None,
+        }
     }
     /// Records a value where larger is worse; `limit` is the largest allowed value.
     fn value(&mut self, value: f64, limit: f64, at: impl FnOnce() -> String) {
@@ -84,14 +90,24 @@ impl Rule {
     }
     fn result(self, rule: u8, title: &'static str, unit: impl Fn(f64) -> String) -> RuleResult {
         match self.violation {
-            Some(v) => RuleResult { rule, title, ok: Some(false), detail: v },
+            Some(v) => RuleResult {
+                rule,
+                title,
+                ok: Some(false),
+                detail: v,
+            },
             None if self.worst.is_finite() => RuleResult {
                 rule,
                 title,
                 ok: Some(true),
                 detail: format!("worst {} ({})", unit(self.worst), self.worst_at),
             },
-            None => RuleResult { rule, title, ok: Some(true), detail: "nothing to check".into() },
+            None => RuleResult {
+                rule,
+                title,
+                ok: Some(true),
+                detail: "nothing to check".into(),
+            },
         }
     }
 }
@@ -108,7 +124,9 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
         Ok(arms) => arms,
         Err(e) => {
             structure.fail(e);
-            return CheckReport { rules: vec![structure.result(0, "plan structure", |_| String::new())] };
+            return CheckReport {
+                rules: vec![structure.result(0, STRUCTURE, |_| String::new())],
+            };
         }
     };
     if file.status == "planned" && file.plans.is_empty() {
@@ -137,15 +155,22 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
     let mm = |x: f64| format!("{:.2} mm", x * 1e3);
     CheckReport {
         rules: vec![
-            structure.result(0, "plan structure (segments, robots, times, continuity)", |_| {
-                "ok".into()
-            }),
+            match structure.violation {
+                Some(v) => RuleResult { rule: 0, title: STRUCTURE, ok: Some(false), detail: v },
+                None => RuleResult {
+                    rule: 0,
+                    title: STRUCTURE,
+                    ok: Some(true),
+                    detail: format!(
+                        "{} plan(s): segments sup1, rot, mas1, sup2 in order, times increasing, continuous",
+                        file.plans.len()
+                    ),
+                },
+            },
             limits.result(1, "joint limits and joint speeds", |x| {
                 format!("{:.1} % of a limit", x * 100.0)
             }),
-            collisions.result(2, "no forbidden contact (support, arms, grippers, object)", |x| {
-                format!("{} states checked", x as u64)
-            }),
+            collision_result(collisions),
             rotation.result(3, "rotation keeps the part on the support about a fixed axis", mm),
             grasps.result(4, "tool poses at grasps and on approach/retreat lines", |x| {
                 format!("{:.2} % of a tolerance", x * 100.0)
@@ -157,6 +182,29 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
                 detail: "not checkable from one file: plan the scene twice and compare bytes".into(),
             },
         ],
+    }
+}
+
+/// Rule 2 counts the states it checked (in `worst`) rather than a worst value.
+fn collision_result(rule: Rule) -> RuleResult {
+    let title = "no forbidden contact (support, arms, grippers, object)";
+    let states = rule.worst.max(0.0) as u64;
+    match rule.violation {
+        Some(v) => RuleResult {
+            rule: 2,
+            title,
+            ok: Some(false),
+            detail: v,
+        },
+        None => RuleResult {
+            rule: 2,
+            title,
+            ok: Some(true),
+            detail: format!(
+                "{states} states checked at {} mm of arm travel, none in contact",
+                CHECK_RESOLUTION * 1e3
+            ),
+        },
     }
 }
 
@@ -214,7 +262,9 @@ fn at(index: usize, seg: &SegmentJson, k: usize) -> String {
 /// Rule 4: a tool pose vs the grasp pose it should meet.
 fn grasp_error(rule: &mut Rule, dp: f64, da: f64, at: impl Fn() -> String) {
     let worst = (dp / GRASP_POSITION_TOLERANCE).max(da / GRASP_ANGLE_TOLERANCE);
-    rule.value(worst, 1.0, || format!("{}: {:.3} mm, {:.4} rad", at(), dp * 1e3, da));
+    rule.value(worst, 1.0, || {
+        format!("{}: {:.3} mm, {:.4} rad", at(), dp * 1e3, da)
+    });
 }
 
 /// Rule 4: a tool pose vs the straight line ending at `line.grasp_end`.
@@ -225,36 +275,61 @@ fn line_error(rule: &mut Rule, tool: &Isometry3<f64>, line: &Line, at: impl Fn()
     let off = (v - dir * v.dot(&dir)).norm();
     let angle = tool.rotation.angle_to(&end.rotation);
     let worst = (off / LINE_POSITION_TOLERANCE).max(angle / LINE_ANGLE_TOLERANCE);
-    rule.value(worst, 1.0, || format!("{}: {:.3} mm off the line, {:.4} rad", at(), off * 1e3, angle));
+    rule.value(worst, 1.0, || {
+        format!(
+            "{}: {:.3} mm off the line, {:.4} rad",
+            at(),
+            off * 1e3,
+            angle
+        )
+    });
 }
 
 impl<'a> PlanCheck<'a> {
-
     fn robot_index(&self, name: &str) -> Option<usize> {
         self.file.robots.iter().position(|r| r.name == name)
     }
 
     fn tool(&self, arm: usize, q: &Joints, precision: bool) -> Isometry3<f64> {
         let g = &self.arms[arm].gripper;
-        let point = if precision { g.precision_point() } else { g.power_point() };
+        let point = if precision {
+            g.precision_point()
+        } else {
+            g.power_point()
+        };
         self.arms[arm].flange_world(q) * point
     }
 
     fn run(&mut self) {
         let index = self.index;
         let plan: &'a PlanJson = self.plan;
-        let expected = [("sup1", "reach"), ("rot", "rotate"), ("mas1", "reach"), ("sup2", "regrasp")];
+        let expected = [
+            ("sup1", "reach"),
+            ("rot", "rotate"),
+            ("mas1", "reach"),
+            ("sup2", "regrasp"),
+        ];
         if plan.segments.len() != 4 {
-            self.structure.fail(format!("plan {}: {} segments, expected 4", index, plan.segments.len()));
+            self.structure.fail(format!(
+                "plan {}: {} segments, expected 4",
+                index,
+                plan.segments.len()
+            ));
             return;
         }
-        let (Some(sup), Some(mas)) = (self.robot_index(&plan.supportive), self.robot_index(&plan.master))
-        else {
-            self.structure.fail(format!("plan {}: master/supportive name no robot", index));
+        let (Some(sup), Some(mas)) = (
+            self.robot_index(&plan.supportive),
+            self.robot_index(&plan.master),
+        ) else {
+            self.structure
+                .fail(format!("plan {}: master/supportive name no robot", index));
             return;
         };
         if sup == mas {
-            self.structure.fail(format!("plan {}: master and supportive are the same arm", index));
+            self.structure.fail(format!(
+                "plan {}: master and supportive are the same arm",
+                index
+            ));
             return;
         }
         for (seg, (name, kind)) in plan.segments.iter().zip(expected) {
@@ -275,7 +350,10 @@ impl<'a> PlanCheck<'a> {
             }
         }
         let Some(candidate) = self.file.candidates.iter().find(|c| c.id == plan.candidate) else {
-            self.structure.fail(format!("plan {}: candidate {} is not listed", index, plan.candidate));
+            self.structure.fail(format!(
+                "plan {}: candidate {} is not listed",
+                index, plan.candidate
+            ));
             return;
         };
         let axis = candidate.axis.map(|p| Point3::new(p[0], p[1], p[2]));
@@ -283,7 +361,10 @@ impl<'a> PlanCheck<'a> {
         let p_init = self.file.object.initial_pose.to_isometry();
         let p_obj = plan.object_goal_pose.to_isometry();
         let g_s = self.file.grasps.support.to_isometry();
-        let g_p = [self.file.grasps.power[0].to_isometry(), self.file.grasps.power[1].to_isometry()];
+        let g_p = [
+            self.file.grasps.power[0].to_isometry(),
+            self.file.grasps.power[1].to_isometry(),
+        ];
         let mut q = [self.file.robots[0].start, self.file.robots[1].start];
         let mut gripper = [GripperState::Open; 2];
         let mut holding = [false; 2];
@@ -293,7 +374,9 @@ impl<'a> PlanCheck<'a> {
             let arm = if seg.name == "mas1" { mas } else { sup };
             // Continuity: every segment starts where its arm is.
             let first = seg.points[0].q;
-            let jump = (0..6).map(|i| (first[i] - q[arm][i]).abs()).fold(0.0, f64::max);
+            let jump = (0..6)
+                .map(|i| (first[i] - q[arm][i]).abs())
+                .fold(0.0, f64::max);
             if jump > 1e-6 {
                 self.structure.fail(format!(
                     "plan {} {}: starts {:.4} rad away from where arm {} is",
@@ -308,13 +391,23 @@ impl<'a> PlanCheck<'a> {
                     holding[arm] = true;
                     self.check_rotation(arm, seg, &q, &gripper, &holding, &axis, &p_init, &g_s);
                     let last = seg.points.last().expect("≥ 2 points");
-                    object = last.object_pose.as_ref().map(PoseJson::to_isometry).unwrap_or(object);
+                    object = last
+                        .object_pose
+                        .as_ref()
+                        .map(PoseJson::to_isometry)
+                        .unwrap_or(object);
                     let (dp, da) = pose_error(&object, &p_obj);
-                    grasp_error(self.grasps, dp, da, || format!("plan {} rot: last object_pose vs object_goal_pose", index));
+                    grasp_error(self.grasps, dp, da, || {
+                        format!("plan {} rot: last object_pose vs object_goal_pose", index)
+                    });
                 }
                 _ => {
                     let precision = seg.name == "sup1";
-                    let goal = if precision { object * g_s } else { object * g_p[arm] };
+                    let goal = if precision {
+                        object * g_s
+                    } else {
+                        object * g_p[arm]
+                    };
                     gripper[arm] = GripperState::Open;
                     holding[arm] = false;
                     self.check_reach(arm, seg, &q, &gripper, &holding, &object, precision, &goal);
@@ -333,25 +426,42 @@ impl<'a> PlanCheck<'a> {
             return Err(format!("plan {} {}: fewer than 2 points", index, seg.name));
         }
         if seg.points[0].t != 0.0 {
-            return Err(format!("plan {} {}: t does not start at 0", index, seg.name));
+            return Err(format!(
+                "plan {} {}: t does not start at 0",
+                index, seg.name
+            ));
         }
         for k in 1..n {
             let (t0, t1) = (seg.points[k - 1].t, seg.points[k].t);
             if t1.is_nan() || t1 <= t0 {
-                return Err(format!("{}: t does not increase strictly", at(index, seg, k)));
+                return Err(format!(
+                    "{}: t does not increase strictly",
+                    at(index, seg, k)
+                ));
             }
         }
         if seg.points.iter().flat_map(|p| p.q).any(|x| !x.is_finite()) {
-            return Err(format!("plan {} {}: a joint value is not finite", index, seg.name));
+            return Err(format!(
+                "plan {} {}: a joint value is not finite",
+                index, seg.name
+            ));
         }
         let approach = seg.approach_from;
         if seg.kind != "rotate" && approach.is_none_or(|a| a >= n) {
-            return Err(format!("plan {} {}: approach_from missing or out of range", index, seg.name));
+            return Err(format!(
+                "plan {} {}: approach_from missing or out of range",
+                index, seg.name
+            ));
         }
         if seg.kind == "regrasp" {
             match (seg.retreat_to, approach) {
                 (Some(r), Some(a)) if r <= a => {}
-                _ => return Err(format!("plan {} {}: retreat_to missing or after approach_from", index, seg.name)),
+                _ => {
+                    return Err(format!(
+                        "plan {} {}: retreat_to missing or after approach_from",
+                        index, seg.name
+                    ))
+                }
             }
         }
         if seg.kind == "rotate" && seg.points.iter().any(|p| p.object_pose.is_none()) {
@@ -371,7 +481,9 @@ impl<'a> PlanCheck<'a> {
                 // Fraction of the way from the middle of the range to a limit.
                 let mid = 0.5 * (lo + hi);
                 let frac = (p.q[j] - mid).abs() / (0.5 * (hi - lo));
-                self.limits.value(frac, 1.0, || format!("{} joint {} position", at(index, seg, k), j + 1));
+                self.limits.value(frac, 1.0, || {
+                    format!("{} joint {} position", at(index, seg, k), j + 1)
+                });
             }
             if k > 0 {
                 let prev = &seg.points[k - 1];
@@ -386,14 +498,26 @@ impl<'a> PlanCheck<'a> {
         }
     }
 
-    fn state(&self, q: [Joints; 2], gripper: [GripperState; 2], object: Isometry3<f64>, contact: [bool; 2]) -> WorldState {
-        WorldState { q, gripper, object: ObjectPlacement::Fixed(object), grasping: contact }
+    fn state(
+        &self,
+        q: [Joints; 2],
+        gripper: [GripperState; 2],
+        object: Isometry3<f64>,
+        contact: [bool; 2],
+    ) -> WorldState {
+        WorldState {
+            q,
+            gripper,
+            object: ObjectPlacement::Fixed(object),
+            grasping: contact,
+        }
     }
 
     fn collide(&mut self, state: &WorldState, at: impl Fn() -> String) {
         self.collisions.worst = self.collisions.worst.max(0.0) + 1.0;
         if let Err(c) = self.world.check(state) {
-            self.collisions.fail(format!("{}: {} touches {}", at(), c.a, c.b));
+            self.collisions
+                .fail(format!("{}: {} touches {}", at(), c.a, c.b));
         }
     }
 
@@ -417,23 +541,38 @@ impl<'a> PlanCheck<'a> {
         let retreat_to = seg.retreat_to;
         let weights = joint_sweep_radii(self.arms[arm].model(), &self.arms[arm].gripper);
         // The retreat leaves the support grasp (precision point) the arm held at its first point.
-        let retreat_line = retreat_to.map(|_| Line { grasp_end: self.tool(arm, &pts[0].q, true) });
-        let approach_line = Line { grasp_end: self.tool(arm, &pts[n - 1].q, precision) };
+        let retreat_line = retreat_to.map(|_| Line {
+            grasp_end: self.tool(arm, &pts[0].q, true),
+        });
+        let approach_line = Line {
+            grasp_end: self.tool(arm, &pts[n - 1].q, precision),
+        };
 
         // Rule 4: the tool meets the grasp, and the stand-off is approach_distance back.
         let end = self.tool(arm, &pts[n - 1].q, precision);
         let (dp, da) = pose_error(&end, goal);
-        grasp_error(self.grasps, dp, da, || format!("{}: tool vs grasp", at(index, seg, n - 1)));
+        grasp_error(self.grasps, dp, da, || {
+            format!("{}: tool vs grasp", at(index, seg, n - 1))
+        });
         let standoff = self.tool(arm, &pts[approach_from].q, precision);
         let d = (standoff.translation.vector - end.translation.vector).norm();
         let expected = self.file.planner.approach_distance;
-        self.grasps.value((d - expected).abs() / GRASP_POSITION_TOLERANCE, 1.0, || {
-            format!("{}: stand-off {:.2} mm from the grasp", at(index, seg, approach_from), d * 1e3)
-        });
+        self.grasps
+            .value((d - expected).abs() / GRASP_POSITION_TOLERANCE, 1.0, || {
+                format!(
+                    "{}: stand-off {:.2} mm from the grasp",
+                    at(index, seg, approach_from),
+                    d * 1e3
+                )
+            });
 
         for k in 0..n {
             let edge_end = if k + 1 < n { k + 1 } else { k };
-            let steps = if k + 1 < n { substeps(&pts[k].q, &pts[k + 1].q, &weights, CHECK_RESOLUTION) } else { 1 };
+            let steps = if k + 1 < n {
+                substeps(&pts[k].q, &pts[k + 1].q, &weights, CHECK_RESOLUTION)
+            } else {
+                1
+            };
             for s in 0..steps {
                 let f = s as f64 / steps as f64;
                 let qi = lerp_joints(&pts[k].q, &pts[edge_end].q, f);
@@ -445,14 +584,20 @@ impl<'a> PlanCheck<'a> {
                 contact[arm] = false;
                 if on_approach {
                     let tool = self.tool(arm, &qi, precision);
-                    line_error(self.grasps, &tool, &approach_line, || format!("{} (+{f:.2})", at(index, seg, k)));
-                    let dist = (tool.translation.vector - approach_line.grasp_end.translation.vector).norm();
+                    line_error(self.grasps, &tool, &approach_line, || {
+                        format!("{} (+{f:.2})", at(index, seg, k))
+                    });
+                    let dist = (tool.translation.vector
+                        - approach_line.grasp_end.translation.vector)
+                        .norm();
                     contact[arm] = dist <= CONTACT_ZONE + 1e-9;
                 }
                 if on_retreat {
                     let line = retreat_line.expect("retreat has a line");
                     let tool = self.tool(arm, &qi, true);
-                    line_error(self.grasps, &tool, &line, || format!("{} (+{f:.2}) retreat", at(index, seg, k)));
+                    line_error(self.grasps, &tool, &line, || {
+                        format!("{} (+{f:.2}) retreat", at(index, seg, k))
+                    });
                     let dist = (tool.translation.vector - line.grasp_end.translation.vector).norm();
                     contact[arm] = contact[arm] || dist <= CONTACT_ZONE + 1e-9;
                 }
@@ -465,7 +610,9 @@ impl<'a> PlanCheck<'a> {
                 let state = self.state(all, grip, *object, contact);
                 let seg_name = seg.name.clone();
                 let index = self.index;
-                self.collide(&state, || format!("plan {index} {seg_name} point {k} (+{f:.2})"));
+                self.collide(&state, || {
+                    format!("plan {index} {seg_name} point {k} (+{f:.2})")
+                });
             }
         }
     }
@@ -490,31 +637,54 @@ impl<'a> PlanCheck<'a> {
         let support = self.file.support_height;
         let axis_band = self.file.planner.support_distance + self.file.planner.lift + 0.001;
         let init_inv = p_init.inverse();
-        let poses: Vec<Isometry3<f64>> =
-            pts.iter().map(|p| p.object_pose.as_ref().expect("checked").to_isometry()).collect();
+        let poses: Vec<Isometry3<f64>> = pts
+            .iter()
+            .map(|p| p.object_pose.as_ref().expect("checked").to_isometry())
+            .collect();
         let (dp, da) = pose_error(&poses[0], p_init);
-        grasp_error(self.grasps, dp, da, || format!("plan {} rot: first object_pose vs P_init", index));
+        grasp_error(self.grasps, dp, da, || {
+            format!("plan {} rot: first object_pose vs P_init", index)
+        });
         for k in 0..n {
             // Rule 4: precision point on G_s at every point.
             let tool = self.tool(arm, &pts[k].q, true);
             let (dp, da) = pose_error(&tool, &(poses[k] * g_s));
-            grasp_error(self.grasps, dp, da, || format!("{}: tool vs object_pose·G_s", at(index, seg, k)));
+            grasp_error(self.grasps, dp, da, || {
+                format!("{}: tool vs object_pose·G_s", at(index, seg, k))
+            });
             let edge_end = if k + 1 < n { k + 1 } else { k };
-            let steps = if k + 1 < n { substeps(&pts[k].q, &pts[k + 1].q, &weights, CHECK_RESOLUTION) } else { 1 };
+            let steps = if k + 1 < n {
+                substeps(&pts[k].q, &pts[k + 1].q, &weights, CHECK_RESOLUTION)
+            } else {
+                1
+            };
             for s in 0..steps {
                 let f = s as f64 / steps as f64;
                 let object = lerp_pose(&poses[k], &poses[edge_end], f);
                 // Rule 3: above the support, axis fixed and on the support.
-                let lowest = self.mesh.vertices.iter().map(|v| (object * v).z).fold(f64::INFINITY, f64::min);
+                let lowest = self
+                    .mesh
+                    .vertices
+                    .iter()
+                    .map(|v| (object * v).z)
+                    .fold(f64::INFINITY, f64::min);
                 let below = support - lowest;
                 self.rotation.value(below, BELOW_SUPPORT_TOLERANCE, || {
-                    format!("plan {} rot point {k} (+{f:.2}): part {:.2} mm below the support", index, below * 1e3)
+                    format!(
+                        "plan {} rot point {k} (+{f:.2}): part {:.2} mm below the support",
+                        index,
+                        below * 1e3
+                    )
                 });
                 for (e, p) in axis.iter().enumerate() {
                     let moved = object * (init_inv * p);
                     let shift = (moved - p).norm();
                     self.rotation.value(shift, AXIS_MOTION_TOLERANCE, || {
-                        format!("plan {} rot point {k} (+{f:.2}): axis end {e} moved {:.2} mm", index, shift * 1e3)
+                        format!(
+                            "plan {} rot point {k} (+{f:.2}): axis end {e} moved {:.2} mm",
+                            index,
+                            shift * 1e3
+                        )
                     });
                     let height = moved.z - support;
                     if height > axis_band {

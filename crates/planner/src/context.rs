@@ -26,7 +26,11 @@ pub const PLANNING_MARGIN: f64 = 0.003;
 #[derive(Debug, thiserror::Error)]
 pub enum ContextError {
     #[error("{file}: robot[{index}].model: unknown robot model {model:?}")]
-    UnknownModel { file: String, index: usize, model: String },
+    UnknownModel {
+        file: String,
+        index: usize,
+        model: String,
+    },
 }
 
 /// Read-only models of one planning problem.
@@ -46,7 +50,10 @@ pub struct PlanningContext<'a> {
 impl<'a> PlanningContext<'a> {
     pub fn new(scene: &'a Scene, mesh: &'a Mesh) -> Result<Self, ContextError> {
         let arms = arm_models(scene)?;
-        let spaces = [pregrasp_collision::joint_space(&arms[0]), pregrasp_collision::joint_space(&arms[1])];
+        let spaces = [
+            pregrasp_collision::joint_space(&arms[0]),
+            pregrasp_collision::joint_space(&arms[1]),
+        ];
         let world = CollisionWorld::new(scene.support_height, Some(mesh), arms)
             .with_margin(PLANNING_MARGIN);
         Ok(PlanningContext {
@@ -84,13 +91,22 @@ impl<'a> PlanningContext<'a> {
         arm: usize,
         validator: &'v V,
     ) -> MotionValidator<'v, 6, V> {
-        MotionValidator { space: &self.spaces[arm], validator, resolution: MOTION_RESOLUTION }
+        MotionValidator {
+            space: &self.spaces[arm],
+            validator,
+            resolution: MOTION_RESOLUTION,
+        }
     }
 
     /// Every IK solution of arm `arm` for a world flange pose, within limits, sorted by distance
     /// to the arm's start, that is collision-free with the gripper closed on the part at
     /// `object` (gripper–part contact allowed) and the other arm at its start configuration.
-    pub fn free_ik(&self, arm: usize, flange_world: &Isometry3<f64>, object: &Isometry3<f64>) -> Vec<Joints> {
+    pub fn free_ik(
+        &self,
+        arm: usize,
+        flange_world: &Isometry3<f64>,
+        object: &Isometry3<f64>,
+    ) -> Vec<Joints> {
         let model = self.arm(arm);
         let target = model.base.inverse() * flange_world;
         let starts = self.starts();

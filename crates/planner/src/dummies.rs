@@ -21,7 +21,9 @@ pub fn lowest_point(shapes: &[LinkShape], frame_pose: &Isometry3<f64>) -> f64 {
                 // The lowest corner: for each local axis pick the sign that lowers z.
                 let r = world.rotation.to_rotation_matrix();
                 let m = r.matrix();
-                let spread = (0..3).map(|k| m[(2, k)].abs() * half_extents[k]).sum::<f64>();
+                let spread = (0..3)
+                    .map(|k| m[(2, k)].abs() * half_extents[k])
+                    .sum::<f64>();
                 world.translation.vector.z - spread
             }
         })

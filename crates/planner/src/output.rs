@@ -10,11 +10,11 @@ use pregrasp_io::plan_file::{
 use pregrasp_io::scene::Scene;
 use pregrasp_robot::{Gripper2F85, Joints, JOINT_NAMES};
 
+use crate::context::PlanningContext;
 use crate::paths::IntegratedPath;
 use crate::poses::PowerGraspPose;
 use crate::reach::ReachMotion;
 use crate::timing::{scaled, time_along, CONTACT_SCALE};
-use crate::context::PlanningContext;
 
 /// Everything of the plan file that does not depend on the planning result.
 pub fn plan_file_header(scene: &Scene, status: &str, reason: Option<String>) -> PlanFile {
@@ -35,7 +35,10 @@ pub fn plan_file_header(scene: &Scene, status: &str, reason: Option<String>) -> 
     });
     PlanFile {
         format: PLAN_FORMAT.to_string(),
-        scene: SceneRef { name: scene.name.clone(), file: scene.file.display().to_string() },
+        scene: SceneRef {
+            name: scene.name.clone(),
+            file: scene.file.display().to_string(),
+        },
         status: status.to_string(),
         reason,
         support_height: scene.support_height,
@@ -63,7 +66,11 @@ pub fn plan_file_header(scene: &Scene, status: &str, reason: Option<String>) -> 
 fn points(q: &[Joints], t: &[f64]) -> Vec<PointJson> {
     q.iter()
         .zip(t)
-        .map(|(q, &t)| PointJson { t, q: *q, object_pose: None })
+        .map(|(q, &t)| PointJson {
+            t,
+            q: *q,
+            object_pose: None,
+        })
         .collect()
 }
 
@@ -102,11 +109,13 @@ pub fn plan_json(
         .iter()
         .zip(&rot_t)
         .zip(&path.rot.object)
-        .map(|((q, &t), object): ((&Joints, &f64), &Isometry3<f64>)| PointJson {
-            t,
-            q: *q,
-            object_pose: Some(PoseJson::from(object)),
-        })
+        .map(
+            |((q, &t), object): ((&Joints, &f64), &Isometry3<f64>)| PointJson {
+                t,
+                q: *q,
+                object_pose: Some(PoseJson::from(object)),
+            },
+        )
         .collect();
     PlanJson {
         candidate: candidate_id,

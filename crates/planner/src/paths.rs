@@ -6,12 +6,12 @@
 //! power-grasp solutions (`ReachPath3`). The first combination whose four motions all exist is
 //! the candidate's integrated path (an element of the paper's set Z).
 
-use pregrasp_robot::{GripperState, Joints};
+use pregrasp_robot::GripperState;
 
 use crate::axes::RotationAxisCandidate;
 use crate::context::PlanningContext;
 use crate::poses::PowerGraspPose;
-use crate::reach::{reach, ReachMotion, ReachQuery};
+use crate::reach::{reach_lines, reach_transit, ReachMotion, ReachQuery};
 use crate::rotate::{rotation_path, RotationPath};
 use crate::timeline::Moment;
 
@@ -31,7 +31,9 @@ pub struct IntegratedPath {
 /// A per-candidate seed derived from the scene's seed, so that every candidate's random
 /// choices are independent of which thread evaluates it and of the other candidates.
 pub fn motion_seed(seed: u64, candidate: usize, motion: u64) -> u64 {
-    let mut x = seed ^ (candidate as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ motion.wrapping_mul(0xD1B5_4A32_D192_ED03);
+    let mut x = seed
+        ^ (candidate as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ motion.wrapping_mul(0xD1B5_4A32_D192_ED03);
     // splitmix64 finaliser
     x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
@@ -56,6 +58,10 @@ impl Furthest {
 
 /// Algorithm 3 for one candidate: its integrated path, or why there is none (the failure
 /// that got furthest, naming the motion).
+///
+/// The straight approach and retreat lines of a combination are validated before any transit
+/// is planned: they are cheap and decide most failures, while a transit (RRT-Connect) is the
+/// expensive part. Transits are planned once per choice they depend on and reused.
 pub fn integrated_path(
     ctx: &PlanningContext,
     candidate: &RotationAxisCandidate,
@@ -65,9 +71,12 @@ pub fn integrated_path(
     let mas = pose.master;
     let starts = ctx.starts();
     let seed = ctx.scene.planner.seed;
-    let mut failure = Furthest { stage: 0, reason: String::from("no support-grasp IK solution") };
+    let mut failure = Furthest {
+        stage: 0,
+        reason: String::from("no support-grasp IK solution"),
+    };
 
-    for c_ik_s in pose.support_ik.iter().take(MAX_IK_TRIES) {
+    'support: for c_ik_s in pose.support_ik.iter().take(MAX_IK_TRIES) {
         let rot = match rotation_path(ctx, candidate, pose, c_ik_s) {
             Ok(rot) => rot,
             Err(f) => {
@@ -75,110 +84,129 @@ pub fn integrated_path(
                 continue;
             }
         };
-        let first = rot.q[0];
         let last = *rot.q.last().expect("μ_rot has points");
 
         // μ_sup1: supportive arm from start to μ_rot,first; master at start, part at P_init.
-        let scene = Moment {
+        let sup1_scene = Moment {
             q: starts,
             gripper: [GripperState::Open; 2],
             object: ctx.p_init,
             contact_allowed: [false; 2],
         };
-        let query = ReachQuery {
+        let sup1_query = ReachQuery {
             arm: sup,
-            scene: &scene,
+            scene: &sup1_scene,
             from: starts[sup],
-            goal: first,
+            goal: rot.q[0],
             retreat: false,
             seed: motion_seed(seed, candidate.id, 1),
         };
-        let sup1 = match reach(ctx, &query) {
-            Ok(m) => m,
+        let sup1_lines = match reach_lines(ctx, &sup1_query) {
+            Ok(lines) => lines,
             Err(f) => {
                 failure.note(2, format!("μ_sup1: {}", f.describe()));
                 continue;
             }
         };
+        let mut sup1: Option<ReachMotion> = None;
 
-        for c_ik_p in pose.power_ik[mas].iter().take(MAX_IK_TRIES) {
-            // μ_mas1: master from start to c_IK^p; supportive holds the part at P_obj.
-            let mut scene = Moment {
-                q: starts,
-                gripper: [GripperState::Open; 2],
-                object: pose.p_obj,
-                contact_allowed: [false; 2],
-            };
-            scene.q[sup] = last;
-            scene.gripper[sup] = GripperState::Closed;
-            scene.contact_allowed[sup] = true;
-            let query = ReachQuery {
+        // μ_mas1 scene: the supportive arm holds the part at P_obj.
+        let mut mas1_scene = Moment {
+            q: starts,
+            gripper: [GripperState::Open; 2],
+            object: pose.p_obj,
+            contact_allowed: [false; 2],
+        };
+        mas1_scene.q[sup] = last;
+        mas1_scene.gripper[sup] = GripperState::Closed;
+        mas1_scene.contact_allowed[sup] = true;
+
+        'master: for c_ik_p in pose.power_ik[mas].iter().take(MAX_IK_TRIES) {
+            let mas1_query = ReachQuery {
                 arm: mas,
-                scene: &scene,
+                scene: &mas1_scene,
                 from: starts[mas],
                 goal: *c_ik_p,
                 retreat: false,
                 seed: motion_seed(seed, candidate.id, 2),
             };
-            let mas1 = match reach(ctx, &query) {
-                Ok(m) => m,
+            let mas1_lines = match reach_lines(ctx, &mas1_query) {
+                Ok(lines) => lines,
                 Err(f) => {
                     failure.note(3, format!("μ_mas1: {}", f.describe()));
                     continue;
                 }
             };
-            match regrasp(ctx, candidate, pose, &last, c_ik_p) {
-                Ok(sup2) => return Ok(IntegratedPath { rot, sup1, mas1, sup2 }),
-                Err(f) => failure.note(4, f),
+            let mut mas1: Option<ReachMotion> = None;
+
+            // μ_sup2 scene: the master holds the part at P_obj.
+            let mut sup2_scene = Moment {
+                q: starts,
+                gripper: [GripperState::Open; 2],
+                object: pose.p_obj,
+                contact_allowed: [false; 2],
+            };
+            sup2_scene.q[mas] = *c_ik_p;
+            sup2_scene.gripper[mas] = GripperState::Closed;
+            sup2_scene.contact_allowed[mas] = true;
+
+            for goal in pose.power_ik[sup].iter().take(MAX_IK_TRIES) {
+                // Both grippers end closed on the part: the final state must be free.
+                let mut end = sup2_scene.clone();
+                end.q[sup] = *goal;
+                end.gripper[sup] = GripperState::Closed;
+                end.contact_allowed[sup] = true;
+                if let Err(c) = ctx.check(&end) {
+                    failure.note(4, format!("μ_sup2: final grasp: {} touches {}", c.a, c.b));
+                    continue;
+                }
+                let sup2_query = ReachQuery {
+                    arm: sup,
+                    scene: &sup2_scene,
+                    from: last,
+                    goal: *goal,
+                    retreat: true,
+                    seed: motion_seed(seed, candidate.id, 3),
+                };
+                let sup2_lines = match reach_lines(ctx, &sup2_query) {
+                    Ok(lines) => lines,
+                    Err(f) => {
+                        failure.note(4, format!("μ_sup2: {}", f.describe()));
+                        continue;
+                    }
+                };
+                // Every line holds: now the transits, each planned once.
+                if sup1.is_none() {
+                    match reach_transit(ctx, &sup1_query, &sup1_lines) {
+                        Ok(m) => sup1 = Some(m),
+                        Err(f) => {
+                            failure.note(2, format!("μ_sup1: {}", f.describe()));
+                            continue 'support;
+                        }
+                    }
+                }
+                if mas1.is_none() {
+                    match reach_transit(ctx, &mas1_query, &mas1_lines) {
+                        Ok(m) => mas1 = Some(m),
+                        Err(f) => {
+                            failure.note(3, format!("μ_mas1: {}", f.describe()));
+                            continue 'master;
+                        }
+                    }
+                }
+                match reach_transit(ctx, &sup2_query, &sup2_lines) {
+                    Ok(sup2) => {
+                        return Ok(IntegratedPath {
+                            rot,
+                            sup1: sup1.expect("planned above"),
+                            mas1: mas1.expect("planned above"),
+                            sup2,
+                        })
+                    }
+                    Err(f) => failure.note(4, format!("μ_sup2: {}", f.describe())),
+                }
             }
         }
     }
     Err(failure.reason)
-}
-
-/// μ_sup2: the supportive arm releases G_s, backs out and power-grasps its own G_p while the
-/// master holds the part at P_obj.
-fn regrasp(
-    ctx: &PlanningContext,
-    candidate: &RotationAxisCandidate,
-    pose: &PowerGraspPose,
-    from: &Joints,
-    master_q: &Joints,
-) -> Result<ReachMotion, String> {
-    let sup = pose.supportive;
-    let mas = pose.master;
-    let mut scene = Moment {
-        q: ctx.starts(),
-        gripper: [GripperState::Open; 2],
-        object: pose.p_obj,
-        contact_allowed: [false; 2],
-    };
-    scene.q[mas] = *master_q;
-    scene.gripper[mas] = GripperState::Closed;
-    scene.contact_allowed[mas] = true;
-    let mut last_failure = format!("μ_sup2: no power-grasp IK solution for arm {}", ctx.names[sup]);
-    for goal in pose.power_ik[sup].iter().take(MAX_IK_TRIES) {
-        // Both grippers end closed on the part: the final state must be free.
-        let mut end = scene.clone();
-        end.q[sup] = *goal;
-        end.gripper[sup] = GripperState::Closed;
-        end.contact_allowed[sup] = true;
-        if let Err(c) = ctx.check(&end) {
-            last_failure = format!("μ_sup2: final grasp: {} touches {}", c.a, c.b);
-            continue;
-        }
-        let query = ReachQuery {
-            arm: sup,
-            scene: &scene,
-            from: *from,
-            goal: *goal,
-            retreat: true,
-            seed: motion_seed(ctx.scene.planner.seed, candidate.id, 3),
-        };
-        match reach(ctx, &query) {
-            Ok(m) => return Ok(m),
-            Err(f) => last_failure = format!("μ_sup2: {}", f.describe()),
-        }
-    }
-    Err(last_failure)
 }

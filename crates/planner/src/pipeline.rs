@@ -7,7 +7,7 @@
 use std::time::Instant;
 
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::PlanFile;
+use pregrasp_io::plan_file::{PlanFile, PlanJson};
 use pregrasp_io::scene::Scene;
 use pregrasp_robot::GripperState;
 use rayon::prelude::*;
@@ -35,12 +35,21 @@ impl Default for PlanOptions {
 /// What became of one candidate.
 #[derive(Clone, Debug)]
 pub enum CandidateOutcome {
-    /// Algorithms 2 and 3 succeeded.
-    Planned { pose: PowerGraspPose, path: Box<IntegratedPath> },
+    /// Algorithms 2 and 3 succeeded; `plan` is the plan-file entry, `check` the first rule it
+    /// failed when re-verified (`None`: valid).
+    Planned {
+        pose: PowerGraspPose,
+        path: Box<IntegratedPath>,
+        plan: Box<PlanJson>,
+        check: Option<String>,
+    },
     /// Algorithm 2 found no pose.
     NoPose(PoseRejection),
     /// Algorithm 2 found a pose, Algorithm 3 no integrated path.
-    NoPath { pose: PowerGraspPose, reason: String },
+    NoPath {
+        pose: PowerGraspPose,
+        reason: String,
+    },
 }
 
 /// The result of [`plan`]: the plan file plus per-candidate details for reports.
@@ -63,7 +72,12 @@ pub fn plan(
     progress: &(dyn Fn() + Sync),
 ) -> Result<PlanReport, ContextError> {
     let t0 = Instant::now();
-    let axes = rotation_axis_candidates(mesh, &scene.object.pose, scene.support_height, &scene.planner);
+    let axes = rotation_axis_candidates(
+        mesh,
+        &scene.object.pose,
+        scene.support_height,
+        &scene.planner,
+    );
     let t_axes = t0.elapsed();
 
     let ctx = PlanningContext::new(scene, mesh)?;
@@ -78,16 +92,30 @@ pub fn plan(
         contact_allowed: [false; 2],
     };
     let start_problem = ctx.check(&start).err().map(|c| {
-        format!("start: {} touches {} at the arms' start configurations", c.a, c.b)
+        format!(
+            "start: {} touches {} at the arms' start configurations",
+            c.a, c.b
+        )
     });
     let poses: Vec<Result<PowerGraspPose, PoseRejection>> = if start_problem.is_some() {
         Vec::new()
     } else {
-        candidates.par_iter().map(|c| object_pose_for_power_grasp(&ctx, c)).collect()
+        candidates
+            .par_iter()
+            .map(|c| object_pose_for_power_grasp(&ctx, c))
+            .collect()
     };
     let t_poses = t1.elapsed();
 
     let t2 = Instant::now();
+    let header = {
+        let mut h = plan_file_header(scene, "planned", None);
+        h.candidates = candidates
+            .iter()
+            .map(RotationAxisCandidate::to_json)
+            .collect();
+        h
+    };
     let outcomes: Vec<CandidateOutcome> = candidates
         .par_iter()
         .zip(poses.into_par_iter())
@@ -95,7 +123,16 @@ pub fn plan(
             let outcome = match pose {
                 Err(rejection) => CandidateOutcome::NoPose(rejection),
                 Ok(pose) => match integrated_path(&ctx, candidate, &pose) {
-                    Ok(path) => CandidateOutcome::Planned { pose, path: Box::new(path) },
+                    Ok(path) => {
+                        let plan = plan_json(&ctx, candidate.id, candidate.score, &pose, &path);
+                        let check = verify(&header, &plan, mesh);
+                        CandidateOutcome::Planned {
+                            pose,
+                            path: Box::new(path),
+                            plan: Box::new(plan),
+                            check,
+                        }
+                    }
                     Err(reason) => CandidateOutcome::NoPath { pose, reason },
                 },
             };
@@ -106,22 +143,20 @@ pub fn plan(
     let t_paths = t2.elapsed();
 
     // Ranking: candidates are sorted best first by S_rot, so plans keep that order.
-    let t3 = Instant::now();
-    let mut file = plan_file_header(scene, "planned", None);
-    file.candidates = candidates.iter().map(RotationAxisCandidate::to_json).collect();
+    let mut file = header;
     let mut kept = 0;
     for (candidate, outcome) in candidates.iter().zip(&outcomes) {
         let mut json = candidate.to_json();
         match outcome {
-            CandidateOutcome::Planned { pose, path } => {
+            CandidateOutcome::Planned {
+                pose, plan, check, ..
+            } => {
                 json.theta_goal = Some(pose.theta_goal);
-                let plan = plan_json(&ctx, candidate.id, candidate.score, pose, path);
-                let failed = verify(&file, &plan, mesh);
-                if let Some(rule) = failed {
+                if let Some(rule) = check {
                     json.outcome = format!("rejected: failed the plan check: {rule}");
                 } else if kept < options.max_plans {
                     json.outcome = "planned".to_string();
-                    file.plans.push(plan);
+                    file.plans.push((**plan).clone());
                     kept += 1;
                 } else {
                     json.outcome = format!(
@@ -141,7 +176,6 @@ pub fn plan(
         }
         file.candidates[candidate.id] = json;
     }
-    let t_check = t3.elapsed();
     if file.plans.is_empty() {
         file.status = "no_plan".to_string();
         file.reason = Some(start_problem.unwrap_or_else(|| no_plan_reason(&ctx, &outcomes)));
@@ -150,13 +184,16 @@ pub fn plan(
     file.timing_ms.insert("axes".into(), ms(t_axes));
     file.timing_ms.insert("poses".into(), ms(t_poses));
     file.timing_ms.insert("paths".into(), ms(t_paths));
-    file.timing_ms.insert("check".into(), ms(t_check));
     file.timing_ms.insert("total".into(), ms(t0.elapsed()));
-    Ok(PlanReport { file, candidates, outcomes })
+    Ok(PlanReport {
+        file,
+        candidates,
+        outcomes,
+    })
 }
 
 /// Checks one plan alone (with the candidates known so far); the first failed rule, if any.
-fn verify(header: &PlanFile, plan: &pregrasp_io::plan_file::PlanJson, mesh: &Mesh) -> Option<String> {
+fn verify(header: &PlanFile, plan: &PlanJson, mesh: &Mesh) -> Option<String> {
     let mut single = header.clone();
     single.plans = vec![plan.clone()];
     let report = crate::check::check_plan(&single, mesh);
@@ -190,7 +227,11 @@ fn no_plan_reason(ctx: &PlanningContext, outcomes: &[CandidateOutcome]) -> Strin
             PowerGraspUnreachable { .. } | SupportGraspUnreachable { .. } => 2,
         };
         let furthest = rejections.iter().map(|r| stage(r)).max().unwrap_or(0);
-        let at: Vec<&PoseRejection> = rejections.iter().copied().filter(|r| stage(r) == furthest).collect();
+        let at: Vec<&PoseRejection> = rejections
+            .iter()
+            .copied()
+            .filter(|r| stage(r) == furthest)
+            .collect();
         let arms = |support: bool| -> String {
             let names: std::collections::BTreeSet<&str> = at
                 .iter()

@@ -66,10 +66,16 @@ impl PoseRejection {
                 theta_max.to_degrees()
             ),
             PoseRejection::PowerGraspUnreachable { arm } => {
-                format!("IK: power grasp unreachable for arm {} at P_obj", names[*arm])
+                format!(
+                    "IK: power grasp unreachable for arm {} at P_obj",
+                    names[*arm]
+                )
             }
             PoseRejection::SupportGraspUnreachable { arm } => {
-                format!("IK: support grasp unreachable for arm {} at P_obj", names[*arm])
+                format!(
+                    "IK: support grasp unreachable for arm {} at P_obj",
+                    names[*arm]
+                )
             }
         }
     }
@@ -120,8 +126,7 @@ pub fn object_pose_for_power_grasp(
     let dummies_clear = |theta: f64| -> bool {
         let pose = candidate.rotated_pose(&ctx.p_init, theta);
         (0..2).all(|arm| {
-            let flange =
-                pose * grasps.power[arm] * ctx.arm(arm).gripper.power_point().inverse();
+            let flange = pose * grasps.power[arm] * ctx.arm(arm).gripper.power_point().inverse();
             lowest_point(&dummy_shapes[arm], &flange) > ctx.scene.support_height + PLANNING_MARGIN
         })
     };
@@ -142,12 +147,18 @@ pub fn object_pose_for_power_grasp(
         }
     }
     let Some(theta_goal) = theta_goal else {
-        return Err(PoseRejection::DummiesNeverClear { theta_max: candidate.theta_max });
+        return Err(PoseRejection::DummiesNeverClear {
+            theta_max: candidate.theta_max,
+        });
     };
     let p_obj = candidate.rotated_pose(&ctx.p_init, theta_goal);
 
     // Roles: the arm whose power grasp is farther from the axis is the master.
-    let (master, supportive) = if d[0] > d[1] + ROLE_TOLERANCE { (0, 1) } else { (1, 0) };
+    let (master, supportive) = if d[0] > d[1] + ROLE_TOLERANCE {
+        (0, 1)
+    } else {
+        (1, 0)
+    };
 
     // IKSolPow: every collision-free solution of each arm at its power grasp on the part at P_obj,
     // gripper closed on the part (contact with the part allowed).
@@ -161,8 +172,7 @@ pub fn object_pose_for_power_grasp(
         }
     }
     // IKSolSup: the supportive arm's precision point at G_s on the part at P_obj.
-    let tool =
-        p_obj * grasps.support * ctx.arm(supportive).gripper.precision_point().inverse();
+    let tool = p_obj * grasps.support * ctx.arm(supportive).gripper.precision_point().inverse();
     let support_ik = ctx.free_ik(supportive, &tool, &p_obj);
     if support_ik.is_empty() {
         return Err(PoseRejection::SupportGraspUnreachable { arm: supportive });

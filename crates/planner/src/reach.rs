@@ -10,7 +10,7 @@
 
 use nalgebra::{Isometry3, Translation3};
 use pregrasp_motion::{
-    rrt_connect, straight_line, time_parameterize, CartesianError, CartesianSettings,
+    rrt_connect, simplify, straight_line, time_parameterize, CartesianError, CartesianSettings,
     PlanStatus, RrtConnectSettings, State,
 };
 use pregrasp_robot::Joints;
@@ -63,22 +63,37 @@ pub struct ReachQuery<'a> {
     pub seed: u64,
 }
 
-/// Plans a reach motion: [retreat], transit, approach.
-pub fn reach(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachMotion, ReachFailure> {
-    let arm = query.arm;
-    let model = ctx.arm(arm);
-    let kin = model.kin;
-    let space = &ctx.spaces[arm];
-    let with = |q: &State<6>, contact: bool| -> bool {
-        let mut m = query.scene.clone();
-        m.q[arm] = *q;
-        m.contact_allowed[arm] = contact;
-        ctx.check_arm(arm, &m).is_ok()
-    };
-    let strict = |q: &State<6>| with(q, false);
-    let touching = |q: &State<6>| with(q, true);
-    let strict_motion = ctx.motion_validator(arm, &strict);
-    let contact_motion = ctx.motion_validator(arm, &touching);
+/// The straight pieces of a reach motion, validated: cheap and deterministic, so Algorithm 3
+/// computes them for every combination before it spends time on any transit.
+#[derive(Clone, Debug)]
+pub struct ReachLines {
+    /// From `from` to the end of the retreat (just `[from]` without a retreat).
+    pub retreat: Vec<Joints>,
+    /// From the stand-off to `goal`.
+    pub approach: Vec<Joints>,
+}
+
+/// Shortcutting rounds after RRT-Connect (seeded; the greedy pass and waypoint removal run
+/// regardless).
+pub const SHORTCUT_ROUNDS: usize = 16;
+
+impl ReachQuery<'_> {
+    /// Is this arm at `q` free, with or without contact allowed between its gripper and the part?
+    fn free(&self, ctx: &PlanningContext, q: &State<6>, contact: bool) -> bool {
+        let mut m = self.scene.clone();
+        m.q[self.arm] = *q;
+        m.contact_allowed[self.arm] = contact;
+        ctx.check_arm(self.arm, &m).is_ok()
+    }
+}
+
+/// The retreat (μ_sup2 only) and the approach of a reach query.
+pub fn reach_lines(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachLines, ReachFailure> {
+    let kin = ctx.arm(query.arm).kin;
+    let strict = |q: &State<6>| query.free(ctx, q, false);
+    let touching = |q: &State<6>| query.free(ctx, q, true);
+    let strict_motion = ctx.motion_validator(query.arm, &strict);
+    let contact_motion = ctx.motion_validator(query.arm, &touching);
     let fk = |q: &State<6>| kin.fk(q);
     let ik = |pose: &Isometry3<f64>, seed: &State<6>| kin.ik_nearest(pose, seed);
     let line = CartesianSettings {
@@ -101,7 +116,6 @@ pub fn reach(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachMotion, R
         }
         Ok(path)
     };
-
     let retreat = if query.retreat {
         away(&query.from).map_err(ReachFailure::Retreat)?
     } else {
@@ -109,35 +123,55 @@ pub fn reach(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachMotion, R
     };
     let mut approach = away(&query.goal).map_err(ReachFailure::Approach)?;
     approach.reverse();
+    Ok(ReachLines { retreat, approach })
+}
 
-    let transit_from = *retreat.last().expect("non-empty");
-    let standoff = approach[0];
+/// Plans the transit between validated lines (RRT-Connect, then shortcutting) and times the
+/// whole motion: straight pieces along their length, the transit rest-to-rest per edge.
+pub fn reach_transit(
+    ctx: &PlanningContext,
+    query: &ReachQuery,
+    lines: &ReachLines,
+) -> Result<ReachMotion, ReachFailure> {
+    let arm = query.arm;
+    let strict = |q: &State<6>| query.free(ctx, q, false);
+    let strict_motion = ctx.motion_validator(arm, &strict);
+    let transit_from = *lines.retreat.last().expect("non-empty");
+    let standoff = lines.approach[0];
     let settings = RrtConnectSettings {
         max_iterations: RRT_MAX_ITERATIONS,
         max_time: None,
         range: 0.5,
         seed: query.seed,
-        simplify: true,
+        simplify: false,
     };
     let transit = if transit_from == standoff {
         vec![standoff]
     } else {
-        let result = rrt_connect(space, &strict_motion, &transit_from, &standoff, &settings);
-        if std::env::var_os("PREGRASP_DEBUG").is_some() {
-            eprintln!("rrt arm {arm}: {:?} {:?} path {}", result.status, result.stats, result.path.len());
-        }
+        let result = rrt_connect(
+            &ctx.spaces[arm],
+            &strict_motion,
+            &transit_from,
+            &standoff,
+            &settings,
+        );
         if result.status != PlanStatus::Solved {
             return Err(ReachFailure::Transit(result.status));
         }
-        result.path
+        simplify(&strict_motion, &result.path, query.seed, SHORTCUT_ROUNDS)
     };
 
-    // Timing: straight pieces along their length, transit rest-to-rest per edge.
-    let speed = model.kin.model().max_joint_speed();
-    let accel = model.kin.model().max_joint_accel();
+    let model = ctx.arm(arm).kin.model();
+    let (speed, accel) = (model.max_joint_speed(), model.max_joint_accel());
     let time_line = |path: &[Joints]| -> Vec<f64> {
-        let u: Vec<f64> = (0..path.len()).map(|k| k as f64 / (path.len() - 1).max(1) as f64).collect();
-        time_along(path, &u, &scaled(&speed, CONTACT_SCALE), &scaled(&accel, CONTACT_SCALE))
+        let n = (path.len() - 1).max(1) as f64;
+        let u: Vec<f64> = (0..path.len()).map(|k| k as f64 / n).collect();
+        time_along(
+            path,
+            &u,
+            &scaled(&speed, CONTACT_SCALE),
+            &scaled(&accel, CONTACT_SCALE),
+        )
     };
     let mut q: Vec<Joints> = Vec::new();
     let mut t: Vec<f64> = Vec::new();
@@ -150,10 +184,10 @@ pub fn reach(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachMotion, R
         }
     };
     let retreat_to = if query.retreat {
-        append(&mut q, &mut t, &retreat, &time_line(&retreat));
-        Some(retreat.len() - 1)
+        append(&mut q, &mut t, &lines.retreat, &time_line(&lines.retreat));
+        Some(lines.retreat.len() - 1)
     } else {
-        append(&mut q, &mut t, &retreat, &[0.0]);
+        append(&mut q, &mut t, &lines.retreat, &[0.0]);
         None
     };
     let timed = time_parameterize(
@@ -163,6 +197,17 @@ pub fn reach(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachMotion, R
     );
     append(&mut q, &mut t, &timed.q, &timed.t);
     let approach_from = q.len() - 1;
-    append(&mut q, &mut t, &approach, &time_line(&approach));
-    Ok(ReachMotion { q, t, approach_from, retreat_to })
+    append(&mut q, &mut t, &lines.approach, &time_line(&lines.approach));
+    Ok(ReachMotion {
+        q,
+        t,
+        approach_from,
+        retreat_to,
+    })
+}
+
+/// Plans a whole reach motion: [retreat], transit, approach.
+pub fn reach(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachMotion, ReachFailure> {
+    let lines = reach_lines(ctx, query)?;
+    reach_transit(ctx, query, &lines)
 }

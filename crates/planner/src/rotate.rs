@@ -32,7 +32,11 @@ pub enum RotationFailure {
     /// G_s is out of reach at angle θ.
     Unreachable { theta: f64 },
     /// The continuing IK branch jumps by more than `max_joint_step` at angle θ.
-    JointJump { theta: f64, joint: usize, delta: f64 },
+    JointJump {
+        theta: f64,
+        joint: usize,
+        delta: f64,
+    },
     /// A collision at angle θ, between the named bodies.
     Collision { theta: f64, a: String, b: String },
 }
@@ -41,9 +45,16 @@ impl RotationFailure {
     pub fn describe(&self) -> String {
         match self {
             RotationFailure::Unreachable { theta } => {
-                format!("μ_rot: support grasp unreachable at θ = {:.1}°", theta.to_degrees())
+                format!(
+                    "μ_rot: support grasp unreachable at θ = {:.1}°",
+                    theta.to_degrees()
+                )
             }
-            RotationFailure::JointJump { theta, joint, delta } => format!(
+            RotationFailure::JointJump {
+                theta,
+                joint,
+                delta,
+            } => format!(
                 "μ_rot: joint {} jumps {:.1}° at θ = {:.1}°",
                 joint + 1,
                 delta.to_degrees(),
@@ -98,7 +109,11 @@ pub fn rotation_path(
     q[n] = *c_ik_s;
     object[n] = pose.p_obj;
     let check = |moment: &Moment, th: f64| -> Result<(), RotationFailure> {
-        ctx.check(moment).map_err(|c| RotationFailure::Collision { theta: th, a: c.a, b: c.b })
+        ctx.check(moment).map_err(|c| RotationFailure::Collision {
+            theta: th,
+            a: c.a,
+            b: c.b,
+        })
     };
     check(&rotation_moment(ctx, pose, object[n], q[n]), theta[n])?;
 
@@ -113,7 +128,11 @@ pub fn rotation_path(
         for j in 0..6 {
             let delta = (next[j] - q[k + 1][j]).abs();
             if delta > params.max_joint_step {
-                return Err(RotationFailure::JointJump { theta: th, joint: j, delta });
+                return Err(RotationFailure::JointJump {
+                    theta: th,
+                    joint: j,
+                    delta,
+                });
             }
         }
         // Interpolated states between the two points: joints linearly, angle linearly.

@@ -73,9 +73,21 @@ impl Trapezoid {
         let ramp_full = v * v / (2.0 * a);
         if 2.0 * ramp_full >= length {
             let ramp = length / 2.0;
-            Trapezoid { length, v, a, ramp, peak: (2.0 * a * ramp).sqrt() }
+            Trapezoid {
+                length,
+                v,
+                a,
+                ramp,
+                peak: (2.0 * a * ramp).sqrt(),
+            }
         } else {
-            Trapezoid { length, v, a, ramp: ramp_full, peak: v }
+            Trapezoid {
+                length,
+                v,
+                a,
+                ramp: ramp_full,
+                peak: v,
+            }
         }
     }
 

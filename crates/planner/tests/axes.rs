@@ -36,12 +36,20 @@ fn find(
         })
         .filter(|c| c.signed_axis().dot(&toward.normalize()) > 0.999)
         .collect();
-    assert_eq!(found.len(), 1, "no single candidate on {a} – {b} about {toward:?}");
+    assert_eq!(
+        found.len(),
+        1,
+        "no single candidate on {a} – {b} about {toward:?}"
+    );
     found[0]
 }
 
 fn assert_close(x: f64, y: f64, tol: f64, what: &str) {
-    assert!((x - y).abs() <= tol, "{what}: {x} vs {y} (diff {:e})", (x - y).abs());
+    assert!(
+        (x - y).abs() <= tol,
+        "{what}: {x} vs {y} (diff {:e})",
+        (x - y).abs()
+    );
 }
 
 #[test]
@@ -77,7 +85,12 @@ fn flat_box_has_exactly_its_four_bottom_edges() {
         // The other way the far bottom edge sinks: lift − far · sin θ = 0.
         let down = find(&r.candidates, a, b, -lifting);
         assert_close(down.theta_max, (lift / far).asin(), 1e-6, "down θ_max");
-        assert_close(down.theta_max, (lift / far).asin(), 1e-14, "down θ_max (tight)");
+        assert_close(
+            down.theta_max,
+            (lift / far).asin(),
+            1e-14,
+            "down θ_max (tight)",
+        );
         assert_eq!(down.theta_max_stepped, 0.0);
         assert_close(up.length, (b - a).norm(), 1e-15, "length");
         assert_close(up.score, up.length + up.theta_max, 1e-15, "score");
@@ -107,10 +120,18 @@ fn box_on_its_long_narrow_side_tips_over_or_sinks() {
     let sink = find(&r.candidates, p(0.0, 0.0, z), p(0.6, 0.0, z), -Vector3::x());
     assert_close(sink.theta_max, (z / 0.03).asin(), 1e-14, "sink");
     // With a generous φ_obj the tip-over goes on until the top edge sinks by the lift.
-    let wide = PlannerParams { max_angle: 2.5, ..params() };
+    let wide = PlannerParams {
+        max_angle: 2.5,
+        ..params()
+    };
     let r = rotation_axis_candidates(&mesh, &Isometry3::identity(), 0.0, &wide);
     let over = find(&r.candidates, p(0.0, 0.0, z), p(0.6, 0.0, z), Vector3::x());
-    assert_close(over.theta_max, FRAC_PI_2 + (z / 0.4).asin(), 1e-14, "tip-over past 90°");
+    assert_close(
+        over.theta_max,
+        FRAC_PI_2 + (z / 0.4).asin(),
+        1e-14,
+        "tip-over past 90°",
+    );
 }
 
 #[test]
@@ -121,7 +142,10 @@ fn triangular_prism_angles_follow_its_cross_section() {
         UnitQuaternion::from_euler_angles(FRAC_PI_2, 0.0, 0.0),
     );
     let mesh = prism(&[[0.0, 0.0], [0.3, 0.0], [0.1, 0.2]], 0.0, 0.7).transformed(&pose);
-    let pr = PlannerParams { max_angle: 150f64.to_radians(), ..params() };
+    let pr = PlannerParams {
+        max_angle: 150f64.to_radians(),
+        ..params()
+    };
     let r = rotation_axis_candidates(&mesh, &Isometry3::identity(), 0.0, &pr);
     assert_eq!(r.candidates.len(), 8);
     let z = pr.lift;
@@ -131,16 +155,31 @@ fn triangular_prism_angles_follow_its_cross_section() {
     let apex_b = 0.2f64.hypot(0.2);
     // Over the x = 0 edge towards −x (about −y): the side face lands after π − atan2(0.2, 0.1).
     let c = find(&r.candidates, a0, a1, -Vector3::y());
-    assert_close(c.theta_max, PI - 0.2f64.atan2(0.1) + (z / apex_a).asin(), 1e-12, "over x=0");
+    assert_close(
+        c.theta_max,
+        PI - 0.2f64.atan2(0.1) + (z / apex_a).asin(),
+        1e-12,
+        "over x=0",
+    );
     let c = find(&r.candidates, a0, a1, Vector3::y());
     assert_close(c.theta_max, (z / 0.3).asin(), 1e-14, "into x=0");
     let c = find(&r.candidates, b0, b1, Vector3::y());
-    assert_close(c.theta_max, PI - 0.2f64.atan2(0.2) + (z / apex_b).asin(), 1e-12, "over x=0.3");
+    assert_close(
+        c.theta_max,
+        PI - 0.2f64.atan2(0.2) + (z / apex_b).asin(),
+        1e-12,
+        "over x=0.3",
+    );
     let c = find(&r.candidates, b0, b1, -Vector3::y());
     assert_close(c.theta_max, (z / 0.3).asin(), 1e-14, "into x=0.3");
     // Over the triangular ends: the end face turns flat at 90°, then the apex (0.2 up) sinks.
     let c = find(&r.candidates, p(0.0, 0.0, z), p(0.3, 0.0, z), -Vector3::x());
-    assert_close(c.theta_max, FRAC_PI_2 + (z / 0.2).asin(), 1e-12, "over end y=0");
+    assert_close(
+        c.theta_max,
+        FRAC_PI_2 + (z / 0.2).asin(),
+        1e-12,
+        "over end y=0",
+    );
     let c = find(&r.candidates, p(0.0, 0.0, z), p(0.3, 0.0, z), Vector3::x());
     assert_close(c.theta_max, (z / 0.7).asin(), 1e-14, "into end y=0");
     // Stepped values are whole degrees not above the exact ones.
@@ -169,16 +208,29 @@ fn frame_of_separate_bars_rotates_about_its_outline() {
     let pr = params();
     let r = rotation_axis_candidates(
         &mesh,
-        &Isometry3::from_parts(Translation3::new(0.2, -0.1, 0.75), UnitQuaternion::identity()),
+        &Isometry3::from_parts(
+            Translation3::new(0.2, -0.1, 0.75),
+            UnitQuaternion::identity(),
+        ),
         0.75,
         &pr,
     );
     assert_eq!(r.hull.faces.len(), 6);
     assert_eq!(r.candidates.len(), 8);
     let z = 0.75 + pr.lift;
-    let c = find(&r.candidates, p(0.2, -0.1, z), p(1.0, -0.1, z), Vector3::x());
+    let c = find(
+        &r.candidates,
+        p(0.2, -0.1, z),
+        p(1.0, -0.1, z),
+        Vector3::x(),
+    );
     assert_eq!(c.theta_max, pr.max_angle);
-    let c = find(&r.candidates, p(0.2, -0.1, z), p(1.0, -0.1, z), -Vector3::x());
+    let c = find(
+        &r.candidates,
+        p(0.2, -0.1, z),
+        p(1.0, -0.1, z),
+        -Vector3::x(),
+    );
     assert_close(c.theta_max, (pr.lift / 0.6).asin(), 1e-14, "frame sink");
     let c = find(&r.candidates, p(0.2, -0.1, z), p(0.2, 0.5, z), Vector3::y());
     assert_close(c.theta_max, (pr.lift / 0.8).asin(), 1e-14, "frame sink y");
@@ -194,7 +246,10 @@ fn thresholds_select_edges() {
         &mesh,
         &Isometry3::identity(),
         0.0,
-        &PlannerParams { min_axis_length: 0.01, ..params() },
+        &PlannerParams {
+            min_axis_length: 0.01,
+            ..params()
+        },
     );
     assert_eq!(r.candidates.len(), 8);
     // Raised above Δd_s: nothing rests on the support.
@@ -223,7 +278,11 @@ fn rotated_pose_turns_about_the_signed_axis() {
             assert!((at * obj - e).norm() < 1e-12);
         }
         let lowest = |pose: &Isometry3<f64>| {
-            r.hull.vertices.iter().map(|v| (pose * v).z).fold(f64::INFINITY, f64::min)
+            r.hull
+                .vertices
+                .iter()
+                .map(|v| (pose * v).z)
+                .fold(f64::INFINITY, f64::min)
         };
         if c.theta_max < params().max_angle {
             assert_close(lowest(&at), 0.0, 1e-12, "touch at θ_max");
@@ -264,15 +323,21 @@ fn json_entries_follow_the_plan_format() {
     assert_eq!(j.outcome, OUTCOME_NOT_EVALUATED);
     assert_eq!(
         j.axis[1],
-        [r.candidates[3].axis[1].x, r.candidates[3].axis[1].y, r.candidates[3].axis[1].z]
+        [
+            r.candidates[3].axis[1].x,
+            r.candidates[3].axis[1].y,
+            r.candidates[3].axis[1].z
+        ]
     );
     assert_eq!(j.theta_max, r.candidates[3].theta_max);
 }
 
 #[test]
 fn degenerate_mesh_gives_no_candidates_and_a_warning() {
-    let mesh =
-        Mesh::new(vec![p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(2.0, 0.0, 0.0)], vec![[0, 1, 2]]);
+    let mesh = Mesh::new(
+        vec![p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(2.0, 0.0, 0.0)],
+        vec![[0, 1, 2]],
+    );
     let r = rotation_axis_candidates(&mesh, &Isometry3::identity(), 0.0, &params());
     assert!(r.candidates.is_empty());
     assert_eq!(r.warnings.len(), 1);

@@ -24,14 +24,21 @@ fn part(kind: u8, dims: [f64; 3]) -> Mesh {
         _ => union(&[
             cuboid(p(0.0, 0.0, 0.0), p(a, 0.04, 0.03)),
             cuboid(p(0.0, b + 0.1, 0.0), p(a, b + 0.14, 0.03)),
-            cuboid(p(0.5 * a * c, 0.05, 0.0), p(0.5 * a * c + 0.04, b + 0.09, 0.03)),
+            cuboid(
+                p(0.5 * a * c, 0.05, 0.0),
+                p(0.5 * a * c + 0.04, b + 0.09, 0.03),
+            ),
         ]),
     }
 }
 
 /// The pose that rests `mesh`, turned by `r0`, on `z = 0`.
 fn resting(mesh: &Mesh, r0: UnitQuaternion<f64>) -> Isometry3<f64> {
-    let low = mesh.vertices.iter().map(|v| (r0 * v).z).fold(f64::INFINITY, f64::min);
+    let low = mesh
+        .vertices
+        .iter()
+        .map(|v| (r0 * v).z)
+        .fold(f64::INFINITY, f64::min);
     Isometry3::from_parts(Translation3::new(0.0, 0.0, -low), r0)
 }
 

@@ -17,7 +17,9 @@ fn example(name: &str) -> (Scene, Mesh) {
 }
 
 fn run(scene: &Scene, mesh: &Mesh) -> PlanFile {
-    plan(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {}).expect("models build").file
+    plan(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .expect("models build")
+        .file
 }
 
 /// The plan file without its timings (the only part allowed to differ between runs).
@@ -30,7 +32,13 @@ fn without_timing(file: &PlanFile) -> String {
 fn assert_valid(file: &PlanFile, mesh: &Mesh) {
     let report = check_plan(file, mesh);
     for rule in &report.rules {
-        assert_ne!(rule.ok, Some(false), "rule {} failed: {}", rule.rule, rule.detail);
+        assert_ne!(
+            rule.ok,
+            Some(false),
+            "rule {} failed: {}",
+            rule.rule,
+            rule.detail
+        );
     }
 }
 
@@ -51,7 +59,10 @@ fn chair_side_plans_and_its_plan_passes_the_check() {
 fn same_plan_for_one_and_two_threads_and_across_runs() {
     let (scene, mesh) = example("chair_side");
     let in_pool = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
         pool.install(|| without_timing(&run(&scene, &mesh)))
     };
     let one = in_pool(1);
@@ -79,9 +90,15 @@ fn power_grasps_on_the_axes_give_no_plan_with_the_distance_reason() {
     ];
     let file = run(&scene, &bar);
     assert_eq!(file.status, "no_plan");
-    assert_eq!(file.reason.as_deref(), Some("no candidate: every power grasp within Δd_a of every axis"));
+    assert_eq!(
+        file.reason.as_deref(),
+        Some("no candidate: every power grasp within Δd_a of every axis")
+    );
     assert!(!file.candidates.is_empty());
-    assert!(file.candidates.iter().all(|c| c.outcome.contains("within Δd_a")));
+    assert!(file
+        .candidates
+        .iter()
+        .all(|c| c.outcome.contains("within Δd_a")));
 }
 
 #[test]
@@ -92,7 +109,10 @@ fn support_grasp_out_of_reach_gives_no_plan_naming_ik() {
     let file = run(&scene, &mesh);
     assert_eq!(file.status, "no_plan");
     let reason = file.reason.expect("a reason");
-    assert!(reason.starts_with("IK: support grasp unreachable for arm"), "{reason}");
+    assert!(
+        reason.starts_with("IK: support grasp unreachable for arm"),
+        "{reason}"
+    );
     assert!(reason.ends_with("at every P_obj"), "{reason}");
 }
 
@@ -109,7 +129,12 @@ mod edited_plans_fail_the_check {
     }
 
     fn failed_rules(file: &PlanFile, mesh: &Mesh) -> Vec<u8> {
-        check_plan(file, mesh).rules.iter().filter(|r| r.ok == Some(false)).map(|r| r.rule).collect()
+        check_plan(file, mesh)
+            .rules
+            .iter()
+            .filter(|r| r.ok == Some(false))
+            .map(|r| r.rule)
+            .collect()
     }
 
     #[test]

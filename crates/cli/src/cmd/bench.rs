@@ -10,7 +10,9 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use anyhow::Context;
-use pregrasp_collision::reach::{run_reach, ReachProblemSet, ReachSettings, DEFAULT_RESOLUTION};
+use pregrasp_collision::reach::{
+    run_reach, ReachProblemSet, ReachSettings, DEFAULT_MARGIN, DEFAULT_RESOLUTION,
+};
 use serde_json::json;
 
 #[derive(clap::Subcommand)]
@@ -38,8 +40,8 @@ pub struct ReachArgs {
     /// Edge-check resolution, metres of arm-point travel.
     #[arg(long, default_value_t = DEFAULT_RESOLUTION)]
     pub resolution: f64,
-    /// Safety margin of every collision check, metres.
-    #[arg(long, default_value_t = 0.0)]
+    /// Safety margin of every collision check, metres (default: half the resolution).
+    #[arg(long, default_value_t = DEFAULT_MARGIN)]
     pub margin: f64,
 }
 
@@ -51,16 +53,26 @@ pub fn run(command: BenchCommand) -> anyhow::Result<ExitCode> {
 
 fn reach(args: ReachArgs) -> anyhow::Result<ExitCode> {
     if !(args.resolution > 0.0 && args.resolution.is_finite()) {
-        anyhow::bail!("--resolution must be a positive number of metres, got {}", args.resolution);
+        anyhow::bail!(
+            "--resolution must be a positive number of metres, got {}",
+            args.resolution
+        );
     }
     if !(args.max_time > 0.0 && args.max_time.is_finite()) {
-        anyhow::bail!("--max-time must be a positive number of seconds, got {}", args.max_time);
+        anyhow::bail!(
+            "--max-time must be a positive number of seconds, got {}",
+            args.max_time
+        );
     }
     if !(args.margin >= 0.0 && args.margin.is_finite()) {
         anyhow::bail!("--margin must be >= 0 metres, got {}", args.margin);
     }
     let set = ReachProblemSet::load(&args.problems).context("cannot use the problem set")?;
-    let mut settings = ReachSettings { resolution: args.resolution, margin: args.margin, ..ReachSettings::default() };
+    let mut settings = ReachSettings {
+        resolution: args.resolution,
+        margin: args.margin,
+        ..ReachSettings::default()
+    };
     settings.rrt.seed = args.seed;
     settings.rrt.max_iterations = args.max_iterations;
     settings.rrt.max_time = Some(Duration::from_secs_f64(args.max_time));
@@ -101,15 +113,26 @@ fn reach(args: ReachArgs) -> anyhow::Result<ExitCode> {
         });
         println!("{}", serde_json::to_string_pretty(&out)?);
     } else {
-        println!("problem set  {} ({}, {} obstacles)", args.problems.display(), set.model.name(), set.obstacles.len());
+        println!(
+            "problem set  {} ({}, {} obstacles)",
+            args.problems.display(),
+            set.model.name(),
+            set.obstacles.len()
+        );
         println!(
             "solved       {}/{} ({:.1} %)",
             report.solved,
             report.queries,
             100.0 * report.success_rate
         );
-        println!("planning     median {:.3} ms, p95 {:.3} ms, mean {:.3} ms, max {:.3} ms", report.median_ms, report.p95_ms, report.mean_ms, report.max_ms);
-        println!("settings     seed {}, {} iterations, resolution {} m, margin {} m", args.seed, args.max_iterations, args.resolution, args.margin);
+        println!(
+            "planning     median {:.3} ms, p95 {:.3} ms, mean {:.3} ms, max {:.3} ms",
+            report.median_ms, report.p95_ms, report.mean_ms, report.max_ms
+        );
+        println!(
+            "settings     seed {}, {} iterations, resolution {} m, margin {} m",
+            args.seed, args.max_iterations, args.resolution, args.margin
+        );
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -23,7 +23,10 @@ pub struct Args {
 /// Prints one line per rule with its worst value; exit 0 iff the plan file is valid, 2 if not.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let file = PlanFile::read(&args.plan)?;
-    let mesh_path = args.mesh.clone().unwrap_or_else(|| resolve_mesh(&args.plan, &file.object.mesh));
+    let mesh_path = args
+        .mesh
+        .clone()
+        .unwrap_or_else(|| resolve_mesh(&args.plan, &file.object.mesh));
     let mesh = load_mesh(&mesh_path, file.object.scale)
         .with_context(|| format!("{}: object.mesh", args.plan.display()))?
         .mesh;
@@ -34,10 +37,17 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             Some(false) => "FAIL",
             None => "--  ",
         };
-        println!("rule {} {verdict} {}: {}", rule.rule, rule.title, rule.detail);
+        println!(
+            "rule {} {verdict} {}: {}",
+            rule.rule, rule.title, rule.detail
+        );
     }
     let valid = report.is_valid();
-    println!("{}: {}", args.plan.display(), if valid { "valid" } else { "INVALID" });
+    println!(
+        "{}: {}",
+        args.plan.display(),
+        if valid { "valid" } else { "INVALID" }
+    );
     Ok(ExitCode::from(if valid { EXIT_OK } else { EXIT_NO_PLAN }))
 }
 

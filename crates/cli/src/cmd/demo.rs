@@ -26,10 +26,18 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let example = pregrasp_examples::by_name(&args.example).ok_or_else(|| {
-        anyhow::anyhow!("unknown example {:?} (try `pregrasp example list`)", args.example)
+        anyhow::anyhow!(
+            "unknown example {:?} (try `pregrasp example list`)",
+            args.example
+        )
     })?;
     let [scene, _mesh] = pregrasp_examples::write_example(&args.dir, &example)?;
-    println!("{}: {} (scene {})", example.name, example.title, scene.display());
+    println!(
+        "{}: {} (scene {})",
+        example.name,
+        example.title,
+        scene.display()
+    );
     super::plan::plan_scene_file(
         &scene,
         &args.output,

@@ -38,8 +38,17 @@ pub fn table_boxes_obstacles() -> Vec<CuboidSpec> {
 ///
 /// Candidate `k` is kept when its start and goal are valid and RRT-Connect (seed `k`,
 /// `check_iterations` iterations, no time limit) solves it.
-pub fn generate_table_boxes(model: UrModel, seed: u64, n: usize, check_iterations: usize) -> ReachProblemSet {
-    let mut set = ReachProblemSet { model, obstacles: table_boxes_obstacles(), queries: Vec::new() };
+pub fn generate_table_boxes(
+    model: UrModel,
+    seed: u64,
+    n: usize,
+    check_iterations: usize,
+) -> ReachProblemSet {
+    let mut set = ReachProblemSet {
+        model,
+        obstacles: table_boxes_obstacles(),
+        queries: Vec::new(),
+    };
     let mut settings = ReachSettings::default();
     settings.rrt.max_iterations = check_iterations;
     settings.rrt.max_time = None;
@@ -48,7 +57,10 @@ pub fn generate_table_boxes(model: UrModel, seed: u64, n: usize, check_iteration
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut k = 0u64;
     while set.queries.len() < n {
-        let query = ReachQuery { start: planner.sample_valid(&mut rng), goal: planner.sample_valid(&mut rng) };
+        let query = ReachQuery {
+            start: planner.sample_valid(&mut rng),
+            goal: planner.sample_valid(&mut rng),
+        };
         if planner.plan(&query, k).is_solved() {
             set.queries.push(query);
         }

@@ -11,4 +11,7 @@ pub mod run;
 
 pub use generate::{generate_table_boxes, table_boxes_obstacles, GENERATOR_SEED};
 pub use problem::{CuboidSpec, ProblemError, ReachProblemSet, ReachQuery};
-pub use run::{percentile, run_reach, summarize, QueryOutcome, ReachPlanner, ReachReport, ReachSettings, DEFAULT_MARGIN, DEFAULT_RESOLUTION};
+pub use run::{
+    percentile, run_reach, summarize, QueryOutcome, ReachPlanner, ReachReport, ReachSettings,
+    DEFAULT_MARGIN, DEFAULT_RESOLUTION,
+};

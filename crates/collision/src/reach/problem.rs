@@ -23,12 +23,19 @@ use crate::world::CollisionWorld;
 /// Why a problem file could not be used. Every message names the file and the element.
 #[derive(Debug, Error)]
 pub enum ProblemError {
-    #[error("{file}: cannot read: {source}")]
-    Io { file: String, source: std::io::Error },
+    #[error("{file}: cannot read")]
+    Io {
+        file: String,
+        source: std::io::Error,
+    },
     #[error("{file}: not valid JSON: {message}")]
     Json { file: String, message: String },
     #[error("{file}: {element}: {message}")]
-    Invalid { file: String, element: String, message: String },
+    Invalid {
+        file: String,
+        element: String,
+        message: String,
+    },
 }
 
 /// A static cuboid of a problem set.
@@ -45,7 +52,10 @@ impl CuboidSpec {
     /// Box frame → world.
     pub fn pose(&self) -> Isometry3<f64> {
         let [r, p, y] = self.rpy;
-        Isometry3::from_parts(Translation3::from(self.center.coords), UnitQuaternion::from_euler_angles(r, p, y))
+        Isometry3::from_parts(
+            Translation3::from(self.center.coords),
+            UnitQuaternion::from_euler_angles(r, p, y),
+        )
     }
 }
 
@@ -68,20 +78,27 @@ impl ReachProblemSet {
     /// Reads and validates a problem file.
     pub fn load(path: &Path) -> Result<Self, ProblemError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Io { file: file.clone(), source })?;
+        let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Io {
+            file: file.clone(),
+            source,
+        })?;
         Self::parse(&text, &file)
     }
 
     /// Parses and validates problem-set JSON; `file` names the source in errors.
     pub fn parse(text: &str, file: &str) -> Result<Self, ProblemError> {
-        let value: Value =
-            serde_json::from_str(text).map_err(|e| ProblemError::Json { file: file.to_string(), message: e.to_string() })?;
+        let value: Value = serde_json::from_str(text).map_err(|e| ProblemError::Json {
+            file: file.to_string(),
+            message: e.to_string(),
+        })?;
         let bad = |element: &str, message: String| ProblemError::Invalid {
             file: file.to_string(),
             element: element.to_string(),
             message,
         };
-        let root = value.as_object().ok_or_else(|| bad("(root)", "expected an object".into()))?;
+        let root = value
+            .as_object()
+            .ok_or_else(|| bad("(root)", "expected an object".into()))?;
         let model_name = root
             .get("model")
             .ok_or_else(|| bad("model", "missing".into()))?
@@ -89,11 +106,16 @@ impl ReachProblemSet {
             .ok_or_else(|| bad("model", "expected a string".into()))?;
         let model = UrModel::from_name(model_name).ok_or_else(|| {
             let known: Vec<&str> = UrModel::ALL.iter().map(|m| m.name()).collect();
-            bad("model", format!("unknown model {model_name:?} (known: {})", known.join(", ")))
+            bad(
+                "model",
+                format!("unknown model {model_name:?} (known: {})", known.join(", ")),
+            )
         })?;
         let mut obstacles = Vec::new();
         if let Some(obs) = root.get("obstacles") {
-            let arr = obs.as_array().ok_or_else(|| bad("obstacles", "expected an array".into()))?;
+            let arr = obs
+                .as_array()
+                .ok_or_else(|| bad("obstacles", "expected an array".into()))?;
             for (i, o) in arr.iter().enumerate() {
                 let el = format!("obstacles[{i}]");
                 let cub = o
@@ -105,7 +127,10 @@ impl ReachProblemSet {
                 let center = vec3(cub, "center", &el, true).map_err(|m| bad(&m.0, m.1))?;
                 let half = vec3(cub, "half_extents", &el, true).map_err(|m| bad(&m.0, m.1))?;
                 if half.iter().any(|h| *h <= 0.0) {
-                    return Err(bad(&format!("{el}.half_extents"), "every half extent must be > 0".into()));
+                    return Err(bad(
+                        &format!("{el}.half_extents"),
+                        "every half extent must be > 0".into(),
+                    ));
                 }
                 let rpy = vec3(cub, "rpy", &el, false).map_err(|m| bad(&m.0, m.1))?;
                 let name = match cub.get("name") {
@@ -133,7 +158,9 @@ impl ReachProblemSet {
         let mut queries = Vec::with_capacity(queries_v.len());
         for (i, q) in queries_v.iter().enumerate() {
             let el = format!("queries[{i}]");
-            let obj = q.as_object().ok_or_else(|| bad(&el, "expected {\"start\": [...], \"goal\": [...]}".into()))?;
+            let obj = q
+                .as_object()
+                .ok_or_else(|| bad(&el, "expected {\"start\": [...], \"goal\": [...]}".into()))?;
             let mut pair = [[0.0; 6]; 2];
             for (slot, key) in pair.iter_mut().zip(["start", "goal"]) {
                 let e = format!("{el}.{key}");
@@ -144,20 +171,32 @@ impl ReachProblemSet {
                     .filter(|a| a.len() == 6)
                     .ok_or_else(|| bad(&e, "expected an array of 6 joint angles (rad)".into()))?;
                 for (j, v) in arr.iter().enumerate() {
-                    let x = v.as_f64().filter(|x| x.is_finite()).ok_or_else(|| bad(&format!("{e}[{j}]"), "expected a finite number".into()))?;
+                    let x = v.as_f64().filter(|x| x.is_finite()).ok_or_else(|| {
+                        bad(&format!("{e}[{j}]"), "expected a finite number".into())
+                    })?;
                     let (lo, hi) = limits[j];
                     if x < lo || x > hi {
                         return Err(bad(
                             &format!("{e}[{j}]"),
-                            format!("{x} rad is outside the {} limits [{lo:.4}, {hi:.4}]", JOINT_NAMES[j]),
+                            format!(
+                                "{x} rad is outside the {} limits [{lo:.4}, {hi:.4}]",
+                                JOINT_NAMES[j]
+                            ),
                         ));
                     }
                     slot[j] = x;
                 }
             }
-            queries.push(ReachQuery { start: pair[0], goal: pair[1] });
+            queries.push(ReachQuery {
+                start: pair[0],
+                goal: pair[1],
+            });
         }
-        Ok(ReachProblemSet { model, obstacles, queries })
+        Ok(ReachProblemSet {
+            model,
+            obstacles,
+            queries,
+        })
     }
 
     /// The problem set as JSON (the file format above), numbers printed exactly.
@@ -174,32 +213,59 @@ impl ReachProblemSet {
                 }})
             })
             .collect();
-        let queries: Vec<Value> = self.queries.iter().map(|q| json!({"start": q.start, "goal": q.goal})).collect();
+        let queries: Vec<Value> = self
+            .queries
+            .iter()
+            .map(|q| json!({"start": q.start, "goal": q.goal}))
+            .collect();
         json!({"model": self.model.name(), "obstacles": obstacles, "queries": queries})
     }
 
     /// The arm of the problem: base at the origin, default 2F-85.
     pub fn arm(&self) -> ArmModel {
-        ArmModel::new("arm", self.model, Isometry3::identity(), Gripper2F85::default())
+        ArmModel::new(
+            "arm",
+            self.model,
+            Isometry3::identity(),
+            Gripper2F85::default(),
+        )
     }
 
     /// The single-arm world: no support plane, the cuboids as obstacles.
     pub fn world(&self) -> CollisionWorld {
-        let world = CollisionWorld::single_arm(None, None, self.arm()).expect("a world without a mesh always builds");
-        self.obstacles.iter().fold(world, |w, o| w.with_obstacle_cuboid(&o.name, o.pose(), o.half_extents))
+        let world = CollisionWorld::single_arm(None, None, self.arm())
+            .expect("a world without a mesh always builds");
+        self.obstacles.iter().fold(world, |w, o| {
+            w.with_obstacle_cuboid(&o.name, o.pose(), o.half_extents)
+        })
     }
 }
 
 /// Reads `key` of `obj` as three finite numbers (`[0; 3]` when absent and not required).
-fn vec3(obj: &Map<String, Value>, key: &str, el: &str, required: bool) -> Result<[f64; 3], (String, String)> {
+fn vec3(
+    obj: &Map<String, Value>,
+    key: &str,
+    el: &str,
+    required: bool,
+) -> Result<[f64; 3], (String, String)> {
     let e = format!("{el}.{key}");
     let Some(v) = obj.get(key) else {
-        return if required { Err((e, "missing".into())) } else { Ok([0.0; 3]) };
+        return if required {
+            Err((e, "missing".into()))
+        } else {
+            Ok([0.0; 3])
+        };
     };
-    let arr = v.as_array().filter(|a| a.len() == 3).ok_or_else(|| (e.clone(), "expected an array of 3 numbers".into()))?;
+    let arr = v
+        .as_array()
+        .filter(|a| a.len() == 3)
+        .ok_or_else(|| (e.clone(), "expected an array of 3 numbers".into()))?;
     let mut out = [0.0; 3];
     for (i, x) in arr.iter().enumerate() {
-        out[i] = x.as_f64().filter(|x| x.is_finite()).ok_or_else(|| (format!("{e}[{i}]"), "expected a finite number".into()))?;
+        out[i] = x
+            .as_f64()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| (format!("{e}[{i}]"), "expected a finite number".into()))?;
     }
     Ok(out)
 }
@@ -223,29 +289,49 @@ mod tests {
     }
 
     fn err(text: &str) -> String {
-        ReachProblemSet::parse(text, "p.json").unwrap_err().to_string()
+        ReachProblemSet::parse(text, "p.json")
+            .unwrap_err()
+            .to_string()
     }
 
     #[test]
     fn errors_name_file_and_element() {
         assert!(err("{").starts_with("p.json: not valid JSON"));
-        assert_eq!(err(&GOOD.replace("ur5e", "ur7")), "p.json: model: unknown model \"ur7\" (known: ur3e, ur5e, ur10e, ur16e, ur5)");
+        assert_eq!(
+            err(&GOOD.replace("ur5e", "ur7")),
+            "p.json: model: unknown model \"ur7\" (known: ur3e, ur5e, ur10e, ur16e, ur5)"
+        );
         assert_eq!(
             err(&GOOD.replace("[0.5, 0.5, 0.09]", "[0.5, 0, 0.09]")),
             "p.json: obstacles[0].cuboid.half_extents: every half extent must be > 0"
         );
         assert_eq!(
-            err(&GOOD.replace("\"goal\": [1, -1.2, 1.0, 0, 0.5, 0]", "\"goal\": [1, -1.2, 1.0, 0, 0.5]")),
+            err(&GOOD.replace(
+                "\"goal\": [1, -1.2, 1.0, 0, 0.5, 0]",
+                "\"goal\": [1, -1.2, 1.0, 0, 0.5]"
+            )),
             "p.json: queries[0].goal: expected an array of 6 joint angles (rad)"
         );
-        assert!(err(&GOOD.replace("1.57, 0, 0, 0]", "3.5, 0, 0, 0]")).starts_with("p.json: queries[0].start[2]: 3.5 rad is outside the elbow limits"));
-        assert_eq!(err(&GOOD.replace("[0.5, 0, -0.1]", "[0.5, \"x\", -0.1]")), "p.json: obstacles[0].cuboid.center[1]: expected a finite number");
-        assert_eq!(err(r#"{"model": "ur5", "queries": []}"#), "p.json: queries: no queries");
+        assert!(err(&GOOD.replace("1.57, 0, 0, 0]", "3.5, 0, 0, 0]"))
+            .starts_with("p.json: queries[0].start[2]: 3.5 rad is outside the elbow limits"));
+        assert_eq!(
+            err(&GOOD.replace("[0.5, 0, -0.1]", "[0.5, \"x\", -0.1]")),
+            "p.json: obstacles[0].cuboid.center[1]: expected a finite number"
+        );
+        assert_eq!(
+            err(r#"{"model": "ur5", "queries": []}"#),
+            "p.json: queries: no queries"
+        );
     }
 
     #[test]
     fn missing_file_names_it() {
-        let e = ReachProblemSet::load(Path::new("/nonexistent/problems.json")).unwrap_err().to_string();
-        assert!(e.starts_with("/nonexistent/problems.json: cannot read"), "{e}");
+        let e = ReachProblemSet::load(Path::new("/nonexistent/problems.json"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("/nonexistent/problems.json: cannot read"),
+            "{e}"
+        );
     }
 }
