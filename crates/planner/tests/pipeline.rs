@@ -42,16 +42,31 @@ fn assert_valid(file: &PlanFile, mesh: &Mesh) {
     }
 }
 
+/// Every built-in example plans, and every plan it keeps passes the checker; plans are ranked
+/// best first. Fails as soon as an example stops producing a valid plan.
 #[test]
-fn chair_side_plans_and_its_plan_passes_the_check() {
-    let (scene, mesh) = example("chair_side");
-    let file = run(&scene, &mesh);
-    assert_eq!(file.status, "planned", "reason: {:?}", file.reason);
-    assert!(!file.plans.is_empty());
-    assert_valid(&file, &mesh);
-    // The plans are ranked best first, by S_rot.
-    for w in file.plans.windows(2) {
-        assert!(w[0].score >= w[1].score);
+fn every_example_plans_and_its_plans_pass_the_check() {
+    for name in pregrasp_examples::NAMES {
+        let (scene, mesh) = example(name);
+        let file = run(&scene, &mesh);
+        assert_eq!(file.status, "planned", "{name}: {:?}", file.reason);
+        assert!(!file.plans.is_empty(), "{name}");
+        assert_valid(&file, &mesh);
+        for w in file.plans.windows(2) {
+            assert!(
+                w[0].score >= w[1].score,
+                "{name}: plans not ranked by S_rot"
+            );
+        }
+        // The chosen candidate's θ_goal lies within its θ_max and is a multiple of Δφ.
+        let best = &file.candidates[file.plans[0].candidate];
+        let goal = best.theta_goal.expect("a planned candidate has θ_goal");
+        assert!(goal > 0.0 && goal <= best.theta_max, "{name}");
+        let steps = goal / scene.planner.step;
+        assert!(
+            (steps - steps.round()).abs() < 1e-9,
+            "{name}: θ_goal {goal} not a multiple of Δφ"
+        );
     }
 }
 

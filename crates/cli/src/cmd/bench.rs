@@ -4,6 +4,9 @@
 //! problem set (one arm among cuboids, see `pregrasp_collision::reach::problem`) with
 //! RRT-Connect and simplification, and prints the success rate and the median / p95
 //! in-process planning time.
+//!
+//! `pregrasp bench plan SCENE.toml [--runs N]` runs the whole pipeline (Algorithms 1–3 and the
+//! plan check) N times in-process on one scene and prints the median / p95 time per stage.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -19,6 +22,23 @@ use serde_json::json;
 pub enum BenchCommand {
     /// Motion-planning benchmark on a reach problem set (e.g. data/reach-ur5-table-boxes.json).
     Reach(ReachArgs),
+    /// The whole pipeline on one scene, repeated: median / p95 time per stage.
+    Plan(PlanArgs),
+}
+
+#[derive(clap::Args)]
+pub struct PlanArgs {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// How many times to plan (after one warm-up run).
+    #[arg(long, default_value_t = 20)]
+    pub runs: usize,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(clap::Args)]
@@ -48,7 +68,69 @@ pub struct ReachArgs {
 pub fn run(command: BenchCommand) -> anyhow::Result<ExitCode> {
     match command {
         BenchCommand::Reach(args) => reach(args),
+        BenchCommand::Plan(args) => plan(args),
     }
+}
+
+fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
+    use pregrasp_planner::pipeline::{plan, PlanOptions};
+    let scene = pregrasp_io::scene::Scene::load(&args.scene)?;
+    let mesh = pregrasp_io::mesh_io::load_mesh(&scene.object.mesh_path, scene.object.scale)
+        .with_context(|| format!("{}: object.mesh", args.scene.display()))?
+        .mesh;
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = args.threads {
+        builder = builder.num_threads(n.max(1));
+    }
+    let pool = builder.build()?;
+    let runs = args.runs.max(1);
+    let stages = ["axes", "poses", "paths", "total"];
+    let mut samples: Vec<Vec<f64>> = vec![Vec::with_capacity(runs); stages.len()];
+    let mut status = String::new();
+    for run in 0..=runs {
+        let report =
+            pool.install(|| plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}))?;
+        status = report.file.status.clone();
+        if run > 0 {
+            for (k, stage) in stages.iter().enumerate() {
+                samples[k].push(report.file.timing_ms.get(*stage).copied().unwrap_or(0.0));
+            }
+        }
+    }
+    let stat = |v: &mut Vec<f64>| -> (f64, f64) {
+        v.sort_by(f64::total_cmp);
+        let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
+        (at(0.5), at(0.95))
+    };
+    let summary: Vec<(&str, f64, f64)> = stages
+        .iter()
+        .zip(samples.iter_mut())
+        .map(|(name, v)| {
+            let (median, p95) = stat(v);
+            (*name, median, p95)
+        })
+        .collect();
+    if args.json {
+        let stages: serde_json::Map<String, serde_json::Value> = summary
+            .iter()
+            .map(|(n, m, p)| (n.to_string(), json!({ "median_ms": m, "p95_ms": p })))
+            .collect();
+        let out = json!({ "scene": args.scene.display().to_string(), "runs": runs,
+                          "threads": pool.current_num_threads(), "status": status, "stages": stages });
+        println!("{}", serde_json::to_string_pretty(&out)?);
+    } else {
+        println!(
+            "{}: {} runs on {} thread(s), status {}",
+            args.scene.display(),
+            runs,
+            pool.current_num_threads(),
+            status
+        );
+        for (name, median, p95) in &summary {
+            println!("  {name:<6} median {median:8.2} ms   p95 {p95:8.2} ms");
+        }
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 fn reach(args: ReachArgs) -> anyhow::Result<ExitCode> {

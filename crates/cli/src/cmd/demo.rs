@@ -22,6 +22,9 @@ pub struct Args {
     /// Which built-in example to run (chair_side, shelf_side, stool_side).
     #[arg(long, default_value = "chair_side")]
     pub example: String,
+    /// No progress bar and no tables.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
@@ -32,18 +35,20 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         )
     })?;
     let [scene, _mesh] = pregrasp_examples::write_example(&args.dir, &example)?;
-    println!(
-        "{}: {} (scene {})",
-        example.name,
-        example.title,
-        scene.display()
-    );
+    if !args.quiet {
+        println!(
+            "{}: {} (scene {})",
+            example.name,
+            example.title,
+            scene.display()
+        );
+    }
     super::plan::plan_scene_file(
         &scene,
         &args.output,
         Some(&args.html),
         None,
-        false,
+        args.quiet,
         &PlanOptions::default(),
     )
 }
