@@ -10,7 +10,7 @@
 use nalgebra::{Isometry3, Point3, Vector3};
 use pregrasp_collision::{ArmModel, CollisionWorld, ObjectPlacement, WorldState};
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::{PlanFile, PlanJson, PoseJson, SegmentJson};
+use pregrasp_io::plan_file::{PlanFile, PlanJson, PointJson, PoseJson, SegmentJson};
 use pregrasp_robot::{joint_sweep_radii, Gripper2F85, GripperState, Joints, UrModel};
 
 use crate::timeline::{lerp_joints, lerp_pose, substeps, CONTACT_ZONE};
@@ -252,6 +252,20 @@ struct PlanCheck<'a> {
 struct Line {
     /// The tool pose at the end that touches the part (the grasp end).
     grasp_end: Isometry3<f64>,
+}
+
+/// Edge `k → k+1` of a segment as (index of its end, number of checked sub-steps), so that no
+/// arm point moves more than [`CHECK_RESOLUTION`] between checked states; the last point is a
+/// single state.
+fn edge(pts: &[PointJson], k: usize, weights: &Joints) -> (usize, usize) {
+    if k + 1 < pts.len() {
+        (
+            k + 1,
+            substeps(&pts[k].q, &pts[k + 1].q, weights, CHECK_RESOLUTION),
+        )
+    } else {
+        (k, 1)
+    }
 }
 
 /// "plan I SEG point K", for messages.
@@ -567,12 +581,7 @@ impl<'a> PlanCheck<'a> {
             });
 
         for k in 0..n {
-            let edge_end = if k + 1 < n { k + 1 } else { k };
-            let steps = if k + 1 < n {
-                substeps(&pts[k].q, &pts[k + 1].q, &weights, CHECK_RESOLUTION)
-            } else {
-                1
-            };
+            let (edge_end, steps) = edge(pts, k, &weights);
             for s in 0..steps {
                 let f = s as f64 / steps as f64;
                 let qi = lerp_joints(&pts[k].q, &pts[edge_end].q, f);
@@ -652,12 +661,7 @@ impl<'a> PlanCheck<'a> {
             grasp_error(self.grasps, dp, da, || {
                 format!("{}: tool vs object_pose·G_s", at(index, seg, k))
             });
-            let edge_end = if k + 1 < n { k + 1 } else { k };
-            let steps = if k + 1 < n {
-                substeps(&pts[k].q, &pts[k + 1].q, &weights, CHECK_RESOLUTION)
-            } else {
-                1
-            };
+            let (edge_end, steps) = edge(pts, k, &weights);
             for s in 0..steps {
                 let f = s as f64 / steps as f64;
                 let object = lerp_pose(&poses[k], &poses[edge_end], f);

@@ -7,7 +7,7 @@ use pregrasp_collision::{ArmModel, CollisionWorld, Contact, ObjectPlacement, Wor
 use pregrasp_geometry::Mesh;
 use pregrasp_io::scene::Scene;
 use pregrasp_motion::{JointSpace, MotionValidator};
-use pregrasp_robot::{wrap_angle, Gripper2F85, GripperState, Joints, UrKinematics, UrModel};
+use pregrasp_robot::{wrap_angle, Gripper2F85, Joints, UrKinematics, UrModel};
 
 use crate::timeline::Moment;
 
@@ -113,15 +113,7 @@ impl<'a> PlanningContext<'a> {
         distinct_ik(&model.kin, &target, &starts[arm])
             .into_iter()
             .filter(|q| {
-                let mut moment = Moment {
-                    q: starts,
-                    gripper: [GripperState::Open; 2],
-                    object: *object,
-                    contact_allowed: [false; 2],
-                };
-                moment.q[arm] = *q;
-                moment.gripper[arm] = GripperState::Closed;
-                moment.contact_allowed[arm] = true;
+                let moment = Moment::at_rest(starts, *object).holding(arm, *q);
                 self.check_arm(arm, &moment).is_ok()
             })
             .collect()

@@ -6,8 +6,6 @@
 //! power-grasp solutions (`ReachPath3`). The first combination whose four motions all exist is
 //! the candidate's integrated path (an element of the paper's set Z).
 
-use pregrasp_robot::GripperState;
-
 use crate::axes::RotationAxisCandidate;
 use crate::context::PlanningContext;
 use crate::poses::PowerGraspPose;
@@ -87,12 +85,7 @@ pub fn integrated_path(
         let last = *rot.q.last().expect("μ_rot has points");
 
         // μ_sup1: supportive arm from start to μ_rot,first; master at start, part at P_init.
-        let sup1_scene = Moment {
-            q: starts,
-            gripper: [GripperState::Open; 2],
-            object: ctx.p_init,
-            contact_allowed: [false; 2],
-        };
+        let sup1_scene = Moment::at_rest(starts, ctx.p_init);
         let sup1_query = ReachQuery {
             arm: sup,
             scene: &sup1_scene,
@@ -111,15 +104,7 @@ pub fn integrated_path(
         let mut sup1: Option<ReachMotion> = None;
 
         // μ_mas1 scene: the supportive arm holds the part at P_obj.
-        let mut mas1_scene = Moment {
-            q: starts,
-            gripper: [GripperState::Open; 2],
-            object: pose.p_obj,
-            contact_allowed: [false; 2],
-        };
-        mas1_scene.q[sup] = last;
-        mas1_scene.gripper[sup] = GripperState::Closed;
-        mas1_scene.contact_allowed[sup] = true;
+        let mas1_scene = Moment::at_rest(starts, pose.p_obj).holding(sup, last);
 
         'master: for c_ik_p in pose.power_ik[mas].iter().take(MAX_IK_TRIES) {
             let mas1_query = ReachQuery {
@@ -140,22 +125,11 @@ pub fn integrated_path(
             let mut mas1: Option<ReachMotion> = None;
 
             // μ_sup2 scene: the master holds the part at P_obj.
-            let mut sup2_scene = Moment {
-                q: starts,
-                gripper: [GripperState::Open; 2],
-                object: pose.p_obj,
-                contact_allowed: [false; 2],
-            };
-            sup2_scene.q[mas] = *c_ik_p;
-            sup2_scene.gripper[mas] = GripperState::Closed;
-            sup2_scene.contact_allowed[mas] = true;
+            let sup2_scene = Moment::at_rest(starts, pose.p_obj).holding(mas, *c_ik_p);
 
             for goal in pose.power_ik[sup].iter().take(MAX_IK_TRIES) {
                 // Both grippers end closed on the part: the final state must be free.
-                let mut end = sup2_scene.clone();
-                end.q[sup] = *goal;
-                end.gripper[sup] = GripperState::Closed;
-                end.contact_allowed[sup] = true;
+                let end = sup2_scene.clone().holding(sup, *goal);
                 if let Err(c) = ctx.check(&end) {
                     failure.note(4, format!("μ_sup2: final grasp: {} touches {}", c.a, c.b));
                     continue;

@@ -9,7 +9,6 @@ use std::time::Instant;
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{PlanFile, PlanJson};
 use pregrasp_io::scene::Scene;
-use pregrasp_robot::GripperState;
 use rayon::prelude::*;
 
 use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
@@ -85,12 +84,7 @@ pub fn plan(
     on_candidates(candidates.len());
 
     let t1 = Instant::now();
-    let start = Moment {
-        q: ctx.starts(),
-        gripper: [GripperState::Open; 2],
-        object: ctx.p_init,
-        contact_allowed: [false; 2],
-    };
+    let start = Moment::at_rest(ctx.starts(), ctx.p_init);
     let start_problem = ctx.check(&start).err().map(|c| {
         format!(
             "start: {} touches {} at the arms' start configurations",

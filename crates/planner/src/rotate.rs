@@ -8,7 +8,7 @@
 //! rotated pose, the supportive gripper closed on it, the master arm at its start).
 
 use nalgebra::Isometry3;
-use pregrasp_robot::{GripperState, Joints};
+use pregrasp_robot::Joints;
 
 use crate::axes::RotationAxisCandidate;
 use crate::context::{PlanningContext, MOTION_RESOLUTION};
@@ -74,17 +74,7 @@ pub fn rotation_moment(
     object: Isometry3<f64>,
     q: Joints,
 ) -> Moment {
-    let sup = pose.supportive;
-    let mut moment = Moment {
-        q: ctx.starts(),
-        gripper: [GripperState::Open; 2],
-        object,
-        contact_allowed: [false; 2],
-    };
-    moment.q[sup] = q;
-    moment.gripper[sup] = GripperState::Closed;
-    moment.contact_allowed[sup] = true;
-    moment
+    Moment::at_rest(ctx.starts(), object).holding(pose.supportive, q)
 }
 
 /// `RotPath`: μ_rot from one c_IK^s, or why there is none.

@@ -47,6 +47,27 @@ pub struct Moment {
     pub contact_allowed: [bool; 2],
 }
 
+impl Moment {
+    /// Both arms at `q` with their grippers open, the object at `object`, no contact allowed.
+    pub fn at_rest(q: [Joints; 2], object: Isometry3<f64>) -> Moment {
+        Moment {
+            q,
+            gripper: [GripperState::Open; 2],
+            object,
+            contact_allowed: [false; 2],
+        }
+    }
+
+    /// The same moment with arm `arm` at `q` holding the part: gripper closed on it, contact
+    /// between that gripper and the part allowed.
+    pub fn holding(mut self, arm: usize, q: Joints) -> Moment {
+        self.q[arm] = q;
+        self.gripper[arm] = GripperState::Closed;
+        self.contact_allowed[arm] = true;
+        self
+    }
+}
+
 /// A straight tool line: the tool point starts at `from` and the line ends at `to`, moving
 /// along the tool's own z axis.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -11,6 +11,9 @@ use pregrasp_planner::check::check_plan;
 use super::{EXIT_NO_PLAN, EXIT_OK};
 
 #[derive(clap::Args)]
+#[command(
+    after_help = "Exit status: 0 valid, 2 invalid (the failed rules are marked FAIL), 1 unreadable plan or mesh."
+)]
 pub struct Args {
     /// The plan file to check.
     pub plan: PathBuf,

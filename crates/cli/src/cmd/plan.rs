@@ -15,6 +15,10 @@ use pregrasp_planner::pipeline::{plan, CandidateOutcome, PlanOptions, PlanReport
 use super::{EXIT_NO_PLAN, EXIT_OK};
 
 #[derive(clap::Args)]
+#[command(
+    after_help = "Exit status: 0 planned, 2 no plan (the file says why), 1 bad input (nothing written).\n\
+Every plan is re-verified with `pregrasp check`'s rules before it is written."
+)]
 pub struct Args {
     /// The scene file (TOML, see shared/spec/scene-format.md).
     pub scene: PathBuf,
