@@ -13,6 +13,9 @@ use pregrasp_motion::{
     rrt_connect, simplify, straight_line, time_parameterize, CartesianError, CartesianSettings,
     PlanStatus, RrtConnectSettings, State,
 };
+use std::sync::Mutex;
+
+use pregrasp_collision::Contact;
 use pregrasp_robot::Joints;
 
 use crate::context::PlanningContext;
@@ -33,19 +36,26 @@ pub struct ReachMotion {
     pub retreat_to: Option<usize>,
 }
 
-/// Why a reach motion failed, by stage.
+/// Why a reach motion failed, by stage. A blocked straight line names the pair of bodies that
+/// touched, when the line failed on a collision.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ReachFailure {
-    Retreat(CartesianError),
-    Approach(CartesianError),
+    Retreat(CartesianError, Option<Contact>),
+    Approach(CartesianError, Option<Contact>),
     Transit(PlanStatus),
 }
 
 impl ReachFailure {
     pub fn describe(&self) -> String {
+        let line = |what: &str, e: &CartesianError, c: &Option<Contact>| match (e, c) {
+            (CartesianError::Collision { .. }, Some(c)) => {
+                format!("straight {what}: {} touches {}", c.a, c.b)
+            }
+            _ => format!("straight {what}: {e}"),
+        };
         match self {
-            ReachFailure::Retreat(e) => format!("straight retreat: {e}"),
-            ReachFailure::Approach(e) => format!("straight approach: {e}"),
+            ReachFailure::Retreat(e, c) => line("retreat", e, c),
+            ReachFailure::Approach(e, c) => line("approach", e, c),
             ReachFailure::Transit(status) => format!("transit motion: {status:?}"),
         }
     }
@@ -78,20 +88,35 @@ pub struct ReachLines {
 pub const SHORTCUT_ROUNDS: usize = 16;
 
 impl ReachQuery<'_> {
-    /// Is this arm at `q` free, with or without contact allowed between its gripper and the part?
-    fn free(&self, ctx: &PlanningContext, q: &State<6>, contact: bool) -> bool {
+    /// The first contact of this arm at `q`, with or without contact allowed between its
+    /// gripper and the part.
+    fn contact(&self, ctx: &PlanningContext, q: &State<6>, contact: bool) -> Result<(), Contact> {
         let mut m = self.scene.clone();
         m.q[self.arm] = *q;
         m.contact_allowed[self.arm] = contact;
-        ctx.check_arm(self.arm, &m).is_ok()
+        ctx.check_arm(self.arm, &m)
+    }
+
+    /// Is this arm at `q` free (no contact allowed)?
+    fn free(&self, ctx: &PlanningContext, q: &State<6>) -> bool {
+        self.contact(ctx, q, false).is_ok()
     }
 }
 
 /// The retreat (μ_sup2 only) and the approach of a reach query.
 pub fn reach_lines(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachLines, ReachFailure> {
     let kin = ctx.arm(query.arm).kin;
-    let strict = |q: &State<6>| query.free(ctx, q, false);
-    let touching = |q: &State<6>| query.free(ctx, q, true);
+    // The line stops at the first invalid state: remember what touched there.
+    let touched: Mutex<Option<Contact>> = Mutex::new(None);
+    let free = |q: &State<6>, contact: bool| match query.contact(ctx, q, contact) {
+        Ok(()) => true,
+        Err(c) => {
+            *touched.lock().expect("not poisoned") = Some(c);
+            false
+        }
+    };
+    let strict = |q: &State<6>| free(q, false);
+    let touching = |q: &State<6>| free(q, true);
     let strict_motion = ctx.motion_validator(query.arm, &strict);
     let contact_motion = ctx.motion_validator(query.arm, &touching);
     let fk = |q: &State<6>| kin.fk(q);
@@ -117,11 +142,13 @@ pub fn reach_lines(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachLin
         Ok(path)
     };
     let retreat = if query.retreat {
-        away(&query.from).map_err(ReachFailure::Retreat)?
+        away(&query.from)
+            .map_err(|e| ReachFailure::Retreat(e, touched.lock().expect("not poisoned").take()))?
     } else {
         vec![query.from]
     };
-    let mut approach = away(&query.goal).map_err(ReachFailure::Approach)?;
+    let mut approach = away(&query.goal)
+        .map_err(|e| ReachFailure::Approach(e, touched.lock().expect("not poisoned").take()))?;
     approach.reverse();
     Ok(ReachLines { retreat, approach })
 }
@@ -134,7 +161,7 @@ pub fn reach_transit(
     lines: &ReachLines,
 ) -> Result<ReachMotion, ReachFailure> {
     let arm = query.arm;
-    let strict = |q: &State<6>| query.free(ctx, q, false);
+    let strict = |q: &State<6>| query.free(ctx, q);
     let strict_motion = ctx.motion_validator(arm, &strict);
     let transit_from = *lines.retreat.last().expect("non-empty");
     let standoff = lines.approach[0];
