@@ -81,14 +81,7 @@ fn a_broken_mesh_exits_1_and_writes_nothing() {
 #[test]
 fn an_unreachable_support_grasp_exits_2_with_a_no_plan_file() {
     let tmp = tempfile::tempdir().unwrap();
-    let scene = std::fs::read_to_string(examples_dir().join("chair_side.toml")).unwrap();
-    let mesh = examples_dir().join("meshes/chair_side.stl");
-    let scene = scene
-        .replace("meshes/chair_side.stl", mesh.to_str().unwrap())
-        .replace("support = { xyz = [", "support = { xyz = [2.0 + ");
-    // Move G_s two metres along object x by rewriting its first coordinate.
-    let scene = fix_support_x(&scene);
-    std::fs::write(tmp.path().join("scene.toml"), scene).unwrap();
+    write_far_support_scene(&tmp.path().join("scene.toml"));
     let out = pregrasp(
         tmp.path(),
         &["plan", "scene.toml", "-o", "plan.json", "--quiet"],
@@ -105,18 +98,18 @@ fn an_unreachable_support_grasp_exits_2_with_a_no_plan_file() {
     assert_eq!(plan["plans"].as_array().unwrap().len(), 0);
 }
 
-/// Replaces `support = { xyz = [2.0 + X, ...` by `support = { xyz = [X+2, ...`.
-fn fix_support_x(scene: &str) -> String {
-    let key = "support = { xyz = [2.0 + ";
+/// Writes the chair-side scene (mesh path made absolute) with its support grasp G_s moved two
+/// metres along object x, out of both arms' reach.
+fn write_far_support_scene(path: &Path) {
+    let scene = std::fs::read_to_string(examples_dir().join("chair_side.toml")).unwrap();
+    let mesh = examples_dir().join("meshes/chair_side.stl");
+    let scene = scene.replace("meshes/chair_side.stl", mesh.to_str().unwrap());
+    let key = "support = { xyz = [";
     let start = scene.find(key).expect("support line") + key.len();
     let end = start + scene[start..].find(',').unwrap();
     let x: f64 = scene[start..end].trim().parse().unwrap();
-    format!(
-        "{}support = {{ xyz = [{}{}",
-        &scene[..start - key.len()],
-        x + 2.0,
-        &scene[end..]
-    )
+    let moved = format!("{}{}{}", &scene[..start], x + 2.0, &scene[end..]);
+    std::fs::write(path, moved).unwrap();
 }
 
 #[test]
@@ -205,12 +198,7 @@ fn plan_files_match_the_json_schema() {
         assert!(errors.is_empty(), "{name}: {errors:?}");
     }
     // A no-plan file too.
-    let scene = std::fs::read_to_string(examples_dir().join("chair_side.toml")).unwrap();
-    let mesh = examples_dir().join("meshes/chair_side.stl");
-    let scene = scene
-        .replace("meshes/chair_side.stl", mesh.to_str().unwrap())
-        .replace("support = { xyz = [", "support = { xyz = [2.0 + ");
-    std::fs::write(tmp.path().join("far.toml"), fix_support_x(&scene)).unwrap();
+    write_far_support_scene(&tmp.path().join("far.toml"));
     let out = pregrasp(
         tmp.path(),
         &["plan", "far.toml", "-o", "none.json", "--quiet"],

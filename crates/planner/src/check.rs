@@ -117,6 +117,7 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
     let mut structure = Rule::new();
     let mut limits = Rule::new();
     let mut collisions = Rule::new();
+    let mut states_checked = 0u64;
     let mut rotation = Rule::new();
     let mut grasps = Rule::new();
 
@@ -147,6 +148,7 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
             structure: &mut structure,
             limits: &mut limits,
             collisions: &mut collisions,
+            states_checked: &mut states_checked,
             rotation: &mut rotation,
             grasps: &mut grasps,
         };
@@ -170,7 +172,7 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
             limits.result(1, "joint limits and joint speeds", |x| {
                 format!("{:.1} % of a limit", x * 100.0)
             }),
-            collision_result(collisions),
+            collision_result(collisions, states_checked),
             rotation.result(3, "rotation keeps the part on the support about a fixed axis", mm),
             grasps.result(4, "tool poses at grasps and on approach/retreat lines", |x| {
                 format!("{:.2} % of a tolerance", x * 100.0)
@@ -185,10 +187,9 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
     }
 }
 
-/// Rule 2 counts the states it checked (in `worst`) rather than a worst value.
-fn collision_result(rule: Rule) -> RuleResult {
+/// Rule 2's verdict: the first contact, or how many states were checked.
+fn collision_result(rule: Rule, states: u64) -> RuleResult {
     let title = "no forbidden contact (support, arms, grippers, object)";
-    let states = rule.worst.max(0.0) as u64;
     match rule.violation {
         Some(v) => RuleResult {
             rule: 2,
@@ -243,6 +244,8 @@ struct PlanCheck<'a> {
     structure: &'a mut Rule,
     limits: &'a mut Rule,
     collisions: &'a mut Rule,
+    /// Rule 2 reports how many states it checked rather than a worst value.
+    states_checked: &'a mut u64,
     rotation: &'a mut Rule,
     grasps: &'a mut Rule,
 }
@@ -528,7 +531,7 @@ impl<'a> PlanCheck<'a> {
     }
 
     fn collide(&mut self, state: &WorldState, at: impl Fn() -> String) {
-        self.collisions.worst = self.collisions.worst.max(0.0) + 1.0;
+        *self.states_checked += 1;
         if let Err(c) = self.world.check(state) {
             self.collisions
                 .fail(format!("{}: {} touches {}", at(), c.a, c.b));
