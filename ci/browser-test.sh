@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Real-browser test of the plan viewer (`pregrasp view`): headless Chromium opens the
-# generated pages with three.js served from ci/browser/node_modules (no network), checks
-# the canvas is drawn, the timeline moves the arms, and there is no console error.
+# generated pages with every network request refused (the page must need none), checks the
+# canvas is drawn, the candidate table is filled, the timeline moves the arms, the page
+# explains itself in words when WebGL is missing, and there is no console error.
 # A screenshot goes to target/viewer-screenshot.png (plus target/viewer-screenshot-<segment>.png,
 # the 3D view at the end of each segment, and -no-plan.png). Last line: `browser: N passed, M failed`.
 #
@@ -12,9 +13,11 @@ if [ -n "${PLAN_JSON:-}" ]; then PLAN_JSON=$(realpath "$PLAN_JSON"); fi
 cd "$(dirname "$0")/.."
 root=$(pwd)
 
-if [ ! -x /usr/bin/chromium ]; then
+if ! command -v chromium >/dev/null; then
   apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y chromium
 fi
+CHROMIUM=$(command -v chromium)
+export CHROMIUM
 if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
   apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y nodejs npm
 fi

@@ -1,19 +1,20 @@
 // Headless-Chromium test of the pregrasp plan viewer pages.
 //
 // Usage: node test.mjs PLAN.html NO_PLAN.html SCREENSHOT.png
-// The pages load three.js from the CDN; every CDN request is answered from the local
-// node_modules/three (same pinned version), every other network request is refused.
+// The browser is offline and every request other than opening the page file itself is
+// refused and counted: the page must draw from what it carries. The plan page is opened a
+// second time with WebGL taken away, to see it say so in words and still list the candidates.
+// Chromium: $CHROMIUM, else `chromium` on the PATH.
 // Prints `browser: N passed, M failed` last and exits 1 when anything failed.
 
 import { chromium } from 'playwright-core';
+import { execFileSync } from 'node:child_process';
 import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
-import { dirname, join, resolve } from 'node:path';
-import { fileURLToPath, pathToFileURL } from 'node:url';
+import { join, resolve } from 'node:path';
+import { pathToFileURL } from 'node:url';
 
-const here = dirname(fileURLToPath(import.meta.url));
-const THREE_VERSION = JSON.parse(readFileSync(join(here, 'node_modules/three/package.json'), 'utf8')).version;
-const CDN = `https://cdn.jsdelivr.net/npm/three@${THREE_VERSION}/`;
+const executablePath = process.env.CHROMIUM || execFileSync('sh', ['-c', 'command -v chromium'], { encoding: 'utf8' }).trim();
 const [planHtml, noPlanHtml, screenshot] = process.argv.slice(2).map((p) => resolve(p));
 if (!planHtml || !noPlanHtml || !screenshot) {
   console.error('usage: node test.mjs PLAN.html NO_PLAN.html SCREENSHOT.png');
@@ -74,16 +75,51 @@ function embeddedData(file) {
 
 const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
 
-/** Opens a page with CDN routing and error capture; resolves once the first frame is drawn. */
-async function open(context, file) {
+/** The pixel (RGBA) of the WebGL canvas at CSS position [x, y]. */
+async function pixelAt(page, xy) {
+  return page.evaluate(([x, y]) => {
+    const c = document.querySelector('#view canvas');
+    const k = c.width / c.clientWidth;
+    const off = document.createElement('canvas');
+    off.width = 1;
+    off.height = 1;
+    const ctx = off.getContext('2d');
+    ctx.drawImage(c, Math.floor(x * k), Math.floor(y * k), 1, 1, 0, 0, 1, 1);
+    return Array.from(ctx.getImageData(0, 0, 1, 1).data);
+  }, xy);
+}
+
+/** Every request a page makes, beyond loading its own file, is refused and listed here. */
+const refused = [];
+
+/**
+ * Opens a page with error capture; resolves once the viewer has started and, unless
+ * `noWebgl`, drawn its first frame. `noWebgl`: the page's canvases give no WebGL context.
+ */
+async function open(context, file, { noWebgl = false } = {}) {
   const page = await context.newPage();
   const errors = [];
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
   page.on('pageerror', (e) => errors.push(String(e)));
-  await page.goto(pathToFileURL(file).href);
+  if (noWebgl) {
+    await page.addInitScript(() => {
+      const original = HTMLCanvasElement.prototype.getContext;
+      HTMLCanvasElement.prototype.getContext = function (kind, ...rest) {
+        return /webgl/i.test(kind) ? null : original.call(this, kind, ...rest);
+      };
+    });
+  }
+  const href = pathToFileURL(file).href;
+  await page.route('**/*', (route) => {
+    const url = route.request().url();
+    if (url === href) return route.continue();
+    refused.push(url);
+    return route.abort('blockedbyclient');
+  });
+  await page.goto(href);
   let rendered = true;
   try {
-    await page.waitForFunction(() => window.pregraspViewer && window.pregraspViewer.framesRendered > 0, null, { timeout: 30000 });
+    await page.waitForFunction((gl) => window.pregraspViewer && (!gl || window.pregraspViewer.framesRendered > 0), !noWebgl, { timeout: 30000 });
   } catch {
     rendered = false;
   }
@@ -95,19 +131,7 @@ const args = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '
   '--disable-background-networking', '--disable-component-update', '--disable-sync',
   '--use-angle=swiftshader', '--enable-unsafe-swiftshader'];
 const context = await chromium.launchPersistentContext(profile, {
-  executablePath: '/usr/bin/chromium', headless: true, args, viewport: { width: 1280, height: 800 },
-});
-const refused = [];
-await context.route('**/*', async (route) => {
-  const url = route.request().url();
-  if (url.startsWith('file:')) return route.continue();
-  if (url.startsWith(CDN)) {
-    const rel = url.slice(CDN.length).split(/[?#]/)[0];
-    const body = readFileSync(join(here, 'node_modules/three', rel));
-    return route.fulfill({ status: 200, contentType: 'text/javascript', body });
-  }
-  refused.push(url);
-  return route.abort();
+  executablePath, headless: true, args, viewport: { width: 1280, height: 800 }, offline: true,
 });
 
 try {
@@ -129,6 +153,19 @@ try {
     check('plan page: JS forward kinematics matches Rust FK', fkErr < 1e-9, `max error ${fkErr.toExponential(2)}`);
     const counts = await v(() => [window.pregraspViewer.candidateCount(), window.pregraspViewer.hullEdgeCount()]);
     check('plan page: candidates and hull edges drawn', counts[0] > 0 && counts[1] >= 3, `${counts[0]} candidates, ${counts[1]} hull edges`);
+    // Each arm is drawn: the pixels at each arm's flange (DH frame 6, inside the wrist_3 disc)
+    // and 5 cm above its base origin (inside the base housing) are not the background.
+    const bg = await pixelAt(page, [2, 2]);
+    const armPixels = await v(() => [0, 1].flatMap((i) => {
+      const p = window.pregraspViewer, base = p.armFrame(i, 0);
+      return [p.project(p.armFrame(i, 6)), p.project([base[0], base[1], base[2] + 0.05])];
+    }));
+    const drawn = [];
+    for (const xy of armPixels) {
+      const px = xy ? await pixelAt(page, xy) : bg;
+      drawn.push(Math.max(...[0, 1, 2].map((k) => Math.abs(px[k] - bg[k]))) > 24);
+    }
+    check('plan page: both arms are drawn (flange and base pixels are not background)', drawn.every(Boolean), drawn.join(','));
 
     const T = await v(() => window.pregraspViewer.duration());
     check('plan page: timeline has a duration', T > 0, `${T.toFixed(2)} s`);
@@ -175,6 +212,28 @@ try {
     const q1 = await page.evaluate(([i, t]) => { window.pregraspViewer.setTime(t); return window.pregraspViewer.armJoints(i); }, [other, tMid]);
     check('plan page: the other arm holds still while one moves', q0.every((x, j) => Math.abs(x - q1[j]) < 1e-12));
 
+    // Grippers: open at the start; the supportive arm closed on the support grasp from the end
+    // of sup1 until sup2 opens it ('precision'); each arm closed on its power grasp from the
+    // end of mas1 / sup2 on ('power').
+    const sup = arm, mas = other;
+    const grips = await v(() => {
+      const p = window.pregraspViewer, out = {};
+      const at = (t) => { p.setTime(t); return [p.gripper(0), p.gripper(1)]; };
+      out.start = at(0);
+      out.sup1 = at(p.segmentEnd('sup1'));
+      out.rot = at((p.segmentEnd('sup1') + p.segmentEnd('rot')) / 2);
+      out.mas1mid = at((p.segmentEnd('rot') + p.segmentEnd('mas1')) / 2);
+      out.mas1 = at(p.segmentEnd('mas1'));
+      out.sup2mid = at((p.segmentEnd('mas1') + p.segmentEnd('sup2')) / 2);
+      out.sup2 = at(p.segmentEnd('sup2'));
+      return out;
+    });
+    const gripOk = grips.start.every((g) => g === 'open')
+      && grips.sup1[sup] === 'precision' && grips.rot[sup] === 'precision' && grips.rot[mas] === 'open'
+      && grips.mas1mid[mas] === 'open' && grips.mas1mid[sup] === 'precision' && grips.mas1[mas] === 'power'
+      && grips.sup2mid[sup] === 'open' && grips.sup2mid[mas] === 'power' && grips.sup2.every((g) => g === 'power');
+    check('plan page: grippers open, hold the support grasp, then close on the power grasps', gripOk, JSON.stringify(grips));
+
     const nPlans = await v(() => document.querySelectorAll('#plan-select option').length);
     if (nPlans > 1) {
       const ok = await v(() => { window.pregraspViewer.selectPlan(1); return window.pregraspViewer.planIndex() === 1 && window.pregraspViewer.duration() > 0; });
@@ -193,8 +252,23 @@ try {
     await page.screenshot({ path: screenshot });
     console.log(`screenshot: ${screenshot}`);
   }
+  const rows = await page.evaluate(() => Array.from(document.querySelectorAll('#candidates tbody tr'), (tr) => tr.cells[0].textContent + ' ' + tr.cells[6].textContent));
+  const planJson = embeddedData(planHtml).plan;
+  check('plan page: the candidate table is filled', rows.length === planJson.candidates.length && rows.length > 0
+    && rows.every((r, k) => r === `${planJson.candidates[k].id} ${planJson.candidates[k].outcome}`), `${rows.length} rows`);
   check('plan page: no console errors', errors.length === 0, errors.slice(0, 3).join(' | '));
   await page.close();
+
+  // ---- the plan page without WebGL: says so in words, still lists the candidates ----
+  const ng = await open(context, planHtml, { noWebgl: true });
+  const note = await ng.page.evaluate(() => (document.querySelector('#view .no-webgl') || {}).textContent || '');
+  const ngRows = await ng.page.evaluate(() => document.querySelectorAll('#candidates tbody tr').length);
+  const ngFlag = await ng.page.evaluate(() => window.pregraspViewer && window.pregraspViewer.webgl);
+  check('no-WebGL page: explains in words that WebGL is missing', ng.rendered && ngFlag === false && /needs WebGL/.test(note), note.slice(0, 80));
+  check('no-WebGL page: still fills the candidate table', ngRows === planJson.candidates.length && ngRows > 0, `${ngRows} rows`);
+  check('no-WebGL page: no console errors', ng.errors.length === 0, ng.errors.slice(0, 3).join(' | '));
+  await ng.page.screenshot({ path: screenshot.replace(/\.png$/, '-no-webgl.png') });
+  await ng.page.close();
 
   // ---- the no-plan page ----
   const np = await open(context, noPlanHtml);
@@ -203,12 +277,12 @@ try {
     const stats = pixelStats(await pixels(np.page));
     check('no-plan page: canvas is not blank', stats.std > 8 && stats.colours > 20, `luminance std ${stats.std.toFixed(1)}, ${stats.colours} colours`);
     const status = await np.page.evaluate(() => document.getElementById('status').textContent);
-    const cands = await np.page.evaluate(() => window.pregraspViewer.candidateCount());
-    check('no-plan page: says "no plan" and still lists the candidates', status.startsWith('no plan') && cands > 0, `${status}; ${cands} candidates`);
+    const cands = await np.page.evaluate(() => [window.pregraspViewer.candidateCount(), window.pregraspViewer.candidateRows()]);
+    check('no-plan page: says "no plan" and still shows and lists the candidates', status.startsWith('no plan') && cands[0] > 0 && cands[1] === cands[0], `${status}; ${cands[0]} axes drawn, ${cands[1]} rows`);
     await np.page.screenshot({ path: screenshot.replace(/\.png$/, '-no-plan.png') });
   }
   check('no-plan page: no console errors', np.errors.length === 0, np.errors.slice(0, 3).join(' | '));
-  check('no request left the machine', refused.length === 0, refused.slice(0, 3).join(' '));
+  check('the pages asked for nothing beyond their own file (all refused anyway)', refused.length === 0, refused.slice(0, 3).join(' '));
 } catch (e) {
   check('browser test ran to the end', false, String(e));
 } finally {

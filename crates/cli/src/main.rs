@@ -40,10 +40,13 @@ enum Command {
     Example(cmd::example::ExampleCommand),
     /// Write an interactive 3D view (HTML) of a plan file.
     View(cmd::view::Args),
+    /// Print the plan file's JSON Schema (`schema plan`), to validate plans without the repository.
+    Schema(cmd::schema::Args),
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // `kin` numbers such as `-3.3e-05` are made readable to clap first (see cmd::kin).
+    let cli = Cli::parse_from(cmd::kin::normalize_args(std::env::args_os()));
     let result = match cli.command {
         Command::Demo(args) => cmd::demo::run(args),
         Command::Plan(args) => cmd::plan::run(args),
@@ -53,6 +56,7 @@ fn main() -> ExitCode {
         Command::Bench(command) => cmd::bench::run(command),
         Command::Example(command) => cmd::example::run(command),
         Command::View(args) => cmd::view::run(args),
+        Command::Schema(args) => cmd::schema::run(args),
     };
     match result {
         Ok(code) => code,

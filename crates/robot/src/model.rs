@@ -1,5 +1,5 @@
 //! The supported Universal Robots arms: standard DH parameters, joint limits, speed and
-//! acceleration limits (`/work/shared/facts/ur-series.md`).
+//! acceleration limits (`docs/hardware-facts.md`).
 //!
 //! Convention: standard DH, `T_i = Rz(θ_i)·Tz(d_i)·Tx(a_i)·Rx(α_i)` with
 //! α = (π/2, 0, 0, π/2, −π/2, 0), a1 = a4 = a5 = a6 = 0, d2 = d3 = 0, expressed in the

@@ -1,16 +1,14 @@
-//! FK against the shared reference poses (`shared/facts/ur-fk-reference.json`), computed
-//! independently from the same DH tables.
+//! FK against reference poses computed independently from the same DH tables
+//! (`tests/data/ur-fk-reference.json`; where its figures come from: `tests/data/README.md`).
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use pregrasp_robot::{UrKinematics, UrModel};
 
+/// The reference file, part of the crate: no path outside the repository.
+const REFERENCE: &str = include_str!("data/ur-fk-reference.json");
+
 fn reference() -> serde_json::Value {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/facts/ur-fk-reference.json"
-    );
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("read {path}: {e}"));
-    serde_json::from_str(&text).expect("reference JSON parses")
+    serde_json::from_str(REFERENCE).expect("reference JSON parses")
 }
 
 fn floats(v: &serde_json::Value) -> Vec<f64> {
@@ -55,6 +53,8 @@ fn fk_matches_every_reference_pose() {
             .map(|v| v.as_array().unwrap().len())
             .sum::<usize>()
     );
+    // Every model, 12 cases each, the first at the zero configuration.
+    assert_eq!(checked, 12 * UrModel::ALL.len());
 }
 
 /// `fk_frames` against an independent composition of the DH matrices

@@ -1,4 +1,8 @@
-//! Assembling the single HTML page: template + style + embedded JSON + viewer module.
+//! Assembling the single HTML page: template + style + embedded JSON + viewer script.
+//!
+//! The page is one file that needs no network: the viewer draws with its own WebGL code
+//! (`web/viewer.js`), and its Content-Security-Policy ([`CONTENT_SECURITY_POLICY`]) lets the
+//! browser load nothing from anywhere, so a page that tried would fail loudly, not quietly.
 
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::PlanFile;
@@ -6,13 +10,13 @@ use pregrasp_io::plan_file::PlanFile;
 use crate::data::ViewData;
 use crate::options::ViewOptions;
 
-/// The pinned three.js release the page loads (npm `three`, same version in `ci/browser`).
-pub const THREE_VERSION: &str = "0.170.0";
-/// three.js core, as an ES module.
-pub const THREE_MODULE_URL: &str =
-    "https://cdn.jsdelivr.net/npm/three@0.170.0/build/three.module.js";
-/// Prefix of the three.js add-ons (`OrbitControls` lives at `controls/OrbitControls.js`).
-pub const THREE_ADDONS_URL: &str = "https://cdn.jsdelivr.net/npm/three@0.170.0/examples/jsm/";
+/// The page no longer loads three.js; the view data's `three_version` field says `none`.
+pub const THREE_VERSION: &str = "none";
+
+/// The page's Content-Security-Policy: nothing is fetched (`default-src 'none'`), only the
+/// page's own inline style and script run, and nothing may be framed or submitted.
+pub const CONTENT_SECURITY_POLICY: &str = "default-src 'none'; script-src 'unsafe-inline'; \
+     style-src 'unsafe-inline'; img-src data: blob:; base-uri 'none'; form-action 'none'";
 
 const TEMPLATE: &str = include_str!("web/template.html");
 const STYLE: &str = include_str!("web/viewer.css");
@@ -25,15 +29,11 @@ const SCRIPT: &str = include_str!("web/viewer.js");
 pub fn render_html(plan: &PlanFile, mesh: &Mesh, options: &ViewOptions) -> String {
     let data = ViewData::new(plan, mesh, options);
     let json = serde_json::to_string(&data).expect("view data serialises");
-    let import_map = serde_json::json!({
-        "imports": { "three": THREE_MODULE_URL, "three/addons/": THREE_ADDONS_URL }
-    });
-    let import_map = serde_json::to_string_pretty(&import_map).expect("import map serialises");
     fill_template(TEMPLATE, |key| match key {
         "TITLE" => Some(escape_html(&data.title)),
         "VERSION" => Some(env!("CARGO_PKG_VERSION").to_string()),
+        "CSP" => Some(CONTENT_SECURITY_POLICY.to_string()),
         "STYLE" => Some(STYLE.to_string()),
-        "IMPORTMAP" => Some(escape_json_for_script(&import_map)),
         "DATA" => Some(escape_json_for_script(&json)),
         "SCRIPT" => Some(SCRIPT.to_string()),
         _ => None,
@@ -131,9 +131,18 @@ mod tests {
     }
 
     #[test]
-    fn urls_use_the_pinned_version() {
-        assert!(THREE_MODULE_URL.contains(&format!("three@{THREE_VERSION}/")));
-        assert!(THREE_ADDONS_URL.contains(&format!("three@{THREE_VERSION}/")));
+    fn the_policy_fetches_nothing() {
+        let directives: Vec<&str> = CONTENT_SECURITY_POLICY.split(';').map(str::trim).collect();
+        assert!(directives.contains(&"default-src 'none'"));
+        // No directive allows a host, a scheme that reaches the network, or 'self'.
+        for d in &directives {
+            for word in d.split_whitespace().skip(1) {
+                assert!(
+                    ["'none'", "'unsafe-inline'", "data:", "blob:"].contains(&word),
+                    "{d}"
+                );
+            }
+        }
     }
 
     #[test]

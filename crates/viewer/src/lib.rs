@@ -2,8 +2,8 @@
 //!
 //! [`render_html`] turns a [`PlanFile`](pregrasp_io::plan_file::PlanFile) and the part's
 //! mesh into one HTML page: the data (plan, mesh, hull feature edges, robot models) is
-//! embedded as JSON in a `<script type="application/json">`, and a small three.js program
-//! (loaded as an ES module from a pinned CDN URL, see [`THREE_VERSION`]) draws the support,
+//! embedded as JSON in a `<script type="application/json">`, and a small WebGL program of the
+//! page's own (no library, no network request: the page works offline) draws the support,
 //! the part at P_init, the hull's feature edges, every rotation-axis candidate and both arms
 //! with their grippers, and animates the selected plan (μ_sup1, μ_rot, μ_mas1, μ_sup2).
 //!
@@ -16,7 +16,5 @@ pub mod fixture;
 pub mod html;
 pub mod options;
 
-pub use html::{
-    escape_json_for_script, render_html, THREE_ADDONS_URL, THREE_MODULE_URL, THREE_VERSION,
-};
+pub use html::{escape_json_for_script, render_html, CONTENT_SECURITY_POLICY, THREE_VERSION};
 pub use options::ViewOptions;

@@ -1,9 +1,10 @@
-//! The page embeds valid JSON that round-trips the plan, loads the pinned three.js, escapes
-//! script-closing text, and carries correct robot models and hull edges.
+//! The page embeds valid JSON that round-trips the plan, needs no network (no URL, no
+//! import, a policy that forbids fetching), escapes script-closing text, and carries correct
+//! robot models and hull edges.
 
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_robot::{UrKinematics, UrModel};
-use pregrasp_viewer::{fixture, render_html, ViewOptions, THREE_ADDONS_URL, THREE_MODULE_URL};
+use pregrasp_viewer::{fixture, render_html, ViewOptions, CONTENT_SECURITY_POLICY};
 use serde_json::Value;
 
 const DATA_OPEN: &str = r#"<script type="application/json" id="pregrasp-data">"#;
@@ -31,29 +32,59 @@ fn embedded_plan_round_trips() {
     assert_eq!(data["plan"], serde_json::to_value(&plan).unwrap());
 }
 
+/// The page is one file: it names no URL, loads no script, style or module from anywhere, and
+/// its Content-Security-Policy (the first thing in `<head>`, before any script) forbids
+/// fetching, so the browser itself refuses any request the page might make.
 #[test]
-fn loads_pinned_three_through_an_import_map() {
+fn the_page_needs_no_network() {
     let (_, html) = demo();
-    let map_start = html
-        .find(r#"<script type="importmap">"#)
-        .expect("import map");
-    let module_start = html
-        .find(r#"<script type="module">"#)
-        .expect("module script");
-    assert!(
-        map_start < module_start,
-        "the import map must precede the module"
+    let lower = html.to_ascii_lowercase();
+    for needle in [
+        "http:",
+        "https:",
+        "//cdn",
+        "<script src",
+        " src=",
+        "<link",
+        "@import",
+        "importmap",
+        "import(",
+        "from '",
+        "from \"",
+        "fetch(",
+        "xmlhttprequest",
+        "websocket",
+        "eventsource",
+        "sendbeacon",
+    ] {
+        assert!(!lower.contains(needle), "the page contains {needle:?}");
+    }
+    let csp = format!(
+        r#"<meta http-equiv="Content-Security-Policy" content="{CONTENT_SECURITY_POLICY}">"#
     );
-    let map_text = &html[map_start + 25..];
-    let map: Value =
-        serde_json::from_str(&map_text[..map_text.find("</script>").unwrap()]).unwrap();
-    assert_eq!(map["imports"]["three"], THREE_MODULE_URL);
-    assert_eq!(map["imports"]["three/addons/"], THREE_ADDONS_URL);
-    assert_eq!(
-        THREE_MODULE_URL,
-        "https://cdn.jsdelivr.net/npm/three@0.170.0/build/three.module.js"
-    );
-    assert!(html.contains("from 'three/addons/controls/OrbitControls.js'"));
+    let csp_at = html.find(&csp).expect("the policy is in the page");
+    assert!(csp_at < html.find("<script").unwrap());
+    assert!(csp_at < html.find("<style").unwrap());
+    // Exactly two scripts: the data and the viewer, both inline.
+    assert_eq!(lower.matches("<script type=").count(), 2);
+    assert_eq!(lower.matches("</script>").count(), 2);
+    assert!(html.contains(r#"<script type="module">"#));
+}
+
+/// The viewer draws every shape kind the data may carry, and every gripper set.
+#[test]
+fn the_script_draws_every_shape_kind_and_gripper_set() {
+    let (_, html) = demo();
+    for needle in [
+        "'capsule'",
+        "'cylinder'",
+        "'cuboid'",
+        "closed_precision",
+        "closed_power",
+        "getContext('webgl'",
+    ] {
+        assert!(html.contains(needle), "the viewer script lacks {needle}");
+    }
 }
 
 #[test]
@@ -62,8 +93,8 @@ fn script_closing_text_in_the_data_is_escaped() {
     plan.reason = Some("</SCRIPT> <!-- & \u{2028}".into());
     plan.scene.name = Some("<b>x</b>".into());
     let html = render_html(&plan, &fixture::plate_mesh(), &ViewOptions::default());
-    // Exactly the page's own three scripts are closed; nothing from the data.
-    assert_eq!(html.to_ascii_lowercase().matches("</script").count(), 3);
+    // Exactly the page's own two scripts are closed; nothing from the data.
+    assert_eq!(html.to_ascii_lowercase().matches("</script").count(), 2);
     assert!(!html.contains("<b>x</b>"), "the title is HTML-escaped");
     assert!(html.contains("<title>&lt;b&gt;x&lt;/b&gt;</title>"));
     let back: PlanFile = serde_json::from_value(embedded(&html)["plan"].clone()).unwrap();
@@ -137,7 +168,7 @@ fn robot_models_carry_dh_shapes_and_a_correct_fk_check() {
             .chain(r["gripper"]["open"].as_array().unwrap())
         {
             let kind = shape["kind"].as_str().unwrap();
-            assert!(kind == "capsule" || kind == "cuboid", "{kind}");
+            assert!(["capsule", "cylinder", "cuboid"].contains(&kind), "{kind}");
             assert!(shape["frame"].as_u64().unwrap() <= 6);
         }
         let checks = r["fk_check"].as_array().unwrap();

@@ -8,6 +8,7 @@ pub mod demo;
 pub mod example;
 pub mod kin;
 pub mod plan;
+pub mod schema;
 pub mod view;
 
 /// Exit code: success (planned, valid, done).

@@ -20,7 +20,7 @@ use super::{EXIT_NO_PLAN, EXIT_OK};
 Every plan is re-verified with `pregrasp check`'s rules before it is written."
 )]
 pub struct Args {
-    /// The scene file (TOML, see shared/spec/scene-format.md).
+    /// The scene file (TOML, see docs/scene-format.md).
     pub scene: PathBuf,
     /// Where to write the plan file (JSON). Written atomically; nothing is written on bad input.
     #[arg(short, long, default_value = "plan.json")]

@@ -1,5 +1,5 @@
 //! `pregrasp view PLAN.json -o plan.html`: one self-contained HTML page with an interactive
-//! 3D view of the plan (three.js from a CDN; open it in any browser).
+//! 3D view of the plan (drawn by its own WebGL code, no network needed; open it in any browser).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
