@@ -101,15 +101,21 @@ fn an_unreachable_support_grasp_exits_2_with_a_no_plan_file() {
 /// Writes the chair-side scene (mesh path made absolute) with its support grasp G_s moved two
 /// metres along object x, out of both arms' reach.
 fn write_far_support_scene(path: &Path) {
+    // G_s turned to approach from below, through the table: the fingers still close on the
+    // bar, but no arm can reach it without touching the support.
     let scene = std::fs::read_to_string(examples_dir().join("chair_side.toml")).unwrap();
     let mesh = examples_dir().join("meshes/chair_side.stl");
     let scene = scene.replace("meshes/chair_side.stl", mesh.to_str().unwrap());
-    let key = "support = { xyz = [";
-    let start = scene.find(key).expect("support line") + key.len();
-    let end = start + scene[start..].find(',').unwrap();
-    let x: f64 = scene[start..end].trim().parse().unwrap();
-    let moved = format!("{}{}{}", &scene[..start], x + 2.0, &scene[end..]);
-    std::fs::write(path, moved).unwrap();
+    let line = scene
+        .lines()
+        .find(|l| l.starts_with("support = {"))
+        .expect("support line");
+    let flipped = line.replace("rpy_deg = [180.00,", "rpy_deg = [0.00,");
+    assert_ne!(
+        line, flipped,
+        "support grasp written as rpy_deg = [180, ...]"
+    );
+    std::fs::write(path, scene.replace(line, &flipped)).unwrap();
 }
 
 #[test]
@@ -170,15 +176,16 @@ fn demo_runs_from_nothing_and_writes_a_valid_plan() {
     );
 }
 
-/// Every plan file `plan` writes — planned or not — matches `shared/spec/plan.schema.json`.
+/// The repository's `docs/plan.schema.json`.
+fn schema_file() -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/plan.schema.json");
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// Every plan file `plan` writes — planned or not — matches `docs/plan.schema.json`.
 #[test]
 fn plan_files_match_the_json_schema() {
-    let schema_path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/spec/plan.schema.json");
-    let schema: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(&schema_path).expect("shared/ beside the repo"),
-    )
-    .unwrap();
+    let schema: serde_json::Value = serde_json::from_str(&schema_file()).unwrap();
     let validator = jsonschema::validator_for(&schema).expect("the schema compiles");
     let tmp = tempfile::tempdir().unwrap();
     for name in ["chair_side", "shelf_side", "stool_side"] {
@@ -208,4 +215,44 @@ fn plan_files_match_the_json_schema() {
         serde_json::from_str(&std::fs::read_to_string(tmp.path().join("none.json")).unwrap())
             .unwrap();
     assert!(validator.is_valid(&plan));
+}
+
+/// `pregrasp schema plan` prints the repository's schema byte for byte, so tools can validate
+/// plan files with the binary alone; the schema is draft 2020-12 and rejects a broken plan.
+#[test]
+fn schema_plan_prints_the_repository_schema() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = pregrasp(tmp.path(), &["schema", "plan"]);
+    assert_eq!(out.status.code(), Some(0));
+    let printed = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(printed, schema_file());
+    let schema: serde_json::Value = serde_json::from_str(&printed).unwrap();
+    assert_eq!(
+        schema["$schema"],
+        "https://json-schema.org/draft/2020-12/schema"
+    );
+    assert_eq!(schema["properties"]["format"]["const"], "pregrasp.plan/1");
+    let validator = jsonschema::validator_for(&schema).expect("the schema compiles");
+    // A no-plan file passes; the same file with a third robot or a bad status does not.
+    write_far_support_scene(&tmp.path().join("far.toml"));
+    let run = pregrasp(
+        tmp.path(),
+        &["plan", "far.toml", "-o", "none.json", "--quiet"],
+    );
+    assert_eq!(run.status.code(), Some(2));
+    let plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("none.json")).unwrap())
+            .unwrap();
+    assert!(validator.is_valid(&plan));
+    let mut three = plan.clone();
+    let extra = three["robots"][0].clone();
+    three["robots"].as_array_mut().unwrap().push(extra);
+    assert!(!validator.is_valid(&three));
+    let mut status = plan;
+    status["status"] = serde_json::json!("maybe");
+    assert!(!validator.is_valid(&status));
+    // `schema scene` points at the scene format's document.
+    let out = pregrasp(tmp.path(), &["schema", "scene"]);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("docs/scene-format.md"));
 }

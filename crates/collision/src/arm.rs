@@ -11,20 +11,39 @@ use crate::shape::{Bounded, Placed};
 
 /// Most primitives (arm links + gripper parts) one arm may have; the posed arm lives in a
 /// fixed-size buffer so that a collision check never touches the heap.
-pub const MAX_ARM_SHAPES: usize = 24;
+pub const MAX_ARM_SHAPES: usize = 34;
 
-/// The primitives of an arm with its gripper in one gripper state (links first, then gripper).
+/// Self-collision pairs of link shapes (indices) between two DH frames `(frame_a, frame_b)`.
+pub(crate) type PairGroup = ((u8, u8), Vec<(u8, u8)>);
+
+/// The primitives of an arm with its gripper (links first, then gripper). The list, its names
+/// and pairs are the same in every gripper state; only the finger shapes move.
 #[derive(Clone, Debug)]
 pub(crate) struct ShapeSet {
-    /// `(DH frame index 0..=6, primitive in that frame)`.
+    /// `(DH frame index 0..=6, primitive in that frame)` of the arm links.
     pub parts: Vec<(usize, Primitive)>,
+    /// The gripper's primitives (flange frame) when open.
+    pub open_gripper: Vec<Primitive>,
+    /// The gripper's primitives closed at the gaps it is known to hold (see
+    /// [`ArmModel::with_closed_gaps`]); other gaps are computed when posed.
+    pub closed_grippers: Vec<(f64, Vec<Primitive>)>,
     /// `"<arm>/<link>"` for every part.
     pub names: Vec<String>,
     /// Whether the part belongs to the gripper (may touch a grasped part).
     pub is_gripper: Vec<bool>,
-    /// Pairs of `parts` that must not touch (link self-collision pairs and gripper vs the
-    /// links it must not touch), in a fixed order.
-    pub self_pairs: Vec<(u8, u8)>,
+    /// The link shapes no gripper shape may touch (every link but the one carrying it).
+    pub gripper_forbidden: Vec<u8>,
+    /// A sphere (centre in the flange frame, radius) holding every gripper shape at any
+    /// opening: one test culls the whole gripper.
+    pub gripper_sphere: (nalgebra::Point3<f64>, f64),
+    /// Per DH frame 0..=6, a sphere (centre in that frame, radius) holding the frame's link
+    /// shapes (radius 0 for a frame with none).
+    pub frame_spheres: [(nalgebra::Point3<f64>, f64); 7],
+    /// The link shapes' self-collision pairs grouped by their two frames, so a whole group is
+    /// culled by one test of the frame spheres.
+    pub link_pair_groups: Vec<PairGroup>,
+    /// Shape groups: the link shapes of each DH frame 0..=6, then (group 7) the gripper's.
+    pub group_members: [Vec<u8>; 8],
 }
 
 /// An arm in the world: a UR model at `base` with a Robotiq 2F-85 on its flange.
@@ -41,8 +60,7 @@ pub struct ArmModel {
     pub base: Isometry3<f64>,
     /// The gripper on the flange.
     pub gripper: Gripper2F85,
-    /// Shapes for `[Open, Closed]`.
-    sets: [ShapeSet; 2],
+    shapes: ShapeSet,
 }
 
 impl ArmModel {
@@ -67,46 +85,88 @@ impl ArmModel {
     ) -> Result<Self, CollisionError> {
         let geometry = arm_geometry(model);
         let forbidden = Gripper2F85::forbidden_arm_links(&geometry);
-        let make = |state: GripperState| -> Result<ShapeSet, CollisionError> {
-            let grip: Vec<LinkShape> = gripper.shapes(state);
-            let n_links = geometry.links.len();
-            let count = n_links + grip.len();
-            if count > MAX_ARM_SHAPES {
-                return Err(CollisionError::TooManyShapes {
-                    arm: name.to_string(),
-                    count,
-                    max: MAX_ARM_SHAPES,
-                });
+        let grip: Vec<LinkShape> = gripper.shapes(GripperState::Open);
+        let n_links = geometry.links.len();
+        let count = n_links + grip.len();
+        if count > MAX_ARM_SHAPES {
+            return Err(CollisionError::TooManyShapes {
+                arm: name.to_string(),
+                count,
+                max: MAX_ARM_SHAPES,
+            });
+        }
+        let names = geometry
+            .links
+            .iter()
+            .chain(grip.iter())
+            .map(|l| format!("{name}/{}", l.name))
+            .collect();
+        let is_gripper = (0..count).map(|i| i >= n_links).collect();
+        let link_pairs: Vec<(u8, u8)> = geometry
+            .self_collision_pairs
+            .iter()
+            .map(|&(i, j)| (i as u8, j as u8))
+            .collect();
+        let gripper_forbidden = forbidden.iter().map(|&l| l as u8).collect();
+        let frame_spheres = frame_spheres(&geometry.links);
+        let mut link_pair_groups: Vec<PairGroup> = Vec::new();
+        for &(a, b) in &link_pairs {
+            let key = (
+                geometry.links[a as usize].frame as u8,
+                geometry.links[b as usize].frame as u8,
+            );
+            match link_pair_groups.iter_mut().find(|(k, _)| *k == key) {
+                Some((_, pairs)) => pairs.push((a, b)),
+                None => link_pair_groups.push((key, vec![(a, b)])),
             }
-            let all = geometry.links.iter().chain(grip.iter());
-            let parts = all.clone().map(|l| (l.frame, l.primitive)).collect();
-            let names = all.map(|l| format!("{name}/{}", l.name)).collect();
-            let is_gripper = (0..count).map(|i| i >= n_links).collect();
-            let mut self_pairs: Vec<(u8, u8)> = geometry
-                .self_collision_pairs
+        }
+        let shapes = ShapeSet {
+            parts: geometry
+                .links
                 .iter()
-                .map(|&(i, j)| (i as u8, j as u8))
-                .collect();
-            for g in 0..grip.len() {
-                for &l in &forbidden {
-                    self_pairs.push((l as u8, (n_links + g) as u8));
+                .map(|l| (l.frame, l.primitive))
+                .collect(),
+            open_gripper: grip.iter().map(|l| l.primitive).collect(),
+            closed_grippers: Vec::new(),
+            names,
+            is_gripper,
+            gripper_forbidden,
+            gripper_sphere: gripper_sphere(&gripper),
+            frame_spheres,
+            link_pair_groups,
+            group_members: std::array::from_fn(|g| {
+                if g < 7 {
+                    (0..n_links)
+                        .filter(|&k| geometry.links[k].frame == g)
+                        .map(|k| k as u8)
+                        .collect()
+                } else {
+                    (n_links..count).map(|k| k as u8).collect()
                 }
-            }
-            Ok(ShapeSet {
-                parts,
-                names,
-                is_gripper,
-                self_pairs,
-            })
+            }),
         };
-        let sets = [make(GripperState::Open)?, make(GripperState::Closed)?];
         Ok(ArmModel {
             name: name.to_string(),
             kin: UrKinematics::new(model),
             base,
             gripper,
-            sets,
+            shapes,
         })
+    }
+
+    /// Caches the gripper's shapes closed at each of `gaps` (m), so that posing the arm
+    /// holding the part at one of them costs no finger kinematics.
+    pub fn with_closed_gaps(mut self, gaps: &[f64]) -> Self {
+        for &gap in gaps {
+            if self.shapes.closed_grippers.iter().any(|(g, _)| *g == gap) {
+                continue;
+            }
+            let mut prims = Vec::with_capacity(self.gripper.shape_count());
+            self.gripper
+                .for_each_shape(GripperState::Closed { gap }, |_, _, p| prims.push(p));
+            self.shapes.closed_grippers.push((gap, prims));
+        }
+        self
     }
 
     /// The arm model.
@@ -119,51 +179,72 @@ impl ArmModel {
         self.base * self.kin.fk(q)
     }
 
-    /// Names of the primitives (`"<arm>/<link>"`) in a gripper state, links first.
-    pub fn shape_names(&self, state: GripperState) -> &[String] {
-        &self.sets[state_index(state)].names
+    /// Names of the primitives (`"<arm>/<link>"`), links first then the gripper's; the same
+    /// in every gripper state.
+    pub fn shape_names(&self) -> &[String] {
+        &self.shapes.names
     }
 
-    pub(crate) fn set(&self, state: GripperState) -> &ShapeSet {
-        &self.sets[state_index(state)]
+    pub(crate) fn set(&self) -> &ShapeSet {
+        &self.shapes
     }
 
     /// Every primitive placed in the world at `q`.
     pub(crate) fn pose(&self, q: &Joints, state: GripperState) -> PosedArm {
-        let set = self.set(state);
+        let mut posed = PosedArm::EMPTY;
+        self.pose_into(q, state, &mut posed);
+        posed
+    }
+
+    /// [`pose`](Self::pose) into an existing buffer (no copy of the posed arm).
+    pub(crate) fn pose_into(&self, q: &Joints, state: GripperState, posed: &mut PosedArm) {
+        let set = &self.shapes;
         let local = self.kin.fk_frames(q);
         let mut frames = [Isometry3::identity(); 7];
         for (f, l) in frames.iter_mut().zip(local.iter()) {
             *f = self.base * l;
         }
-        let mut posed = PosedArm {
-            shapes: [Bounded::EMPTY; MAX_ARM_SHAPES],
-            len: set.parts.len(),
-            flange: frames[6],
-        };
-        for (slot, (frame, prim)) in posed.shapes.iter_mut().zip(set.parts.iter()) {
-            let t = &frames[*frame];
-            let placed = match prim {
-                Primitive::Capsule(c) => Placed::Capsule {
-                    a: t * c.a,
-                    b: t * c.b,
-                    radius: c.radius,
-                },
-                Primitive::Cuboid { pose, half_extents } => Placed::Cuboid {
-                    pose: t * pose,
-                    half: *half_extents,
-                },
-            };
-            *slot = Bounded::new(placed);
+        let n_links = set.parts.len();
+        let (gc, gr) = set.gripper_sphere;
+        posed.len = set.names.len();
+        posed.links = n_links;
+        posed.flange = frames[6];
+        posed.gripper = Bounded::sphere(frames[6] * gc, gr);
+        for (f, slot) in posed.frame_spheres.iter_mut().enumerate() {
+            let (c, r) = set.frame_spheres[f];
+            *slot = Bounded::sphere(frames[f] * c, r);
         }
-        posed
+        for (slot, (frame, prim)) in posed.shapes.iter_mut().zip(set.parts.iter()) {
+            *slot = Bounded::new(place(&frames[*frame], prim));
+        }
+        let flange = frames[6];
+        let slots = &mut posed.shapes[n_links..];
+        match state {
+            GripperState::Open => {
+                for (slot, prim) in slots.iter_mut().zip(&set.open_gripper) {
+                    *slot = Bounded::new(place(&flange, prim));
+                }
+            }
+            GripperState::Closed { gap } => {
+                match set.closed_grippers.iter().find(|(g, _)| *g == gap) {
+                    Some((_, prims)) => {
+                        for (slot, prim) in slots.iter_mut().zip(prims) {
+                            *slot = Bounded::new(place(&flange, prim));
+                        }
+                    }
+                    None => self.gripper.for_each_shape(state, |k, _, prim| {
+                        slots[k] = Bounded::new(place(&flange, &prim));
+                    }),
+                }
+            }
+        }
     }
 
     /// Every primitive of the arm placed in the world at `q` (for viewers and debugging):
     /// `(name, primitive)`.
     pub fn placed_shapes(&self, q: &Joints, state: GripperState) -> Vec<(String, Placed)> {
         let posed = self.pose(q, state);
-        let set = self.set(state);
+        let set = self.set();
         posed
             .shapes()
             .iter()
@@ -174,31 +255,142 @@ impl ArmModel {
 
     /// Whether primitive `i` is rigidly attached to the base (DH frame 0): its pose never
     /// depends on `q`, so it is mounted, not moving.
-    pub(crate) fn is_base_part(&self, state: GripperState, i: usize) -> bool {
-        self.set(state).parts[i].0 == 0
+    pub(crate) fn is_base_part(&self, i: usize) -> bool {
+        self.shapes.parts.get(i).is_some_and(|p| p.0 == 0)
     }
 }
 
+/// A sphere around the gripper at every opening: centre on the flange axis, radius covering
+/// every shape's bounding sphere at 65 openings from closed to open, plus 1 mm for the motion
+/// between them (the fingers move less than that between neighbouring samples' spheres).
+fn gripper_sphere(gripper: &Gripper2F85) -> (nalgebra::Point3<f64>, f64) {
+    let center = nalgebra::Point3::new(0.0, 0.0, 0.09);
+    let stroke = gripper.fingers().stroke();
+    let mut radius: f64 = 0.0;
+    let states = (0..=64)
+        .map(|k| GripperState::Closed {
+            gap: stroke * k as f64 / 64.0,
+        })
+        .chain([GripperState::Open]);
+    for state in states {
+        gripper.for_each_shape(state, |_, _, prim| {
+            let b = Bounded::new(place(&Isometry3::identity(), &prim));
+            radius = radius.max((b.center - center).norm() + b.radius);
+        });
+    }
+    (center, radius + 0.001)
+}
+
+/// Per DH frame, a sphere holding the bounding spheres of that frame's link shapes: centre at
+/// the middle of their box, radius to the farthest one.
+fn frame_spheres(links: &[LinkShape]) -> [(nalgebra::Point3<f64>, f64); 7] {
+    std::array::from_fn(|f| {
+        let spheres: Vec<Bounded> = links
+            .iter()
+            .filter(|l| l.frame == f)
+            .map(|l| Bounded::new(place(&Isometry3::identity(), &l.primitive)))
+            .collect();
+        if spheres.is_empty() {
+            return (nalgebra::Point3::origin(), 0.0);
+        }
+        let mut lo = nalgebra::Point3::from([f64::INFINITY; 3]);
+        let mut hi = nalgebra::Point3::from([f64::NEG_INFINITY; 3]);
+        for b in &spheres {
+            let r = nalgebra::Vector3::repeat(b.radius);
+            lo = lo.inf(&(b.center - r));
+            hi = hi.sup(&(b.center + r));
+        }
+        let c = nalgebra::center(&lo, &hi);
+        let radius = spheres
+            .iter()
+            .map(|b| (b.center - c).norm() + b.radius)
+            .fold(0.0, f64::max);
+        (c, radius)
+    })
+}
+
+/// A primitive of frame `t` placed in the world.
 #[inline]
-fn state_index(state: GripperState) -> usize {
-    match state {
-        GripperState::Open => 0,
-        GripperState::Closed => 1,
+fn place(t: &Isometry3<f64>, prim: &Primitive) -> Placed {
+    match prim {
+        Primitive::Capsule(c) => Placed::Capsule {
+            a: t * c.a,
+            b: t * c.b,
+            radius: c.radius,
+        },
+        Primitive::Cylinder(c) => Placed::Cylinder {
+            a: t * c.a,
+            b: t * c.b,
+            radius: c.radius,
+        },
+        Primitive::Cuboid { pose, half_extents } => Placed::Cuboid {
+            pose: t * pose,
+            half: *half_extents,
+        },
     }
 }
 
-/// An arm's primitives placed in the world at one configuration (stack buffer).
+/// An arm's primitives placed in the world at one configuration (fixed-size buffer).
 #[derive(Clone, Debug)]
 pub(crate) struct PosedArm {
     shapes: [Bounded; MAX_ARM_SHAPES],
     len: usize,
+    /// The first `links` shapes are the arm's links, the rest its gripper's.
+    links: usize,
+    /// Per DH frame, a sphere holding its link shapes.
+    frame_spheres: [Bounded; 7],
     flange: Isometry3<f64>,
+    /// A sphere holding the whole gripper.
+    gripper: Bounded,
 }
 
 impl PosedArm {
+    /// An arm with no shapes (a buffer to pose into).
+    pub const EMPTY: PosedArm = PosedArm {
+        shapes: [Bounded::EMPTY; MAX_ARM_SHAPES],
+        len: 0,
+        links: 0,
+        frame_spheres: [Bounded::EMPTY; 7],
+        flange: Isometry3 {
+            rotation: nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(
+                1.0, 0.0, 0.0, 0.0,
+            )),
+            translation: nalgebra::Translation3::new(0.0, 0.0, 0.0),
+        },
+        gripper: Bounded::EMPTY,
+    };
+
     #[inline]
     pub fn shapes(&self) -> &[Bounded] {
         &self.shapes[..self.len]
+    }
+
+    /// Index range of the gripper's shapes in [`shapes`](Self::shapes).
+    #[inline]
+    pub fn gripper_range(&self) -> std::ops::Range<usize> {
+        self.links..self.len
+    }
+
+    /// A sphere holding every gripper shape.
+    #[inline]
+    pub fn gripper_sphere(&self) -> &Bounded {
+        &self.gripper
+    }
+
+    /// The sphere holding the link shapes of DH frame `f`.
+    #[inline]
+    pub fn frame_sphere(&self, f: usize) -> &Bounded {
+        &self.frame_spheres[f]
+    }
+
+    /// The sphere of shape group `g` (DH frames 0..=6, 7 = the gripper).
+    #[inline]
+    pub fn group_sphere(&self, g: usize) -> &Bounded {
+        if g < 7 {
+            &self.frame_spheres[g]
+        } else {
+            &self.gripper
+        }
     }
 
     /// Flange pose in the world.
@@ -207,14 +399,14 @@ impl PosedArm {
         &self.flange
     }
 
-    /// Axis-aligned bounding box of the whole arm (union of the parts' boxes).
+    /// Axis-aligned box around the whole arm: the union of the parts' bounding-sphere boxes.
     pub fn bounds(&self) -> (nalgebra::Point3<f64>, nalgebra::Point3<f64>) {
         let mut lo = nalgebra::Point3::from([f64::INFINITY; 3]);
         let mut hi = nalgebra::Point3::from([f64::NEG_INFINITY; 3]);
         for s in self.shapes() {
-            let (a, b) = s.aabb();
-            lo = lo.inf(&a);
-            hi = hi.sup(&b);
+            let r = nalgebra::Vector3::repeat(s.radius);
+            lo = lo.inf(&(s.center - r));
+            hi = hi.sup(&(s.center + r));
         }
         (lo, hi)
     }

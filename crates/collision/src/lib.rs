@@ -5,6 +5,7 @@
 //! - [`distance`]: closed-form segment/triangle/box distances (the narrow phase).
 //! - [`shape`]: primitives placed in the world ([`Placed`]) and their pair tests.
 //! - [`object`]: the part as a parry `TriMesh` with its BVH ([`ObjectGeometry`]).
+//! - [`grip`]: the width a gripper closes on at a grasp, from the part's mesh.
 //! - [`arm`]: [`ArmModel`], an arm's kinematics, base and cached link/gripper primitives.
 //! - [`world`]: [`CollisionWorld`], [`WorldState`], [`ObjectPlacement`], [`Contact`]:
 //!   first contact by name, clearance, single-arm queries.
@@ -20,6 +21,7 @@ pub mod arm;
 pub mod distance;
 pub mod error;
 pub mod fixtures;
+pub mod grip;
 pub mod object;
 pub mod reach;
 pub mod shape;
@@ -28,6 +30,7 @@ pub mod world;
 
 pub use arm::{ArmModel, MAX_ARM_SHAPES};
 pub use error::CollisionError;
+pub use grip::{closing_gap, GripFailure};
 pub use object::ObjectGeometry;
 pub use shape::Placed;
 pub use validity::{attached_reach, joint_space, joint_space_with_payload, ArmValidity};

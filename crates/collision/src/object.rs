@@ -103,10 +103,62 @@ impl ObjectGeometry {
                 let lb = pose.inverse_transform_point(&b);
                 self.capsule_hits(&la, &lb, radius + margin)
             }
+            Placed::Cylinder { a, b, radius } => {
+                let la = pose.inverse_transform_point(&a);
+                let lb = pose.inverse_transform_point(&b);
+                self.cylinder_hits(&la, &lb, radius, margin)
+            }
             Placed::Cuboid { pose: bp, half } => {
                 self.cuboid_hits(&pose.inv_mul(&bp), &(half + Vector3::repeat(margin)))
             }
         }
+    }
+
+    /// Whether the box `half` at `box_pose` (box → object frame) touches the part's surface.
+    pub fn box_touches(&self, box_pose: &Isometry3<f64>, half: &Vector3<f64>) -> bool {
+        self.cuboid_hits(box_pose, half)
+    }
+
+    /// Whether the cylinder (end-face centres `a`, `b`, radius `r`, object frame) comes within
+    /// `margin` of a triangle: BVH descent with its AABB; at a leaf, the enclosing capsule
+    /// rejects and the inscribed capsule accepts by closed-form segment–triangle distances,
+    /// and only what falls between goes to parry's GJK.
+    fn cylinder_hits(&self, a: &P, b: &P, r: f64, margin: f64) -> bool {
+        let ext = crate::shape::cylinder_rim_extent(a, b, r) + Vector3::repeat(margin);
+        let (lo, hi) = (a.inf(b) - ext, a.sup(b) + ext);
+        let outer2 = (r + margin) * (r + margin);
+        let (_, _, inner) = crate::shape::cylinder_capsules(a, b, r);
+        // Built only if a triangle falls between the two capsule bounds.
+        let mut parry = None;
+        let id = Isometry3::identity();
+        let verts = self.mesh.vertices();
+        let idx = self.mesh.indices();
+        let mut hit = false;
+        self.mesh.bvh().traverse(|node| {
+            if aabb_aabb_sq(&lo, &hi, &node.mins(), &node.maxs()) > 0.0 {
+                return TraversalAction::Prune;
+            }
+            if let Some(leaf) = node.leaf_data() {
+                let [i, j, k] = idx[leaf as usize];
+                let (ta, tb, tc) = (&verts[i as usize], &verts[j as usize], &verts[k as usize]);
+                if segment_triangle_sq(a, b, ta, tb, tc) > outer2 {
+                    return TraversalAction::Continue;
+                }
+                let inside = inner
+                    .is_some_and(|(ia, ib)| segment_triangle_sq(&ia, &ib, ta, tb, tc) <= outer2);
+                if inside || {
+                    let (cyl_pose, cyl) =
+                        parry.get_or_insert_with(|| crate::shape::parry_cylinder(a, b, r));
+                    query::distance(cyl_pose, cyl, &id, &self.mesh.triangle(leaf))
+                        .map_or(true, |d| d <= margin)
+                } {
+                    hit = true;
+                    return TraversalAction::EarlyExit;
+                }
+            }
+            TraversalAction::Continue
+        });
+        hit
     }
 
     /// Whether the box `half` at `box_pose` (box → object frame) touches a triangle: BVH
@@ -142,6 +194,10 @@ impl ObjectGeometry {
                 let la = pose.inverse_transform_point(&a);
                 let lb = pose.inverse_transform_point(&b);
                 self.segment_distance(&la, &lb) - radius
+            }
+            Placed::Cylinder { a, b, radius } => {
+                let (cp, cyl) = crate::shape::parry_cylinder(&a, &b, radius);
+                query::distance(pose, &self.mesh, &cp, &cyl).unwrap_or(0.0)
             }
             Placed::Cuboid { pose: bp, half } => {
                 query::distance(pose, &self.mesh, &bp, &PCuboid::new(half)).unwrap_or(0.0)

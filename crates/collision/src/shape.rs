@@ -11,7 +11,9 @@
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::query;
-use parry3d_f64::shape::{Capsule as PCapsule, Cuboid as PCuboid, Segment as PSegment};
+use parry3d_f64::shape::{
+    Capsule as PCapsule, Cuboid as PCuboid, Cylinder as PCylinder, Segment as PSegment,
+};
 
 use crate::distance::segment_segment_sq;
 
@@ -23,6 +25,8 @@ type V = Vector3<f64>;
 pub enum Placed {
     /// Points within `radius` of the segment `[a, b]`.
     Capsule { a: P, b: P, radius: f64 },
+    /// A flat-ended cylinder: end-face centres `a`, `b`, radius `radius`.
+    Cylinder { a: P, b: P, radius: f64 },
     /// The box `|x_i| ≤ half_i` in the frame `pose` (box frame → world).
     Cuboid { pose: Isometry3<f64>, half: V },
 }
@@ -46,12 +50,30 @@ impl Bounded {
         radius: 0.0,
     };
 
+    /// A sphere of `radius` about `center`.
+    #[inline]
+    pub fn sphere(center: P, radius: f64) -> Self {
+        Bounded {
+            shape: Placed::Capsule {
+                a: center,
+                b: center,
+                radius,
+            },
+            center,
+            radius,
+        }
+    }
+
     #[inline]
     pub fn new(shape: Placed) -> Self {
         let (center, radius) = match shape {
             Placed::Capsule { a, b, radius } => {
                 (nalgebra::center(&a, &b), 0.5 * (b - a).norm() + radius)
             }
+            Placed::Cylinder { a, b, radius } => (
+                nalgebra::center(&a, &b),
+                (0.25 * (b - a).norm_squared() + radius * radius).sqrt(),
+            ),
             Placed::Cuboid { pose, half } => (P::from(pose.translation.vector), half.norm()),
         };
         Bounded {
@@ -62,11 +84,15 @@ impl Bounded {
     }
 
     /// Axis-aligned bounding box `(min, max)` of the primitive.
-    #[inline]
+    #[cfg(test)]
     pub fn aabb(&self) -> (P, P) {
         match self.shape {
             Placed::Capsule { a, b, radius } => {
                 let r = V::repeat(radius);
+                (a.inf(&b) - r, a.sup(&b) + r)
+            }
+            Placed::Cylinder { a, b, radius } => {
+                let r = cylinder_rim_extent(&a, &b, radius);
                 (a.inf(&b) - r, a.sup(&b) + r)
             }
             Placed::Cuboid { pose, half } => {
@@ -91,10 +117,15 @@ impl Bounded {
 ///
 /// Capsule: `min(a_z, b_z) − radius`. Cuboid: centre `z` minus its support extent
 /// `Σ_i |R_{z,i}| h_i` along world `z`.
+/// Cylinder: lowest end-face centre minus the rim's reach below it, `r·√(1 − d_z²)` for the
+/// unit axis `d`.
 #[inline]
 pub fn plane_distance(shape: &Placed, height: f64) -> f64 {
     match shape {
         Placed::Capsule { a, b, radius } => a.z.min(b.z) - radius - height,
+        Placed::Cylinder { a, b, radius } => {
+            a.z.min(b.z) - cylinder_rim_extent(a, b, *radius).z - height
+        }
         Placed::Cuboid { pose, half } => {
             let m = pose.rotation.to_rotation_matrix();
             let row = m.matrix().row(2);
@@ -104,8 +135,178 @@ pub fn plane_distance(shape: &Placed, height: f64) -> f64 {
     }
 }
 
+/// Per world axis, how far the rim of a cylinder (end-face centres `a`, `b`, radius `r`)
+/// reaches beyond its end-face centres: `r·√(1 − d_i²)` for the unit axis `d`.
+#[inline]
+pub fn cylinder_rim_extent(a: &P, b: &P, r: f64) -> V {
+    let d = b - a;
+    let len2 = d.norm_squared();
+    if len2 == 0.0 {
+        return V::repeat(r);
+    }
+    let d2 = d.component_mul(&d) / len2;
+    V::new(
+        r * (1.0 - d2.x).max(0.0).sqrt(),
+        r * (1.0 - d2.y).max(0.0).sqrt(),
+        r * (1.0 - d2.z).max(0.0).sqrt(),
+    )
+}
+
+/// A cylinder as parry sees it: parry's cylinder is centred on its frame with its axis along
+/// local `y`; returns that frame (world) and the shape.
+pub fn parry_cylinder(a: &P, b: &P, r: f64) -> (Isometry3<f64>, PCylinder) {
+    let d = b - a;
+    let len = d.norm();
+    let rot = if len > 0.0 {
+        nalgebra::UnitQuaternion::rotation_between(&V::y(), &(d / len)).unwrap_or_else(|| {
+            nalgebra::UnitQuaternion::from_axis_angle(&V::x_axis(), std::f64::consts::PI)
+        })
+    } else {
+        nalgebra::UnitQuaternion::identity()
+    };
+    let pose = Isometry3::from_parts(nalgebra::center(a, b).coords.into(), rot);
+    (pose, PCylinder::new(0.5 * len, r))
+}
+
+/// The capsule that a cylinder lies inside (same axis segment and radius) and the capsule
+/// that lies inside the cylinder (the axis segment inset by the radius at both ends, same
+/// radius; `None` when the cylinder is shorter than its diameter).
+#[inline]
+pub(crate) fn cylinder_capsules(a: &P, b: &P, r: f64) -> (P, P, Option<(P, P)>) {
+    let d = b - a;
+    let len = d.norm();
+    let inner = (len > 2.0 * r).then(|| {
+        let u = d * (r / len);
+        (a + u, b - u)
+    });
+    (*a, *b, inner)
+}
+
+/// The segment and radius of a primitive's enclosing capsule (capsules: itself; cylinders: the
+/// capsule on the same axis segment), or `None` for a cuboid.
+#[inline]
+fn outer_capsule(s: &Placed) -> Option<(P, P, f64)> {
+    match *s {
+        Placed::Capsule { a, b, radius } | Placed::Cylinder { a, b, radius } => {
+            Some((a, b, radius))
+        }
+        Placed::Cuboid { .. } => None,
+    }
+}
+
+/// The segment and radius of a capsule lying inside the primitive, if it has one.
+#[inline]
+fn inner_capsule(s: &Placed) -> Option<(P, P, f64)> {
+    match *s {
+        Placed::Capsule { a, b, radius } => Some((a, b, radius)),
+        Placed::Cylinder { a, b, radius } => cylinder_capsules(&a, &b, radius)
+            .2
+            .map(|(a, b)| (a, b, radius)),
+        Placed::Cuboid { .. } => None,
+    }
+}
+
+/// Distance from point `p` to the solid cylinder with end-face centres `a`, `b` and radius `r`
+/// (`0` inside): the axial and radial excesses combined.
+#[inline]
+pub fn point_cylinder_distance(p: &P, a: &P, b: &P, r: f64) -> f64 {
+    let ab = b - a;
+    let len = ab.norm();
+    let c = nalgebra::center(a, b);
+    let v = p - c;
+    if len == 0.0 {
+        return (v.norm() - r).max(0.0);
+    }
+    let u = ab / len;
+    let t = v.dot(&u);
+    let radial = (v - u * t).norm();
+    let dz = (t.abs() - 0.5 * len).max(0.0);
+    let dr = (radial - r).max(0.0);
+    (dz * dz + dr * dr).sqrt()
+}
+
+/// Distance from the segment `[p, q]` to the solid cylinder (`0` when they meet), stopping as
+/// soon as it is known to be at most `stop`. The distance from a point moving along a segment
+/// to a convex set is a convex function of the position, so a golden-section search finds its
+/// minimum; 60 iterations shrink the bracket below 1e-12 of the segment.
+pub fn segment_cylinder_distance(p: &P, q: &P, a: &P, b: &P, r: f64, stop: f64) -> f64 {
+    let f = |t: f64| point_cylinder_distance(&(p + (q - p) * t), a, b, r);
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    let mut best = f(0.0).min(f(1.0)).min(f1).min(f2);
+    for _ in 0..60 {
+        if best <= stop {
+            return best;
+        }
+        if f1 <= f2 {
+            hi = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = hi - g * (hi - lo);
+            f1 = f(x1);
+            best = best.min(f1);
+        } else {
+            lo = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = lo + g * (hi - lo);
+            f2 = f(x2);
+            best = best.min(f2);
+        }
+    }
+    best
+}
+
+/// Distance between two primitives by parry's GJK (`0` in contact), shapes built on the stack.
+fn gjk_distance(s1: &Placed, s2: &Placed) -> f64 {
+    let id = Isometry3::identity();
+    match (*s1, *s2) {
+        (Placed::Cylinder { a, b, radius }, other) | (other, Placed::Cylinder { a, b, radius }) => {
+            let (cp, cyl) = parry_cylinder(&a, &b, radius);
+            let d = match other {
+                Placed::Capsule { a, b, radius } => {
+                    query::distance(&cp, &cyl, &id, &PCapsule::new(a, b, radius))
+                }
+                Placed::Cylinder { a, b, radius } => {
+                    let (cp2, cyl2) = parry_cylinder(&a, &b, radius);
+                    query::distance(&cp, &cyl, &cp2, &cyl2)
+                }
+                Placed::Cuboid { pose, half } => {
+                    query::distance(&cp, &cyl, &pose, &PCuboid::new(half))
+                }
+            };
+            d.unwrap_or(0.0)
+        }
+        _ => pair_distance(s1, s2),
+    }
+}
+
 /// Distance between two primitives (signed for capsule pairs, `0` in contact otherwise).
 pub fn pair_distance(s1: &Placed, s2: &Placed) -> f64 {
+    if let (
+        Placed::Cylinder { a, b, radius },
+        Placed::Capsule {
+            a: p,
+            b: q,
+            radius: rc,
+        },
+    )
+    | (
+        Placed::Capsule {
+            a: p,
+            b: q,
+            radius: rc,
+        },
+        Placed::Cylinder { a, b, radius },
+    ) = (*s1, *s2)
+    {
+        return segment_cylinder_distance(&p, &q, &a, &b, radius, 0.0) - rc;
+    }
+    if matches!(s1, Placed::Cylinder { .. }) || matches!(s2, Placed::Cylinder { .. }) {
+        return gjk_distance(s1, s2);
+    }
     match (s1, s2) {
         (
             Placed::Capsule {
@@ -128,6 +329,7 @@ pub fn pair_distance(s1: &Placed, s2: &Placed) -> f64 {
         (Placed::Cuboid { pose: p1, half: h1 }, Placed::Cuboid { pose: p2, half: h2 }) => {
             query::distance(p1, &PCuboid::new(*h1), p2, &PCuboid::new(*h2)).unwrap_or(0.0)
         }
+        _ => unreachable!("cylinder pairs are handled above"),
     }
 }
 
@@ -136,8 +338,14 @@ pub fn pair_distance(s1: &Placed, s2: &Placed) -> f64 {
 /// Exact for capsule pairs and capsule–box (the capsule radius grows by `margin`); for
 /// box–box the margin grows one box's half extents, which is conservative by at most
 /// `(√3 − 1)·margin` near its corners.
+///
+/// Pairs with a cylinder: bounded first by the cylinder's enclosing capsule (no contact there,
+/// none at all) and inscribed capsule (contact there, contact), then parry's GJK distance.
 #[inline]
 pub fn pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
+    if matches!(s1, Placed::Cylinder { .. }) || matches!(s2, Placed::Cylinder { .. }) {
+        return cylinder_pair_intersects(s1, s2, margin);
+    }
     match (s1, s2) {
         (
             Placed::Capsule {
@@ -163,7 +371,73 @@ pub fn pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
             let (c1, c2) = (PCuboid::new(h1 + V::repeat(margin)), PCuboid::new(*h2));
             query::intersection_test(p1, &c1, p2, &c2).unwrap_or(true)
         }
+        _ => unreachable!("cylinder pairs are handled above"),
     }
+}
+
+/// [`pair_intersects`] for pairs with at least one cylinder.
+fn cylinder_pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
+    // Cylinder vs capsule: exact, by the segment–cylinder distance.
+    if let (
+        Placed::Cylinder { a, b, radius },
+        Placed::Capsule {
+            a: p,
+            b: q,
+            radius: rc,
+        },
+    )
+    | (
+        Placed::Capsule {
+            a: p,
+            b: q,
+            radius: rc,
+        },
+        Placed::Cylinder { a, b, radius },
+    ) = (*s1, *s2)
+    {
+        let reach = rc + margin;
+        let (sa, sb) = (a, b);
+        let r = radius + reach;
+        if segment_segment_sq(&p, &q, &sa, &sb) > r * r {
+            return false;
+        }
+        return segment_cylinder_distance(&p, &q, &a, &b, radius, reach) <= reach;
+    }
+    let as_capsule = |a: P, b: P, r: f64| Placed::Capsule { a, b, radius: r };
+    if let (Some((a1, b1, r1)), Some((a2, b2, r2))) = (outer_capsule(s1), outer_capsule(s2)) {
+        let r = r1 + r2 + margin;
+        if segment_segment_sq(&a1, &b1, &a2, &b2) > r * r {
+            return false;
+        }
+    } else {
+        // Cylinder vs cuboid: the enclosing capsule against the box.
+        let (cyl, other) = if matches!(s1, Placed::Cylinder { .. }) {
+            (s1, s2)
+        } else {
+            (s2, s1)
+        };
+        let (a, b, r) = outer_capsule(cyl).expect("a cylinder");
+        if !pair_intersects(&as_capsule(a, b, r), other, margin) {
+            return false;
+        }
+    }
+    let inner = |s: &Placed| inner_capsule(s).map(|(a, b, r)| as_capsule(a, b, r));
+    let (i1, i2) = (inner(s1), inner(s2));
+    match (i1, i2) {
+        (Some(c1), Some(c2)) if pair_intersects(&c1, &c2, margin) => return true,
+        (Some(c1), None)
+            if !matches!(s2, Placed::Cylinder { .. }) && pair_intersects(&c1, s2, margin) =>
+        {
+            return true
+        }
+        (None, Some(c2))
+            if !matches!(s1, Placed::Cylinder { .. }) && pair_intersects(s1, &c2, margin) =>
+        {
+            return true
+        }
+        _ => {}
+    }
+    gjk_distance(s1, s2) <= margin
 }
 
 /// Capsule `([a, b], r)` vs oriented box: a sphere–box reject on the capsule's bounding
@@ -266,6 +540,94 @@ mod tests {
                 d < 0.02 + 1e-9,
                 "case {i}: d = {d}"
             );
+        }
+    }
+
+    fn cyl(a: [f64; 3], b: [f64; 3], r: f64) -> Placed {
+        Placed::Cylinder {
+            a: P::from(a),
+            b: P::from(b),
+            radius: r,
+        }
+    }
+
+    #[test]
+    fn cylinder_plane_distance_is_the_lowest_rim_point() {
+        // Upright: the end face. Lying: the side. Tilted 45°: rim r·√½ below the low face centre.
+        assert!(
+            (plane_distance(&cyl([0., 0., 0.1], [0., 0., 0.3], 0.05), 0.0) - 0.1).abs() < 1e-15
+        );
+        assert!(
+            (plane_distance(&cyl([0., 0., 0.1], [0.2, 0., 0.1], 0.05), 0.0) - 0.05).abs() < 1e-15
+        );
+        let h = 0.1 / 2f64.sqrt();
+        let tilted = cyl([0., 0., 0.2], [h, 0., 0.2 + h], 0.05);
+        assert!((plane_distance(&tilted, 0.0) - (0.2 - 0.05 * 0.5f64.sqrt())).abs() < 1e-12);
+    }
+
+    #[test]
+    fn flat_ends_do_not_reach_as_far_as_round_caps() {
+        // A point 1 cm beyond the flat end, on the axis: clear of the cylinder, inside the
+        // capsule of the same segment and radius.
+        let c = cyl([0., 0., 0.], [0., 0., 0.1], 0.06);
+        let probe = cap([0., 0., 0.11], [0., 0., 0.11], 0.0);
+        assert!(!pair_intersects(&c, &probe, 0.0));
+        assert!((pair_distance(&c, &probe) - 0.01).abs() < 1e-9);
+        assert!(pair_intersects(&c, &probe, 0.0101));
+        let capsule = cap([0., 0., 0.], [0., 0., 0.1], 0.06);
+        assert!(pair_intersects(&capsule, &probe, 0.0));
+    }
+
+    #[test]
+    fn cylinder_pairs_agree_with_parry() {
+        // Random cylinder–capsule, cylinder–cylinder and cylinder–box pairs: the exact
+        // segment–cylinder distance and the cascades agree with parry's GJK distance.
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let pt = |rng: &mut rand_chacha::ChaCha8Rng| {
+            P::new(
+                rng.random_range(-0.2..0.2),
+                rng.random_range(-0.2..0.2),
+                rng.random_range(-0.2..0.2),
+            )
+        };
+        for i in 0..400 {
+            let c = Placed::Cylinder {
+                a: pt(&mut rng),
+                b: pt(&mut rng),
+                radius: rng.random_range(0.01..0.08),
+            };
+            let other = match i % 3 {
+                0 => Placed::Capsule {
+                    a: pt(&mut rng),
+                    b: pt(&mut rng),
+                    radius: rng.random_range(0.0..0.05),
+                },
+                1 => Placed::Cylinder {
+                    a: pt(&mut rng),
+                    b: pt(&mut rng),
+                    radius: rng.random_range(0.01..0.05),
+                },
+                _ => Placed::Cuboid {
+                    pose: Isometry3::from_parts(
+                        pt(&mut rng).coords.into(),
+                        UnitQuaternion::from_euler_angles(0.3 * i as f64, 0.2, -0.1),
+                    ),
+                    half: V::new(0.03, 0.05, 0.02),
+                },
+            };
+            let reference = gjk_distance(&c, &other).max(0.0);
+            let d = pair_distance(&c, &other).max(0.0);
+            assert!((d - reference).abs() < 1e-5, "case {i}: {d} vs {reference}");
+            for margin in [0.0, 0.01] {
+                if (reference - margin).abs() > 1e-5 {
+                    assert_eq!(
+                        pair_intersects(&c, &other, margin),
+                        reference <= margin,
+                        "case {i}, margin {margin}: d = {reference}"
+                    );
+                }
+            }
         }
     }
 

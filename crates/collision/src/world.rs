@@ -91,7 +91,9 @@ impl Obstacle {
     pub fn cuboid(&self) -> (Isometry3<f64>, Vector3<f64>) {
         match self.shape.shape {
             Placed::Cuboid { pose, half } => (pose, half),
-            Placed::Capsule { .. } => unreachable!("obstacles are cuboids"),
+            Placed::Capsule { .. } | Placed::Cylinder { .. } => {
+                unreachable!("obstacles are cuboids")
+            }
         }
     }
 }
@@ -115,6 +117,26 @@ pub struct CollisionWorld {
     active: [bool; 2],
     obstacles: Vec<Obstacle>,
     margin: f64,
+    grasp_support_margin: f64,
+    /// Identifies this world's arms for the per-thread cache of the arm that stands still.
+    id: u64,
+}
+
+/// Source of [`CollisionWorld`] ids.
+static NEXT_WORLD_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
+/// Key of a posed arm in the cache: world id, arm, joint bits, gripper gap bits (open: `u64::MAX`).
+type PoseKey = (u64, usize, [u64; 6], u64);
+
+/// Both arms as last posed on this thread, with the keys they were posed for.
+type PosedPair = ([Option<PoseKey>; 2], [PosedArm; 2]);
+
+thread_local! {
+    /// Both arms as last posed on this thread: queries pose into it without copying, and an arm
+    /// whose key has not changed (the arm that stands still while the other moves, in every
+    /// query of a motion) is not posed again.
+    static POSED: std::cell::RefCell<PosedPair> =
+        const { std::cell::RefCell::new(([None, None], [PosedArm::EMPTY, PosedArm::EMPTY])) };
 }
 
 impl CollisionWorld {
@@ -146,6 +168,8 @@ impl CollisionWorld {
             active: [true; 2],
             obstacles: Vec::new(),
             margin: 0.0,
+            grasp_support_margin: 0.0,
+            id: NEXT_WORLD_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
         })
     }
 
@@ -181,14 +205,56 @@ impl CollisionWorld {
 
     /// Safety margin (m) for [`check`](Self::check) and [`check_arm`](Self::check_arm):
     /// a pair collides when its distance is at most `margin`. Clearance ignores it.
+    ///
+    /// Also sets the gripper–support clearance of a grasping gripper to the same value; call
+    /// [`with_grasp_support_margin`](Self::with_grasp_support_margin) after this to set it apart.
     pub fn with_margin(mut self, margin: f64) -> Self {
         self.margin = margin.max(0.0);
+        self.grasp_support_margin = self.margin;
         self
+    }
+
+    /// Clearance (m) between the support and the gripper of an arm whose `grasping` flag is
+    /// set — it holds the part, or is within the last centimetres of closing on it or the
+    /// first of letting go, where a fingertip pinch sits a few millimetres above the table.
+    pub fn with_grasp_support_margin(mut self, margin: f64) -> Self {
+        self.grasp_support_margin = margin.max(0.0);
+        self
+    }
+
+    /// The gripper–support clearance of a grasping gripper (m).
+    pub fn grasp_support_margin(&self) -> f64 {
+        self.grasp_support_margin
+    }
+
+    /// Lowest height (m) of arm `arm`'s gripper above the support at `state` (signed; `∞`
+    /// without a support).
+    pub fn gripper_support_distance(&self, arm: usize, state: &WorldState) -> f64 {
+        let Some(h) = self.support else {
+            return f64::INFINITY;
+        };
+        let posed = self.arms[arm].pose(&state.q[arm], state.gripper[arm]);
+        let set = self.arms[arm].set();
+        posed
+            .shapes()
+            .iter()
+            .zip(&set.is_gripper)
+            .filter(|(_, g)| **g)
+            .map(|(s, _)| plane_distance(&s.shape, h))
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// The safety margin (m).
     pub fn margin(&self) -> f64 {
         self.margin
+    }
+
+    /// Caches each arm's gripper shapes closed at the given gaps (m) — the widths it holds
+    /// the part with — see [`ArmModel::with_closed_gaps`].
+    pub fn with_closed_gaps(mut self, gaps: [&[f64]; 2]) -> Self {
+        let [a0, a1] = self.arms.clone();
+        self.arms = [a0.with_closed_gaps(gaps[0]), a1.with_closed_gaps(gaps[1])];
+        self
     }
 
     /// Both arms (for a single-arm world, arm 1 is an inactive copy of arm 0).
@@ -234,7 +300,7 @@ impl CollisionWorld {
     pub fn check(&self, state: &WorldState) -> Result<(), Contact> {
         match self.first_contact(None, state) {
             None => Ok(()),
-            Some(ids) => Err(self.contact(state, ids)),
+            Some(ids) => Err(self.contact(ids)),
         }
     }
 
@@ -243,7 +309,7 @@ impl CollisionWorld {
     pub fn check_arm(&self, arm: usize, state: &WorldState) -> Result<(), Contact> {
         match self.first_contact(Some(arm), state) {
             None => Ok(()),
-            Some(ids) => Err(self.contact(state, ids)),
+            Some(ids) => Err(self.contact(ids)),
         }
     }
 
@@ -280,7 +346,7 @@ impl CollisionWorld {
         match sink.ids {
             None => (f64::INFINITY, String::new(), String::new()),
             Some(ids) => {
-                let c = self.contact(state, ids);
+                let c = self.contact(ids);
                 (sink.best, c.a, c.b)
             }
         }
@@ -295,19 +361,19 @@ impl CollisionWorld {
         sink.ids
     }
 
-    fn name(&self, state: &WorldState, id: Id) -> String {
+    fn name(&self, id: Id) -> String {
         match id {
-            Id::Arm(i, k) => self.arms[i].shape_names(state.gripper[i])[k].clone(),
+            Id::Arm(i, k) => self.arms[i].shape_names()[k].clone(),
             Id::Support => "support".to_string(),
             Id::Obstacle(o) => self.obstacles[o].name.clone(),
             Id::Object => "object".to_string(),
         }
     }
 
-    fn contact(&self, state: &WorldState, (a, b): (Id, Id)) -> Contact {
+    fn contact(&self, (a, b): (Id, Id)) -> Contact {
         Contact {
-            a: self.name(state, a),
-            b: self.name(state, b),
+            a: self.name(a),
+            b: self.name(b),
         }
     }
 
@@ -319,8 +385,31 @@ impl CollisionWorld {
         sink: &mut impl Sink,
     ) -> ControlFlow<()> {
         // Both active arms are posed: in a single-arm query the other one is an obstacle.
-        let posed: [Option<PosedArm>; 2] = [0, 1]
-            .map(|i| self.active[i].then(|| self.arms[i].pose(&state.q[i], state.gripper[i])));
+        POSED.with_borrow_mut(|(keys, buffers)| {
+            for i in 0..2 {
+                if !self.active[i] {
+                    continue;
+                }
+                let key = self.pose_key(i, state);
+                if keys[i] != Some(key) {
+                    self.arms[i].pose_into(&state.q[i], state.gripper[i], &mut buffers[i]);
+                    keys[i] = Some(key);
+                }
+            }
+            let [b0, b1] = &*buffers;
+            let posed = [self.active[0].then_some(b0), self.active[1].then_some(b1)];
+            self.visit_posed(only, state, posed, sink)
+        })
+    }
+
+    /// [`visit`](Self::visit) with both arms posed.
+    fn visit_posed(
+        &self,
+        only: Option<usize>,
+        state: &WorldState,
+        posed: [Option<&PosedArm>; 2],
+        sink: &mut impl Sink,
+    ) -> ControlFlow<()> {
         let object = self
             .object
             .as_ref()
@@ -333,45 +422,83 @@ impl CollisionWorld {
             if !self.active[i] || only.is_some_and(|o| o != i) {
                 continue;
             }
-            let Some(pi) = &posed[i] else { continue };
-            let gstate = state.gripper[i];
+            let Some(pi) = posed[i] else { continue };
             let arm = &self.arms[i];
             let shapes = pi.shapes();
-            // 1. Support.
+            let set = arm.set();
+            // 1. Support. A gripper that grasps (holds, closes on or releases the part) keeps
+            //    its own clearance from the support.
             if let Some(h) = self.support {
                 for (k, s) in shapes.iter().enumerate() {
-                    if !arm.is_base_part(gstate, k) {
-                        sink.plane(&s.shape, h, (Id::Arm(i, k), Id::Support))?;
+                    if !arm.is_base_part(k) {
+                        let margin = if state.grasping[i] && set.is_gripper[k] {
+                            self.grasp_support_margin
+                        } else {
+                            self.margin
+                        };
+                        sink.plane(&s.shape, h, margin, (Id::Arm(i, k), Id::Support))?;
                     }
                 }
             }
             // 2. Self-collision pairs.
-            for &(a, b) in &arm.set(gstate).self_pairs {
-                let (a, b) = (a as usize, b as usize);
-                let (sa, sb) = (&shapes[a], &shapes[b]);
-                if !sink.skip_spheres(sa, sb) {
-                    sink.pair(&sa.shape, &sb.shape, (Id::Arm(i, a), Id::Arm(i, b)))?;
+            for ((fa, fb), pairs) in &set.link_pair_groups {
+                if sink.skip_spheres(pi.frame_sphere(*fa as usize), pi.frame_sphere(*fb as usize)) {
+                    continue;
+                }
+                for &(a, b) in pairs {
+                    let (a, b) = (a as usize, b as usize);
+                    let (sa, sb) = (&shapes[a], &shapes[b]);
+                    if !sink.skip_spheres(sa, sb) {
+                        sink.pair(&sa.shape, &sb.shape, (Id::Arm(i, a), Id::Arm(i, b)))?;
+                    }
+                }
+            }
+            //    The gripper vs the links it must not touch, culled by its enclosing sphere.
+            for &l in &set.gripper_forbidden {
+                let l = l as usize;
+                let sl = &shapes[l];
+                if sink.skip_spheres(sl, pi.gripper_sphere()) {
+                    continue;
+                }
+                for g in pi.gripper_range() {
+                    let sg = &shapes[g];
+                    if !sink.skip_spheres(sl, sg) {
+                        sink.pair(&sl.shape, &sg.shape, (Id::Arm(i, l), Id::Arm(i, g)))?;
+                    }
                 }
             }
             // 3. Static cuboids.
             for (o, obs) in self.obstacles.iter().enumerate() {
-                for (k, s) in shapes.iter().enumerate() {
-                    if !arm.is_base_part(gstate, k) && !sink.skip_spheres(s, &obs.shape) {
-                        sink.pair(&s.shape, &obs.shape.shape, (Id::Arm(i, k), Id::Obstacle(o)))?;
+                for (g, members) in set.group_members.iter().enumerate() {
+                    if members.is_empty() || sink.skip_spheres(pi.group_sphere(g), &obs.shape) {
+                        continue;
+                    }
+                    for &k in members {
+                        let (k, s) = (k as usize, &shapes[k as usize]);
+                        if !arm.is_base_part(k) && !sink.skip_spheres(s, &obs.shape) {
+                            let ids = (Id::Arm(i, k), Id::Obstacle(o));
+                            sink.pair(&s.shape, &obs.shape.shape, ids)?;
+                        }
                     }
                 }
             }
             // 4. The other arm (each unordered pair of arms once).
             let j = 1 - i;
-            if let Some(pj) = &posed[j] {
+            if let Some(pj) = posed[j] {
                 if self.active[j] && (only.is_some() || i < j) {
-                    self.arm_vs_arm(i, pi, j, pj, state, sink)?;
+                    self.arm_vs_arm(i, pi, j, pj, sink)?;
                 }
             }
             // 5. The part.
             if let Some((obj, pose)) = &object {
-                let skip_gripper = state.grasping[i];
-                let set = arm.set(gstate);
+                let (c, r) = obj.world_sphere(pose);
+                let part = Bounded::new(Placed::Capsule {
+                    a: c,
+                    b: c,
+                    radius: r,
+                });
+                let skip_gripper =
+                    state.grasping[i] || sink.skip_spheres(pi.gripper_sphere(), &part);
                 for (k, s) in shapes.iter().enumerate() {
                     if skip_gripper && set.is_gripper[k] {
                         continue;
@@ -388,8 +515,8 @@ impl CollisionWorld {
                 }
                 let j = 1 - a;
                 if only.is_some() && self.active[j] {
-                    if let Some(pj) = &posed[j] {
-                        let set = self.arms[j].set(state.gripper[j]);
+                    if let Some(pj) = posed[j] {
+                        let set = self.arms[j].set();
                         for (k, s) in pj.shapes().iter().enumerate() {
                             if state.grasping[j] && set.is_gripper[k] {
                                 continue;
@@ -403,11 +530,20 @@ impl CollisionWorld {
         ControlFlow::Continue(())
     }
 
+    /// What arm `i`'s pose at `state` depends on.
+    fn pose_key(&self, i: usize, state: &WorldState) -> PoseKey {
+        let gap = match state.gripper[i] {
+            GripperState::Open => u64::MAX,
+            GripperState::Closed { gap } => gap.to_bits(),
+        };
+        (self.id, i, state.q[i].map(f64::to_bits), gap)
+    }
+
     /// [`object_pose`](Self::object_pose), reusing the flange of an already posed arm.
     fn object_pose_posed(
         &self,
         state: &WorldState,
-        posed: &[Option<PosedArm>; 2],
+        posed: &[Option<&PosedArm>; 2],
     ) -> Option<Isometry3<f64>> {
         match (state.object, self.object.as_ref()) {
             (
@@ -416,7 +552,7 @@ impl CollisionWorld {
                     flange_to_object,
                 },
                 Some(_),
-            ) => match &posed[arm] {
+            ) => match posed[arm] {
                 Some(p) => Some(p.flange() * flange_to_object),
                 None => self.object_pose(state),
             },
@@ -424,13 +560,15 @@ impl CollisionWorld {
         }
     }
 
+    /// Arm `i` vs arm `j`, by groups (the links of one DH frame, or the gripper) culled by
+    /// their spheres before their shapes are paired. The two bases are never paired: both are
+    /// mounted.
     fn arm_vs_arm(
         &self,
         i: usize,
         pi: &PosedArm,
         j: usize,
         pj: &PosedArm,
-        state: &WorldState,
         sink: &mut impl Sink,
     ) -> ControlFlow<()> {
         let (lo_i, hi_i) = pi.bounds();
@@ -438,20 +576,39 @@ impl CollisionWorld {
         if sink.skip_gap_sq(aabb_aabb_sq(&lo_i, &hi_i, &lo_j, &hi_j)) {
             return ControlFlow::Continue(());
         }
-        let (gi, gj) = (state.gripper[i], state.gripper[j]);
-        for (k, a) in pi.shapes().iter().enumerate() {
-            let base_k = self.arms[i].is_base_part(gi, k);
-            // Cull the whole row by this part's sphere against arm j's box.
-            let r = Vector3::repeat(a.radius);
-            if sink.skip_gap_sq(aabb_aabb_sq(&(a.center - r), &(a.center + r), &lo_j, &hi_j)) {
+        let (set_i, set_j) = (self.arms[i].set(), self.arms[j].set());
+        for (gi, members_i) in set_i.group_members.iter().enumerate() {
+            let si = pi.group_sphere(gi);
+            if members_i.is_empty() {
                 continue;
             }
-            for (l, b) in pj.shapes().iter().enumerate() {
-                if base_k && self.arms[j].is_base_part(gj, l) {
+            let r = Vector3::repeat(si.radius);
+            if sink.skip_gap_sq(aabb_aabb_sq(
+                &(si.center - r),
+                &(si.center + r),
+                &lo_j,
+                &hi_j,
+            )) {
+                continue;
+            }
+            for (gj, members_j) in set_j.group_members.iter().enumerate() {
+                if members_j.is_empty() || sink.skip_spheres(si, pj.group_sphere(gj)) {
                     continue;
                 }
-                if !sink.skip_spheres(a, b) {
-                    sink.pair(&a.shape, &b.shape, (Id::Arm(i, k), Id::Arm(j, l)))?;
+                for &k in members_i {
+                    let k = k as usize;
+                    let a = &pi.shapes()[k];
+                    let base_k = self.arms[i].is_base_part(k);
+                    for &l in members_j {
+                        let l = l as usize;
+                        if base_k && self.arms[j].is_base_part(l) {
+                            continue;
+                        }
+                        let b = &pj.shapes()[l];
+                        if !sink.skip_spheres(a, b) {
+                            sink.pair(&a.shape, &b.shape, (Id::Arm(i, k), Id::Arm(j, l)))?;
+                        }
+                    }
                 }
             }
         }
@@ -465,7 +622,8 @@ trait Sink {
     fn skip_spheres(&self, s1: &Bounded, s2: &Bounded) -> bool;
     /// Whether a group whose boxes are `sqrt(gap_sq)` apart cannot matter.
     fn skip_gap_sq(&self, gap_sq: f64) -> bool;
-    fn plane(&mut self, s: &Placed, height: f64, ids: (Id, Id)) -> ControlFlow<()>;
+    /// A part vs the support plane; `margin` is the clearance this pair must keep.
+    fn plane(&mut self, s: &Placed, height: f64, margin: f64, ids: (Id, Id)) -> ControlFlow<()>;
     fn pair(&mut self, s1: &Placed, s2: &Placed, ids: (Id, Id)) -> ControlFlow<()>;
     fn object(
         &mut self,
@@ -503,8 +661,8 @@ impl Sink for FirstContact {
         gap_sq > self.margin * self.margin
     }
     #[inline]
-    fn plane(&mut self, s: &Placed, height: f64, ids: (Id, Id)) -> ControlFlow<()> {
-        self.hit(plane_distance(s, height) <= self.margin, ids)
+    fn plane(&mut self, s: &Placed, height: f64, margin: f64, ids: (Id, Id)) -> ControlFlow<()> {
+        self.hit(plane_distance(s, height) <= margin, ids)
     }
     #[inline]
     fn pair(&mut self, s1: &Placed, s2: &Placed, ids: (Id, Id)) -> ControlFlow<()> {
@@ -544,7 +702,7 @@ impl Sink for MinDistance {
     fn skip_gap_sq(&self, gap_sq: f64) -> bool {
         gap_sq.sqrt() >= self.best
     }
-    fn plane(&mut self, s: &Placed, height: f64, ids: (Id, Id)) -> ControlFlow<()> {
+    fn plane(&mut self, s: &Placed, height: f64, _margin: f64, ids: (Id, Id)) -> ControlFlow<()> {
         self.offer(plane_distance(s, height), ids)
     }
     fn pair(&mut self, s1: &Placed, s2: &Placed, ids: (Id, Id)) -> ControlFlow<()> {

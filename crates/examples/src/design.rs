@@ -10,7 +10,8 @@ use crate::triangulate::signed_area;
 pub const GRIPPER_STROKE: f64 = 0.085;
 
 /// Robotiq 2F-85 numbers the part design must respect (gripper frame, metres; measured on
-/// the MuJoCo Menagerie model, `shared/facts/ur5e-2f85.md`).
+/// the MuJoCo Menagerie model, `docs/hardware-facts.md`). Where the fingers are at a given
+/// opening comes from the robot crate's finger model.
 pub mod gripper_2f85 {
     /// Default precision point (between the pads) on the approach axis `z`.
     pub const PRECISION_POINT_Z: f64 = 0.150;
@@ -23,23 +24,31 @@ pub mod gripper_2f85 {
     /// Half the gap between the open fingers' inner surfaces just above the palm
     /// (`z` 0.10–0.11): a power-grasped bar must be narrower than twice this.
     pub const HALF_GAP_AT_PALM: f64 = 0.031;
-    /// Half the length of a pad along `z`: fingers closed on a part with the pads centred on the
-    /// precision point reach this far beyond it.
-    pub const PAD_HALF_LENGTH: f64 = 0.01875;
     /// The power point sits this far above the palm plus half the bar's thickness, so the bar
     /// lies against the palm without reaching into it.
     pub const POWER_POINT_CLEARANCE: f64 = 0.004;
 }
 
-/// Depth of the support grasp's precision point below the part's top face (m): a fingertip
-/// pinch near the top edge, so the pads (37.5 mm long) reach down the bar's sides while the
-/// fingertips stay off the table (condition c2).
-pub const SUPPORT_GRASP_BELOW_TOP: f64 = 0.003;
+/// Height of the pinching fingertips above the part's bottom face (the table) at the support
+/// grasp (m): the pads (37.5 mm long) reach down the bar's sides to 3 mm above the table
+/// (condition c2: the part is high enough to be precision-grasped).
+pub const SUPPORT_PAD_TIP_HEIGHT: f64 = 0.003;
+
+/// Height (m, object `z`) of the support grasp's precision point for a pinch across a bar of
+/// `bar_width`: the fingers closed on the bar put their tips [`SUPPORT_PAD_TIP_HEIGHT`] above
+/// the bottom face. The pads' real depth depends on the width (they rise as they close), so it
+/// comes from the 2F-85 finger model, with the scene's default precision point.
+pub fn support_grasp_height(bar_width: f64) -> f64 {
+    let fingers = pregrasp_robot::FingerKinematics::robotiq_2f85();
+    let tip = fingers.at(bar_width).tip_z;
+    SUPPORT_PAD_TIP_HEIGHT + tip - gripper_2f85::PRECISION_POINT_Z
+}
 
 /// A grasp on a bar of a planar part, in the object frame.
 ///
 /// A power grasp frame sits at `(point, thickness / 2)` (on the bar's centre line,
-/// mid-thickness), the support grasp's [`SUPPORT_GRASP_BELOW_TOP`] below the top face; `z` (approach) along the object's `−z` (from above while the part lies flat) and its `x`
+/// mid-thickness), the support grasp at [`support_grasp_height`]; `z` (approach) along the
+/// object's `−z` (from above while the part lies flat) and its `x`
 /// (the fingers' closing direction) at `closing_angle` from the object's `x` in the part
 /// plane, across the bar. As a pose: `R = Rz(closing_angle) · Rx(π)`.
 #[derive(Clone, Debug, PartialEq)]
@@ -92,7 +101,8 @@ impl PartDesign {
         let rotation = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), site.closing_angle)
             * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI);
         let height = if std::ptr::eq(site, &self.support) {
-            self.thickness - SUPPORT_GRASP_BELOW_TOP
+            // Rounded up to 0.1 mm, as the scene file writes it: the tips never end lower.
+            (support_grasp_height(site.bar_width) * 1e4).ceil() / 1e4
         } else {
             self.thickness / 2.0
         };

@@ -79,18 +79,30 @@ pub fn all() -> Vec<Example> {
 
 /// The built-in example called `name` (one of [`NAMES`]).
 pub fn by_name(name: &str) -> Option<Example> {
+    let design = match name {
+        "chair_side" => ChairSideParams::default().design(),
+        "shelf_side" => ShelfSideParams::default().design(),
+        "stool_side" => StoolSideParams::default().design(),
+        _ => return None,
+    };
+    with_design(name, design)
+}
+
+/// An example of the family `name` (one of [`NAMES`]) built from another `design` of that
+/// family (other stock, other bar widths), laid out and titled as the built-in one.
+pub fn with_design(name: &str, design: PartDesign) -> Option<Example> {
     match name {
         "chair_side" => Some(build(
             "chair_side",
             "chair side frame",
-            ChairSideParams::default().design(),
+            design,
             SceneLayout::default(),
         )),
         // The panel's end grasp lies near its end: keep it clear of the left arm's base.
         "shelf_side" => Some(build(
             "shelf_side",
             "shelf side panel",
-            ShelfSideParams::default().design(),
+            design,
             SceneLayout {
                 axis_x: 0.32,
                 centre_y: -0.05,
@@ -100,7 +112,7 @@ pub fn by_name(name: &str) -> Option<Example> {
         "stool_side" => Some(build(
             "stool_side",
             "stool side",
-            StoolSideParams::default().design(),
+            design,
             SceneLayout::default(),
         )),
         _ => None,

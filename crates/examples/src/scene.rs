@@ -1,4 +1,4 @@
-//! Scene files for the built-in examples (`shared/spec/scene-format.md`): two UR5e arms on
+//! Scene files for the built-in examples (`docs/scene-format.md`): two UR5e arms on
 //! one table and a part lying flat between them, placed so its intended axis faces the arms.
 
 use std::fmt::Write as _;

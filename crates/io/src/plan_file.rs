@@ -1,5 +1,5 @@
 //! The plan file (`plan.json`, format `pregrasp.plan/1`): serde types that mirror
-//! `shared/spec/plan-format.md` field for field, plus atomic writing and reading.
+//! `docs/plan-format.md` field for field, plus atomic writing and reading.
 //!
 //! Field order here is the order in the file; keep it stable, plans must be byte-for-byte
 //! reproducible.
@@ -84,6 +84,13 @@ pub struct PlannerJson {
     pub approach_distance: f64,
     pub max_joint_step_deg: f64,
     pub seed: u64,
+    /// Clearance of arm links and grippers from everything they must not touch (m). Absent in
+    /// plans of older versions (then the default, 0.005, applies).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub link_clearance: Option<f64>,
+    /// Clearance of a grasping gripper from the support (m); absent in older plans (0.002).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub finger_support_clearance: Option<f64>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -155,6 +162,11 @@ pub struct SegmentJson {
     pub retreat_to: Option<usize>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub approach_from: Option<usize>,
+    /// Gap (m) between the pad faces of this segment's gripper once it has closed on the part
+    /// (at its last point; throughout `rot`): the width of the part it holds. Informative — the
+    /// checker measures it again from the mesh.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grip_width: Option<f64>,
     pub points: Vec<PointJson>,
 }
 

@@ -1,4 +1,4 @@
-//! The scene file (`*.toml`, `shared/spec/scene-format.md`): the planner's input.
+//! The scene file (`*.toml`, `docs/scene-format.md`): the planner's input.
 //!
 //! [`Scene::load`] reads and validates a whole scene and refuses anything unusable with one
 //! [`SceneError`] whose message names the file and the key (`robot[1].model: ...`). Keys the
@@ -8,13 +8,20 @@
 //! `_deg` spelling (`rpy_deg`, `step_deg`, ...) the value is converted on load; the plain
 //! spelling (`rpy`, `step`, ...) is in radians. Giving both spellings of one key is an error.
 //!
+//! Every number is checked for range as well as type: lengths lie within
+//! ±[`MAX_COORDINATE`] of the origin, start joint angles within the model's joint limits
+//! ([`UrModel::joint_limits`]), gripper points between the 2F-85's palm and fingertips, and
+//! every `[planner]` key within the range `docs/scene-format.md` gives it.
+//!
 //! The mesh itself is not read here (see [`crate::mesh_io::load_mesh`]); the scene only resolves
 //! its path relative to the scene file's directory.
 
+use std::f64::consts::PI;
 use std::fmt::Display;
 use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
+use pregrasp_robot::{UrModel, JOINT_NAMES};
 use toml::{Table, Value};
 
 use crate::plan_file::PlannerJson;
@@ -27,6 +34,16 @@ pub const GRIPPERS: [&str; 1] = ["robotiq_2f85"];
 pub const DEFAULT_PRECISION_POINT_Z: f64 = 0.150;
 /// Flange-to-power-point distance of the Robotiq 2F-85 (m).
 pub const DEFAULT_POWER_POINT_Z: f64 = 0.115;
+/// Range of `precision_point_z` and `power_point_z` for the Robotiq 2F-85 (m): from the top
+/// of the palm (0.1008) to the fingertips of the closed gripper (0.1735), the span in which
+/// fingers can hold anything (`docs/hardware-facts.md`).
+pub const GRIPPER_POINT_RANGE: (f64, f64) = (0.1008, 0.1735);
+/// Largest magnitude (m) of a world or object coordinate and of `support.height`. The arms
+/// reach at most 1.3 m; a coordinate beyond this is a scene written in millimetres.
+pub const MAX_COORDINATE: f64 = 100.0;
+/// Slack (rad) allowed beyond a joint limit, so that `start_deg = [360, ...]` (which converts
+/// to 2π give or take one ulp) is inside ±2π.
+const JOINT_LIMIT_SLACK: f64 = 1e-9;
 
 /// A validated scene. Poses map the child frame into the parent (`p_world = pose * p_object`).
 #[derive(Clone, Debug, PartialEq)]
@@ -114,7 +131,20 @@ pub struct PlannerParams {
     pub max_joint_step: f64,
     /// Seed of the motion planner's random generator.
     pub seed: u64,
+    /// Clearance (m) every arm link and gripper keeps from the support, the other arm, its own
+    /// links and the part — the cell's safety margin. The link shapes enclose the real links
+    /// with no margin of their own.
+    pub link_clearance: f64,
+    /// Clearance (m) a gripper keeps from the support while it grasps: holding the part, and
+    /// within the last 2 cm of an approach to a grasp or the first 2 cm of a retreat from one —
+    /// where a fingertip pinch sits a few millimetres above the table.
+    pub finger_support_clearance: f64,
 }
+
+/// Default of `[planner] link_clearance` (m).
+pub const DEFAULT_LINK_CLEARANCE: f64 = 0.005;
+/// Default of `[planner] finger_support_clearance` (m).
+pub const DEFAULT_FINGER_SUPPORT_CLEARANCE: f64 = 0.002;
 
 impl Default for PlannerParams {
     /// The defaults of `scene-format.md`.
@@ -132,6 +162,8 @@ impl Default for PlannerParams {
             approach_distance: 0.05,
             max_joint_step: 10.0f64.to_radians(),
             seed: 0,
+            link_clearance: DEFAULT_LINK_CLEARANCE,
+            finger_support_clearance: DEFAULT_FINGER_SUPPORT_CLEARANCE,
         }
     }
 }
@@ -152,6 +184,8 @@ impl PlannerParams {
             approach_distance: self.approach_distance,
             max_joint_step_deg: deg(self.max_joint_step),
             seed: self.seed,
+            link_clearance: Some(self.link_clearance),
+            finger_support_clearance: Some(self.finger_support_clearance),
         }
     }
 }
@@ -228,6 +262,7 @@ impl Scene {
         let support = cx.table(&root, "", "support")?;
         cx.unknown(support, "support", &["height"]);
         let support_height = cx.req_f64(support, "support", "height")?;
+        cx.coordinate(support_height, "support.height")?;
 
         let object = cx.object(&root, file)?;
         let grasps = cx.grasps(&root)?;
@@ -346,6 +381,19 @@ impl Cx {
             .ok_or_else(|| self.err(&join(path, name), "missing key"))
     }
 
+    /// Checks a length that places something in the world or on the object (m).
+    fn coordinate(&self, x: f64, key: &str) -> Result<(), SceneError> {
+        if x.abs() > MAX_COORDINATE {
+            return Err(self.err(
+                key,
+                format!(
+                    "{x} m is more than {MAX_COORDINATE} m from the origin (lengths are in metres)"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     fn array<const N: usize>(&self, v: &Value, key: &str) -> Result<[f64; N], SceneError> {
         let a = v.as_array().ok_or_else(|| {
             self.err(
@@ -386,6 +434,9 @@ impl Cx {
             .get("xyz")
             .ok_or_else(|| self.err(&join(key, "xyz"), "missing key"))?;
         let xyz: [f64; 3] = self.array(xyz_v, &join(key, "xyz"))?;
+        for (i, &x) in xyz.iter().enumerate() {
+            self.coordinate(x, &format!("{key}.xyz[{i}]"))?;
+        }
         let given: Vec<&str> = ["rpy", "rpy_deg", "quat_xyzw"]
             .into_iter()
             .filter(|k| t.contains_key(*k))
@@ -544,7 +595,7 @@ impl Cx {
             .get("model")
             .ok_or_else(|| self.err(&join(key, "model"), "missing key"))?;
         let model = self.string(model_v, &join(key, "model"))?;
-        if !ROBOT_MODELS.contains(&model.as_str()) {
+        let Some(ur) = UrModel::ALL.into_iter().find(|m| m.name() == model) else {
             return Err(self.err(
                 &join(key, "model"),
                 format!(
@@ -552,24 +603,27 @@ impl Cx {
                     ROBOT_MODELS.join(", ")
                 ),
             ));
-        }
+        };
         let base_v = t
             .get("base")
             .ok_or_else(|| self.err(&join(key, "base"), "missing key"))?;
         let base = self.pose(base_v, &join(key, "base"))?;
-        let start = match (t.get("start"), t.get("start_deg")) {
+        let (start, in_degrees) = match (t.get("start"), t.get("start_deg")) {
             (Some(_), Some(_)) => {
                 return Err(self.err(
                     &join(key, "start"),
                     "give either start or start_deg, not both",
                 ))
             }
-            (Some(v), None) => self.array::<6>(v, &join(key, "start"))?,
-            (None, Some(v)) => self
-                .array::<6>(v, &join(key, "start_deg"))?
-                .map(f64::to_radians),
+            (Some(v), None) => (self.array::<6>(v, &join(key, "start"))?, false),
+            (None, Some(v)) => (
+                self.array::<6>(v, &join(key, "start_deg"))?
+                    .map(f64::to_radians),
+                true,
+            ),
             (None, None) => return Err(self.err(&join(key, "start"), "missing key")),
         };
+        self.joint_limits(ur, &start, in_degrees, key, &name)?;
         let gripper = match t.get("gripper") {
             None => GRIPPERS[0].to_string(),
             Some(v) => self.string(v, &join(key, "gripper"))?,
@@ -583,12 +637,30 @@ impl Cx {
                 ),
             ));
         }
-        let precision_point_z = self
-            .opt_f64(t, key, "precision_point_z")?
-            .unwrap_or(DEFAULT_PRECISION_POINT_Z);
-        let power_point_z = self
-            .opt_f64(t, key, "power_point_z")?
-            .unwrap_or(DEFAULT_POWER_POINT_Z);
+        let point_z = |name: &str, default: f64| -> Result<f64, SceneError> {
+            let z = self.opt_f64(t, key, name)?.unwrap_or(default);
+            let (lo, hi) = GRIPPER_POINT_RANGE;
+            if !(lo..=hi).contains(&z) {
+                return Err(self.err(
+                    &join(key, name),
+                    format!(
+                        "{z} m is outside [{lo}, {hi}] m, the {gripper}'s palm-to-fingertip span"
+                    ),
+                ));
+            }
+            Ok(z)
+        };
+        let precision_point_z = point_z("precision_point_z", DEFAULT_PRECISION_POINT_Z)?;
+        let power_point_z = point_z("power_point_z", DEFAULT_POWER_POINT_Z)?;
+        if power_point_z > precision_point_z {
+            return Err(self.err(
+                &join(key, "power_point_z"),
+                format!(
+                    "{power_point_z} m is beyond precision_point_z = {precision_point_z} m: \
+                     the power point lies deeper in the hand (nearer the palm)"
+                ),
+            ));
+        }
         Ok(RobotSpec {
             name,
             model,
@@ -598,6 +670,44 @@ impl Cx {
             precision_point_z,
             power_point_z,
         })
+    }
+
+    /// Refuses a start configuration outside `model`'s joint limits, naming the robot and the
+    /// joint (`start` in radians; `in_degrees`: the file spelled it `start_deg`).
+    fn joint_limits(
+        &self,
+        model: UrModel,
+        start: &[f64; 6],
+        in_degrees: bool,
+        key: &str,
+        name: &str,
+    ) -> Result<(), SceneError> {
+        for (i, (&q, &(lo, hi))) in start.iter().zip(&model.joint_limits()).enumerate() {
+            if q >= lo - JOINT_LIMIT_SLACK && q <= hi + JOINT_LIMIT_SLACK {
+                continue;
+            }
+            let (what, field) = if in_degrees {
+                (
+                    format!(
+                        "{}° is outside the {model} joint limits [{:.0}, {:.0}]°",
+                        q.to_degrees(),
+                        lo.to_degrees(),
+                        hi.to_degrees()
+                    ),
+                    "start_deg",
+                )
+            } else {
+                (
+                    format!("{q} rad is outside the {model} joint limits [{lo:.3}, {hi:.3}]"),
+                    "start",
+                )
+            };
+            return Err(self.err(
+                &format!("{key}.{field}[{i}]"),
+                format!("{what} ({} of robot {name:?})", JOINT_NAMES[i]),
+            ));
+        }
+        Ok(())
     }
 
     fn planner(&mut self, t: &Table) -> Result<PlannerParams, SceneError> {
@@ -621,6 +731,8 @@ impl Cx {
                 "max_joint_step",
                 "max_joint_step_deg",
                 "seed",
+                "link_clearance",
+                "finger_support_clearance",
             ],
         );
         let d = PlannerParams::default();
@@ -631,17 +743,28 @@ impl Cx {
             }
             Ok(x)
         };
-        let positive_angle = |cx: &Cx, name: &str, default: f64| -> Result<f64, SceneError> {
+        // An angle in (0, max]; the message names the spelling the file used.
+        let positive_angle = |cx: &Cx, name: &str, default: f64, max: f64| {
             let x = cx.angle(t, P, name)?.unwrap_or(default);
+            let shown = if t.contains_key(name) {
+                name.to_string()
+            } else {
+                format!("{name}_deg")
+            };
             if x <= 0.0 {
-                let shown = if t.contains_key(name) {
-                    name.to_string()
-                } else {
-                    format!("{name}_deg")
-                };
                 return Err(cx.err(&join(P, &shown), "must be > 0"));
             }
-            Ok(x)
+            if x > max + 1e-12 {
+                return Err(cx.err(
+                    &join(P, &shown),
+                    format!(
+                        "must be at most {}° ({max:.4} rad), found {}°",
+                        max.to_degrees().round(),
+                        x.to_degrees()
+                    ),
+                ));
+            }
+            Ok((x, shown))
         };
         let integer = |cx: &Cx, name: &str| -> Result<Option<i64>, SceneError> {
             match t.get(name) {
@@ -662,17 +785,25 @@ impl Cx {
                 u32::try_from(i).map_err(|_| self.err("planner.extra_steps", "too large"))?
             }
         };
+        let (max_angle, _) = positive_angle(self, "max_angle", d.max_angle, PI)?;
+        let (step, step_key) = positive_angle(self, "step", d.step, PI)?;
+        if step > max_angle {
+            return Err(self.err(
+                &join(P, &step_key),
+                format!(
+                    "the step {}° is larger than max_angle {}°",
+                    step.to_degrees(),
+                    max_angle.to_degrees()
+                ),
+            ));
+        }
         Ok(PlannerParams {
             support_distance: non_negative(self, "support_distance", d.support_distance)?,
             min_axis_length: non_negative(self, "min_axis_length", d.min_axis_length)?,
-            step: positive_angle(self, "step", d.step)?,
-            max_angle: positive_angle(self, "max_angle", d.max_angle)?,
-            weight_length: self
-                .opt_f64(t, P, "weight_length")?
-                .unwrap_or(d.weight_length),
-            weight_angle: self
-                .opt_f64(t, P, "weight_angle")?
-                .unwrap_or(d.weight_angle),
+            step,
+            max_angle,
+            weight_length: non_negative(self, "weight_length", d.weight_length)?,
+            weight_angle: non_negative(self, "weight_angle", d.weight_angle)?,
             extra_steps,
             min_grasp_axis_distance: non_negative(
                 self,
@@ -681,8 +812,14 @@ impl Cx {
             )?,
             lift: non_negative(self, "lift", d.lift)?,
             approach_distance: non_negative(self, "approach_distance", d.approach_distance)?,
-            max_joint_step: positive_angle(self, "max_joint_step", d.max_joint_step)?,
+            max_joint_step: positive_angle(self, "max_joint_step", d.max_joint_step, PI)?.0,
             seed: integer(self, "seed")?.map_or(d.seed, |i| i as u64),
+            link_clearance: non_negative(self, "link_clearance", d.link_clearance)?,
+            finger_support_clearance: non_negative(
+                self,
+                "finger_support_clearance",
+                d.finger_support_clearance,
+            )?,
         })
     }
 }

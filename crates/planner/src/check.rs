@@ -4,19 +4,27 @@
 //!
 //! Motions are checked as the format defines them — linear in joint space between neighbouring
 //! points (the object's pose interpolated by slerp during `rot`) — at [`CHECK_RESOLUTION`]: no
-//! point of a moving arm travels farther than that between two checked states. No safety margin
-//! is used here (the planner keeps its own).
+//! point of a moving arm travels farther than that between two checked states, and at
+//! [`FINE_CHECK_RESOLUTION`] where a gripper grasps (μ_rot, the last 2 cm of an approach and the
+//! first 2 cm of a retreat). Rule 2 is applied with the clearances the plan's `planner` echo
+//! states (`link_clearance`, `finger_support_clearance`; defaults when absent), on the same
+//! link and gripper shapes as the planner, each gripper closed on the part at the width it
+//! closes on — measured here again from the mesh, not read from the file.
 
 use nalgebra::{Isometry3, Point3, Vector3};
-use pregrasp_collision::{ArmModel, CollisionWorld, ObjectPlacement, WorldState};
+use pregrasp_collision::{closing_gap, ArmModel, CollisionWorld, ObjectPlacement, WorldState};
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{PlanFile, PlanJson, PointJson, PoseJson, SegmentJson};
+use pregrasp_io::scene::{DEFAULT_FINGER_SUPPORT_CLEARANCE, DEFAULT_LINK_CLEARANCE};
 use pregrasp_robot::{joint_sweep_radii, Gripper2F85, GripperState, Joints, UrModel};
 
 use crate::timeline::{lerp_joints, lerp_pose, substeps, CONTACT_ZONE};
 
 /// Largest travel of any arm point between two checked states (m).
 pub const CHECK_RESOLUTION: f64 = 0.002;
+/// Largest travel of any arm point between two checked states while a gripper grasps (m):
+/// finer than the finger–support clearance.
+pub const FINE_CHECK_RESOLUTION: f64 = 0.001;
 /// Rule 3: how far the object may go below the support (m).
 pub const BELOW_SUPPORT_TOLERANCE: f64 = 0.001;
 /// Rule 3: how far an axis endpoint may move during `rot` (m).
@@ -46,6 +54,9 @@ pub struct RuleResult {
 #[derive(Clone, Debug, PartialEq)]
 pub struct CheckReport {
     pub rules: Vec<RuleResult>,
+    /// The closest any grasping gripper came to the support over all checked states (m;
+    /// `None` when no state was checked).
+    pub closest_grasp_to_support: Option<f64>,
 }
 
 impl CheckReport {
@@ -114,48 +125,114 @@ impl Rule {
 
 /// Checks every plan in `file`; `mesh` is the object mesh in the object frame (scaled).
 pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
-    let mut structure = Rule::new();
-    let mut limits = Rule::new();
-    let mut collisions = Rule::new();
-    let mut states_checked = 0u64;
-    let mut rotation = Rule::new();
-    let mut grasps = Rule::new();
-
-    let arms = match arm_models(file) {
-        Ok(arms) => arms,
+    match PlanChecker::new(file, mesh) {
+        Ok(checker) => checker.check(file),
         Err(e) => {
+            let mut structure = Rule::new();
             structure.fail(e);
-            return CheckReport {
+            CheckReport {
                 rules: vec![structure.result(0, STRUCTURE, |_| String::new())],
-            };
+                closest_grasp_to_support: None,
+            }
         }
-    };
-    if file.status == "planned" && file.plans.is_empty() {
-        structure.fail("status is \"planned\" but there is no plan".into());
     }
-    if file.status != "planned" && !file.plans.is_empty() {
-        structure.fail(format!("status is {:?} but plans are present", file.status));
-    }
-    let world = CollisionWorld::new(file.support_height, Some(mesh), arms.clone());
-    for (index, plan) in file.plans.iter().enumerate() {
-        let mut cx = PlanCheck {
-            file,
-            plan,
-            index,
-            arms: &arms,
-            world: &world,
-            mesh,
-            structure: &mut structure,
-            limits: &mut limits,
-            collisions: &mut collisions,
-            states_checked: &mut states_checked,
-            rotation: &mut rotation,
-            grasps: &mut grasps,
+}
+
+/// The models a plan file is checked with — arms, the collision world with the plan's
+/// clearances, the widths the grippers close on, the part's hull — built once for any number of
+/// plans of the same file header (robots, grasps, planner settings, support, mesh).
+pub struct PlanChecker {
+    arms: [ArmModel; 2],
+    world: CollisionWorld,
+    grips: Result<GripGaps, String>,
+    lowest_candidates: Vec<Point3<f64>>,
+    clearances: (f64, f64),
+}
+
+impl PlanChecker {
+    /// The models of `file`'s header; an error when its robots cannot be modelled.
+    pub fn new(file: &PlanFile, mesh: &Mesh) -> Result<PlanChecker, String> {
+        let arms = arm_models(file)?;
+        let link_clearance = file
+            .planner
+            .link_clearance
+            .unwrap_or(DEFAULT_LINK_CLEARANCE);
+        let finger_clearance = file
+            .planner
+            .finger_support_clearance
+            .unwrap_or(DEFAULT_FINGER_SUPPORT_CLEARANCE);
+        let world = CollisionWorld::new(file.support_height, Some(mesh), arms.clone())
+            .with_margin(link_clearance)
+            .with_grasp_support_margin(finger_clearance);
+        let grips = grip_gaps(file, &world);
+        let world = match &grips {
+            Ok(g) => {
+                world.with_closed_gaps([&[g.support[0], g.power[0]], &[g.support[1], g.power[1]]])
+            }
+            Err(_) => world,
         };
-        cx.run();
+        // The lowest point of the part is always a vertex of its convex hull.
+        let lowest_candidates = pregrasp_geometry::hull::ConvexHull::of_mesh(mesh)
+            .map(|h| h.vertices)
+            .unwrap_or_else(|_| mesh.vertices.clone());
+        Ok(PlanChecker {
+            arms,
+            world,
+            grips,
+            lowest_candidates,
+            clearances: (link_clearance, finger_clearance),
+        })
     }
-    let mm = |x: f64| format!("{:.2} mm", x * 1e3);
-    CheckReport {
+
+    /// Checks every plan in `file` (whose header must be the one the checker was built for).
+    pub fn check(&self, file: &PlanFile) -> CheckReport {
+        let mut structure = Rule::new();
+        let mut limits = Rule::new();
+        let mut collisions = Rule::new();
+        let mut states_checked = 0u64;
+        let mut rotation = Rule::new();
+        let mut grasps = Rule::new();
+        if file.status == "planned" && file.plans.is_empty() {
+            structure.fail("status is \"planned\" but there is no plan".into());
+        }
+        if file.status != "planned" && !file.plans.is_empty() {
+            structure.fail(format!("status is {:?} but plans are present", file.status));
+        }
+        let (link_clearance, finger_clearance) = self.clearances;
+        let (arms, world, lowest_candidates) = (&self.arms, &self.world, &self.lowest_candidates);
+        let grips = match &self.grips {
+            Ok(g) => g.clone(),
+            Err(e) => {
+                collisions.fail(e.clone());
+                GripGaps {
+                    support: [0.0; 2],
+                    power: [0.0; 2],
+                }
+            }
+        };
+        let mut finger_support = f64::INFINITY;
+        for (index, plan) in file.plans.iter().enumerate() {
+            let mut cx = PlanCheck {
+                file,
+                plan,
+                index,
+                arms,
+                world,
+                grips: &grips,
+                finger_support: &mut finger_support,
+                lowest_candidates,
+                structure: &mut structure,
+                limits: &mut limits,
+                collisions: &mut collisions,
+                states_checked: &mut states_checked,
+                rotation: &mut rotation,
+                grasps: &mut grasps,
+            };
+            cx.run();
+        }
+        let mm = |x: f64| format!("{:.2} mm", x * 1e3);
+        CheckReport {
+        closest_grasp_to_support: finger_support.is_finite().then_some(finger_support),
         rules: vec![
             match structure.violation {
                 Some(v) => RuleResult { rule: 0, title: STRUCTURE, ok: Some(false), detail: v },
@@ -172,7 +249,12 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
             limits.result(1, "joint limits and joint speeds", |x| {
                 format!("{:.1} % of a limit", x * 100.0)
             }),
-            collision_result(collisions, states_checked),
+            collision_result(
+                collisions,
+                states_checked,
+                finger_support,
+                (link_clearance, finger_clearance),
+            ),
             rotation.result(3, "rotation keeps the part on the support about a fixed axis", mm),
             grasps.result(4, "tool poses at grasps and on approach/retreat lines", |x| {
                 format!("{:.2} % of a tolerance", x * 100.0)
@@ -185,10 +267,48 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
             },
         ],
     }
+    }
 }
 
-/// Rule 2's verdict: the first contact, or how many states were checked.
-fn collision_result(rule: Rule, states: u64) -> RuleResult {
+/// The widths the grippers close on (m), per arm: at G_s and at its power grasp.
+#[derive(Clone)]
+struct GripGaps {
+    support: [f64; 2],
+    power: [f64; 2],
+}
+
+/// Measures, from the mesh, the gap each gripper closes to at each grasp.
+fn grip_gaps(file: &PlanFile, world: &CollisionWorld) -> Result<GripGaps, String> {
+    let object = world.object().expect("the check world has the part");
+    let g_s = file.grasps.support.to_isometry();
+    let mut gaps = GripGaps {
+        support: [0.0; 2],
+        power: [0.0; 2],
+    };
+    for arm in 0..2 {
+        let gripper = &world.arms()[arm].gripper;
+        let name = &file.robots[arm].name;
+        gaps.support[arm] = closing_gap(
+            object,
+            gripper,
+            &(g_s * gripper.precision_point().inverse()),
+        )
+        .map_err(|e| format!("support grasp of arm {name}: {e}"))?;
+        let g_p = file.grasps.power[arm].to_isometry();
+        gaps.power[arm] = closing_gap(object, gripper, &(g_p * gripper.power_point().inverse()))
+            .map_err(|e| format!("power grasp of arm {name}: {e}"))?;
+    }
+    Ok(gaps)
+}
+
+/// Rule 2's verdict: the first contact, or how many states were checked and the closest a
+/// grasping gripper came to the support.
+fn collision_result(
+    rule: Rule,
+    states: u64,
+    finger_support: f64,
+    (link, finger): (f64, f64),
+) -> RuleResult {
     let title = "no forbidden contact (support, arms, grippers, object)";
     match rule.violation {
         Some(v) => RuleResult {
@@ -202,8 +322,14 @@ fn collision_result(rule: Rule, states: u64) -> RuleResult {
             title,
             ok: Some(true),
             detail: format!(
-                "{states} states checked at {} mm of arm travel, none in contact",
-                CHECK_RESOLUTION * 1e3
+                "{states} states checked at {} mm of arm travel ({} mm while grasping), none \
+                 closer than the clearances (links {:.1} mm, grasping gripper to support {:.1} \
+                 mm); closest grasping gripper to the support: {:.2} mm",
+                CHECK_RESOLUTION * 1e3,
+                FINE_CHECK_RESOLUTION * 1e3,
+                link * 1e3,
+                finger * 1e3,
+                finger_support * 1e3
             ),
         },
     }
@@ -240,7 +366,11 @@ struct PlanCheck<'a> {
     index: usize,
     arms: &'a [ArmModel; 2],
     world: &'a CollisionWorld,
-    mesh: &'a Mesh,
+    grips: &'a GripGaps,
+    /// Closest a grasping gripper came to the support (m).
+    finger_support: &'a mut f64,
+    /// The part's points that can be its lowest (its convex hull's vertices).
+    lowest_candidates: &'a [Point3<f64>],
     structure: &'a mut Rule,
     limits: &'a mut Rule,
     collisions: &'a mut Rule,
@@ -258,13 +388,13 @@ struct Line {
 }
 
 /// Edge `k → k+1` of a segment as (index of its end, number of checked sub-steps), so that no
-/// arm point moves more than [`CHECK_RESOLUTION`] between checked states; the last point is a
-/// single state.
-fn edge(pts: &[PointJson], k: usize, weights: &Joints) -> (usize, usize) {
+/// arm point moves more than `resolution` between checked states; the last point is a single
+/// state.
+fn edge(pts: &[PointJson], k: usize, weights: &Joints, resolution: f64) -> (usize, usize) {
     if k + 1 < pts.len() {
         (
             k + 1,
-            substeps(&pts[k].q, &pts[k + 1].q, weights, CHECK_RESOLUTION),
+            substeps(&pts[k].q, &pts[k + 1].q, weights, resolution),
         )
     } else {
         (k, 1)
@@ -404,7 +534,9 @@ impl<'a> PlanCheck<'a> {
             self.check_limits(arm, seg);
             match seg.kind.as_str() {
                 "rotate" => {
-                    gripper[arm] = GripperState::Closed;
+                    gripper[arm] = GripperState::Closed {
+                        gap: self.grips.support[arm],
+                    };
                     holding[arm] = true;
                     self.check_rotation(arm, seg, &q, &gripper, &holding, &axis, &p_init, &g_s);
                     let last = seg.points.last().expect("≥ 2 points");
@@ -427,8 +559,17 @@ impl<'a> PlanCheck<'a> {
                     };
                     gripper[arm] = GripperState::Open;
                     holding[arm] = false;
-                    self.check_reach(arm, seg, &q, &gripper, &holding, &object, precision, &goal);
-                    gripper[arm] = GripperState::Closed;
+                    let closed = GripperState::Closed {
+                        gap: if precision {
+                            self.grips.support[arm]
+                        } else {
+                            self.grips.power[arm]
+                        },
+                    };
+                    self.check_reach(
+                        arm, seg, &q, &gripper, &holding, &object, precision, &goal, closed,
+                    );
+                    gripper[arm] = closed;
                     holding[arm] = true;
                 }
             }
@@ -530,8 +671,13 @@ impl<'a> PlanCheck<'a> {
         }
     }
 
-    fn collide(&mut self, state: &WorldState, at: impl Fn() -> String) {
+    /// Rule 2 at one state in which arm `moving` moves.
+    fn collide(&mut self, moving: usize, state: &WorldState, at: impl Fn() -> String) {
         *self.states_checked += 1;
+        if state.grasping[moving] {
+            let d = self.world.gripper_support_distance(moving, state);
+            *self.finger_support = self.finger_support.min(d);
+        }
         if let Err(c) = self.world.check(state) {
             self.collisions
                 .fail(format!("{}: {} touches {}", at(), c.a, c.b));
@@ -550,6 +696,7 @@ impl<'a> PlanCheck<'a> {
         object: &Isometry3<f64>,
         precision: bool,
         goal: &Isometry3<f64>,
+        closed: GripperState,
     ) {
         let index = self.index;
         let pts = &seg.points;
@@ -584,7 +731,14 @@ impl<'a> PlanCheck<'a> {
             });
 
         for k in 0..n {
-            let (edge_end, steps) = edge(pts, k, &weights);
+            // The straight lines may bring the gripper within millimetres of the support.
+            let grasping_edge = k >= approach_from || retreat_to.is_some_and(|r| k < r);
+            let resolution = if grasping_edge {
+                FINE_CHECK_RESOLUTION
+            } else {
+                CHECK_RESOLUTION
+            };
+            let (edge_end, steps) = edge(pts, k, &weights, resolution);
             for s in 0..steps {
                 let f = s as f64 / steps as f64;
                 let qi = lerp_joints(&pts[k].q, &pts[edge_end].q, f);
@@ -616,13 +770,13 @@ impl<'a> PlanCheck<'a> {
                 // The gripper closes at the last point.
                 let mut grip = *gripper;
                 if k == n - 1 {
-                    grip[arm] = GripperState::Closed;
+                    grip[arm] = closed;
                     contact[arm] = true;
                 }
                 let state = self.state(all, grip, *object, contact);
                 let seg_name = seg.name.clone();
                 let index = self.index;
-                self.collide(&state, || {
+                self.collide(arm, &state, || {
                     format!("plan {index} {seg_name} point {k} (+{f:.2})")
                 });
             }
@@ -664,14 +818,13 @@ impl<'a> PlanCheck<'a> {
             grasp_error(self.grasps, dp, da, || {
                 format!("{}: tool vs object_pose·G_s", at(index, seg, k))
             });
-            let (edge_end, steps) = edge(pts, k, &weights);
+            let (edge_end, steps) = edge(pts, k, &weights, FINE_CHECK_RESOLUTION);
             for s in 0..steps {
                 let f = s as f64 / steps as f64;
                 let object = lerp_pose(&poses[k], &poses[edge_end], f);
                 // Rule 3: above the support, axis fixed and on the support.
                 let lowest = self
-                    .mesh
-                    .vertices
+                    .lowest_candidates
                     .iter()
                     .map(|v| (object * v).z)
                     .fold(f64::INFINITY, f64::min);
@@ -706,7 +859,9 @@ impl<'a> PlanCheck<'a> {
                 all[arm] = lerp_joints(&pts[k].q, &pts[edge_end].q, f);
                 let state = self.state(all, *gripper, object, *holding);
                 let index = self.index;
-                self.collide(&state, || format!("plan {index} rot point {k} (+{f:.2})"));
+                self.collide(arm, &state, || {
+                    format!("plan {index} rot point {k} (+{f:.2})")
+                });
             }
         }
     }

@@ -3,7 +3,9 @@
 //! pipeline stage (so candidates can be evaluated in parallel without locks).
 
 use nalgebra::Isometry3;
-use pregrasp_collision::{ArmModel, CollisionWorld, Contact, ObjectPlacement, WorldState};
+use pregrasp_collision::{
+    closing_gap, ArmModel, CollisionWorld, Contact, GripFailure, ObjectPlacement, WorldState,
+};
 use pregrasp_geometry::Mesh;
 use pregrasp_io::scene::Scene;
 use pregrasp_motion::{JointSpace, MotionValidator};
@@ -15,12 +17,31 @@ use crate::timeline::Moment;
 /// between two checked states (bound Σ w_i |Δq_i|, with w_i the joint sweep radii).
 pub const MOTION_RESOLUTION: f64 = 0.005;
 
-/// Safety margin (m) the planner keeps between bodies that must not touch, on top of the
-/// robot model's own inflation (`pregrasp_robot::LINK_MARGIN`). Every point of a validated
-/// motion lies within `MOTION_RESOLUTION / 2` of a checked state, so this margin of more than
-/// half the resolution makes the whole motion — not only its checked states — collision-free
-/// for the plan checker, which uses no margin.
+/// Resolution (m) of motions while a gripper grasps (μ_rot, the last centimetres of an approach,
+/// the first of the `sup2` retreat): finer than the finger–support clearance, since a fingertip
+/// pinch works a few millimetres above the table.
+pub const FINE_RESOLUTION: f64 = 0.001;
+
+/// Margin (m) the planner adds to each clearance of the scene (`link_clearance`,
+/// `finger_support_clearance`) for the motion between checked states: every point of a
+/// validated motion lies within half the resolution of a checked state, so more than half the
+/// resolution keeps the whole motion — not only its checked states — as clear as the plan
+/// checker demands (it applies the clearances without this margin).
 pub const PLANNING_MARGIN: f64 = 0.003;
+
+/// [`PLANNING_MARGIN`]'s counterpart for the grasping gripper vs the support, whose motions
+/// are validated at [`FINE_RESOLUTION`].
+pub const FINE_PLANNING_MARGIN: f64 = 0.0006;
+
+/// The widths the grippers close on, measured from the part's mesh: per arm, at the support
+/// grasp G_s (by its precision point) and at its own power grasp.
+#[derive(Clone, Debug)]
+pub struct GripWidths {
+    /// Gap at G_s of each arm, should it support.
+    pub support: [Result<f64, GripFailure>; 2],
+    /// Gap of each arm at its power grasp.
+    pub power: [Result<f64, GripFailure>; 2],
+}
 
 /// A scene that cannot be turned into models.
 #[derive(Debug, thiserror::Error)]
@@ -45,6 +66,8 @@ pub struct PlanningContext<'a> {
     pub spaces: [JointSpace<6>; 2],
     /// Arm names, for messages.
     pub names: [String; 2],
+    /// The widths the grippers close on.
+    pub grips: GripWidths,
 }
 
 impl<'a> PlanningContext<'a> {
@@ -54,8 +77,18 @@ impl<'a> PlanningContext<'a> {
             pregrasp_collision::joint_space(&arms[0]),
             pregrasp_collision::joint_space(&arms[1]),
         ];
+        let params = &scene.planner;
         let world = CollisionWorld::new(scene.support_height, Some(mesh), arms)
-            .with_margin(PLANNING_MARGIN);
+            .with_margin(params.link_clearance + PLANNING_MARGIN)
+            .with_grasp_support_margin(params.finger_support_clearance + FINE_PLANNING_MARGIN);
+        let grips = grip_widths(&world, scene);
+        let held = |arm: usize| -> Vec<f64> {
+            [grips.support[arm], grips.power[arm]]
+                .into_iter()
+                .flatten()
+                .collect()
+        };
+        let world = world.with_closed_gaps([&held(0), &held(1)]);
         Ok(PlanningContext {
             scene,
             mesh,
@@ -63,7 +96,18 @@ impl<'a> PlanningContext<'a> {
             world,
             spaces,
             names: [scene.robots[0].name.clone(), scene.robots[1].name.clone()],
+            grips,
         })
+    }
+
+    /// The gap arm `arm` holds G_s with (only called for an arm whose support grip closes).
+    pub fn support_gap(&self, arm: usize) -> f64 {
+        self.grips.support[arm].unwrap_or(0.0)
+    }
+
+    /// The gap arm `arm` holds its power grasp with.
+    pub fn power_gap(&self, arm: usize) -> f64 {
+        self.grips.power[arm].unwrap_or(0.0)
     }
 
     pub fn arm(&self, i: usize) -> &ArmModel {
@@ -91,21 +135,32 @@ impl<'a> PlanningContext<'a> {
         arm: usize,
         validator: &'v V,
     ) -> MotionValidator<'v, 6, V> {
+        self.motion_validator_at(arm, validator, MOTION_RESOLUTION)
+    }
+
+    /// [`motion_validator`](Self::motion_validator) at another resolution (m).
+    pub fn motion_validator_at<'v, V: pregrasp_motion::StateValidator<6>>(
+        &'v self,
+        arm: usize,
+        validator: &'v V,
+        resolution: f64,
+    ) -> MotionValidator<'v, 6, V> {
         MotionValidator {
             space: &self.spaces[arm],
             validator,
-            resolution: MOTION_RESOLUTION,
+            resolution,
         }
     }
 
     /// Every IK solution of arm `arm` for a world flange pose, within limits, sorted by distance
-    /// to the arm's start, that is collision-free with the gripper closed on the part at
-    /// `object` (gripper–part contact allowed) and the other arm at its start configuration.
+    /// to the arm's start, that is collision-free with the gripper closed on the part to `gap`
+    /// at `object` (gripper–part contact allowed) and the other arm at its start configuration.
     pub fn free_ik(
         &self,
         arm: usize,
         flange_world: &Isometry3<f64>,
         object: &Isometry3<f64>,
+        gap: f64,
     ) -> Vec<Joints> {
         let model = self.arm(arm);
         let target = model.base.inverse() * flange_world;
@@ -113,7 +168,7 @@ impl<'a> PlanningContext<'a> {
         distinct_ik(&model.kin, &target, &starts[arm])
             .into_iter()
             .filter(|q| {
-                let moment = Moment::at_rest(starts, *object).holding(arm, *q);
+                let moment = Moment::at_rest(starts, *object).holding(arm, *q, gap);
                 self.check_arm(arm, &moment).is_ok()
             })
             .collect()
@@ -156,6 +211,21 @@ pub fn arm_models(scene: &Scene) -> Result<[ArmModel; 2], ContextError> {
         Ok(ArmModel::new(&spec.name, model, spec.base, gripper))
     };
     Ok([build(0)?, build(1)?])
+}
+
+/// The widths both grippers close on at every grasp of the scene, from the part's mesh.
+pub fn grip_widths(world: &CollisionWorld, scene: &Scene) -> GripWidths {
+    let object = world.object().expect("the planning world has the part");
+    let measure = |arm: usize, grasp: &Isometry3<f64>, point: Isometry3<f64>| {
+        let gripper = &world.arms()[arm].gripper;
+        closing_gap(object, gripper, &(grasp * point.inverse()))
+    };
+    let gripper = |arm: usize| world.arms()[arm].gripper;
+    GripWidths {
+        support: [0, 1]
+            .map(|arm| measure(arm, &scene.grasps.support, gripper(arm).precision_point())),
+        power: [0, 1].map(|arm| measure(arm, &scene.grasps.power[arm], gripper(arm).power_point())),
+    }
 }
 
 /// The collision world's view of a [`Moment`].

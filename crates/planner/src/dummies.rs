@@ -1,4 +1,4 @@
-//! Gripper dummies (paper §V-A, Fig. 5b): free-floating copies of the open gripper placed at the
+//! Gripper dummies (paper §V-A, Fig. 5b): free-floating copies of the gripper placed at the
 //! power grasps, rotated with the part, and tested against the support plane.
 
 use nalgebra::Isometry3;
@@ -6,7 +6,8 @@ use pregrasp_robot::{LinkShape, Primitive};
 
 /// Lowest world `z` of a set of shapes whose owning frame is at `frame_pose` (world).
 ///
-/// Exact for capsules (`min(a_z, b_z) − r`) and cuboids (lowest of the eight corners).
+/// Exact for capsules (`min(a_z, b_z) − r`), cylinders (lowest rim point) and cuboids (lowest
+/// of the eight corners).
 pub fn lowest_point(shapes: &[LinkShape], frame_pose: &Isometry3<f64>) -> f64 {
     shapes
         .iter()
@@ -15,6 +16,12 @@ pub fn lowest_point(shapes: &[LinkShape], frame_pose: &Isometry3<f64>) -> f64 {
                 let a = frame_pose * c.a;
                 let b = frame_pose * c.b;
                 a.z.min(b.z) - c.radius
+            }
+            Primitive::Cylinder(c) => {
+                let a = frame_pose * c.a;
+                let b = frame_pose * c.b;
+                let d = (b - a).normalize();
+                a.z.min(b.z) - c.radius * (1.0 - d.z * d.z).max(0.0).sqrt()
             }
             Primitive::Cuboid { pose, half_extents } => {
                 let world = frame_pose * pose;

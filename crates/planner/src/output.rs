@@ -74,7 +74,11 @@ fn points(q: &[Joints], t: &[f64]) -> Vec<PointJson> {
         .collect()
 }
 
-fn reach_segment(name: &str, robot: &str, kind: &str, grasp: &str, m: &ReachMotion) -> SegmentJson {
+fn reach_segment(
+    (name, robot, kind, grasp): (&str, &str, &str, &str),
+    grip_width: f64,
+    m: &ReachMotion,
+) -> SegmentJson {
     SegmentJson {
         name: name.to_string(),
         robot: robot.to_string(),
@@ -82,6 +86,7 @@ fn reach_segment(name: &str, robot: &str, kind: &str, grasp: &str, m: &ReachMoti
         grasp: grasp.to_string(),
         retreat_to: m.retreat_to,
         approach_from: Some(m.approach_from),
+        grip_width: Some(grip_width),
         points: points(&m.q, &m.t),
     }
 }
@@ -124,7 +129,11 @@ pub fn plan_json(
         supportive: sup.clone(),
         object_goal_pose: PoseJson::from(&pose.p_obj),
         segments: vec![
-            reach_segment("sup1", sup, "reach", "support", &path.sup1),
+            reach_segment(
+                ("sup1", sup, "reach", "support"),
+                ctx.support_gap(pose.supportive),
+                &path.sup1,
+            ),
             SegmentJson {
                 name: "rot".to_string(),
                 robot: sup.clone(),
@@ -132,10 +141,19 @@ pub fn plan_json(
                 grasp: "support".to_string(),
                 retreat_to: None,
                 approach_from: None,
+                grip_width: Some(ctx.support_gap(pose.supportive)),
                 points: rot_points,
             },
-            reach_segment("mas1", mas, "reach", "power", &path.mas1),
-            reach_segment("sup2", sup, "regrasp", "power", &path.sup2),
+            reach_segment(
+                ("mas1", mas, "reach", "power"),
+                ctx.power_gap(pose.master),
+                &path.mas1,
+            ),
+            reach_segment(
+                ("sup2", sup, "regrasp", "power"),
+                ctx.power_gap(pose.supportive),
+                &path.sup2,
+            ),
         ],
     }
 }

@@ -104,7 +104,8 @@ pub fn integrated_path(
         let mut sup1: Option<ReachMotion> = None;
 
         // μ_mas1 scene: the supportive arm holds the part at P_obj.
-        let mas1_scene = Moment::at_rest(starts, pose.p_obj).holding(sup, last);
+        let mas1_scene =
+            Moment::at_rest(starts, pose.p_obj).holding(sup, last, ctx.support_gap(sup));
 
         'master: for c_ik_p in pose.power_ik[mas].iter().take(MAX_IK_TRIES) {
             let mas1_query = ReachQuery {
@@ -125,11 +126,12 @@ pub fn integrated_path(
             let mut mas1: Option<ReachMotion> = None;
 
             // μ_sup2 scene: the master holds the part at P_obj.
-            let sup2_scene = Moment::at_rest(starts, pose.p_obj).holding(mas, *c_ik_p);
+            let sup2_scene =
+                Moment::at_rest(starts, pose.p_obj).holding(mas, *c_ik_p, ctx.power_gap(mas));
 
             for goal in pose.power_ik[sup].iter().take(MAX_IK_TRIES) {
                 // Both grippers end closed on the part: the final state must be free.
-                let end = sup2_scene.clone().holding(sup, *goal);
+                let end = sup2_scene.clone().holding(sup, *goal, ctx.power_gap(sup));
                 if let Err(c) = ctx.check(&end) {
                     failure.note(4, format!("μ_sup2: final grasp: {} touches {}", c.a, c.b));
                     continue;

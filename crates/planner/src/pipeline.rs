@@ -12,6 +12,7 @@ use pregrasp_io::scene::Scene;
 use rayon::prelude::*;
 
 use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
+use crate::check::PlanChecker;
 use crate::context::{ContextError, PlanningContext};
 use crate::output::{plan_file_header, plan_json};
 use crate::paths::{integrated_path, IntegratedPath};
@@ -110,6 +111,7 @@ pub fn plan(
             .collect();
         h
     };
+    let checker = PlanChecker::new(&header, mesh);
     let outcomes: Vec<CandidateOutcome> = candidates
         .par_iter()
         .zip(poses.into_par_iter())
@@ -119,7 +121,10 @@ pub fn plan(
                 Ok(pose) => match integrated_path(&ctx, candidate, &pose) {
                     Ok(path) => {
                         let plan = plan_json(&ctx, candidate.id, candidate.score, &pose, &path);
-                        let check = verify(&header, &plan, mesh);
+                        let check = match &checker {
+                            Ok(checker) => verify(checker, &header, &plan),
+                            Err(e) => Some(format!("rule 0 ({e})")),
+                        };
                         CandidateOutcome::Planned {
                             pose,
                             path: Box::new(path),
@@ -187,10 +192,10 @@ pub fn plan(
 }
 
 /// Checks one plan alone (with the candidates known so far); the first failed rule, if any.
-fn verify(header: &PlanFile, plan: &PlanJson, mesh: &Mesh) -> Option<String> {
+fn verify(checker: &PlanChecker, header: &PlanFile, plan: &PlanJson) -> Option<String> {
     let mut single = header.clone();
     single.plans = vec![plan.clone()];
-    let report = crate::check::check_plan(&single, mesh);
+    let report = checker.check(&single);
     report
         .rules
         .into_iter()
@@ -217,8 +222,10 @@ fn no_plan_reason(ctx: &PlanningContext, outcomes: &[CandidateOutcome]) -> Strin
         // Name the furthest stage any candidate reached: Δd_a, then the dummies, then IK.
         let stage = |r: &PoseRejection| match r {
             GraspNearAxis { .. } => 0,
-            DummiesNeverClear { .. } => 1,
-            PowerGraspUnreachable { .. } | SupportGraspUnreachable { .. } => 2,
+            CannotClose { support: false, .. } => 1,
+            DummiesNeverClear { .. } => 2,
+            CannotClose { support: true, .. } => 3,
+            PowerGraspUnreachable { .. } | SupportGraspUnreachable { .. } => 4,
         };
         let furthest = rejections.iter().map(|r| stage(r)).max().unwrap_or(0);
         let at: Vec<&PoseRejection> = rejections
@@ -239,7 +246,8 @@ fn no_plan_reason(ctx: &PlanningContext, outcomes: &[CandidateOutcome]) -> Strin
         };
         return match furthest {
             0 => "no candidate: every power grasp within Δd_a of every axis".to_string(),
-            1 => "Algorithm 2: the gripper dummies never clear the support within θ_max".to_string(),
+            1 | 3 => format!("grasp: {}", at[0].describe(&ctx.names)),
+            2 => "Algorithm 2: the gripper dummies never clear the support within θ_max".to_string(),
             _ if at.iter().all(|r| matches!(r, SupportGraspUnreachable { .. })) => {
                 format!("IK: support grasp unreachable for arm {} at every P_obj", arms(true))
             }

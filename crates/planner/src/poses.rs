@@ -12,10 +12,11 @@
 //!    (C_IK^p), and of the supportive arm's precision point at G_s (C_IK^s).
 
 use nalgebra::Isometry3;
+use pregrasp_collision::GripFailure;
 use pregrasp_robot::{GripperState, Joints};
 
 use crate::axes::RotationAxisCandidate;
-use crate::context::{PlanningContext, PLANNING_MARGIN};
+use crate::context::{PlanningContext, FINE_PLANNING_MARGIN};
 use crate::dummies::lowest_point;
 
 /// Tolerance on d_g1 > d_g2 when choosing the master arm (plan-format.md).
@@ -51,6 +52,13 @@ pub enum PoseRejection {
     PowerGraspUnreachable { arm: usize },
     /// No collision-free IK solution for the supportive arm at G_s at P_obj.
     SupportGraspUnreachable { arm: usize },
+    /// The gripper of `arm` cannot close on the part at a grasp (`support`: G_s, else its
+    /// power grasp).
+    CannotClose {
+        arm: usize,
+        support: bool,
+        failure: GripFailure,
+    },
 }
 
 impl PoseRejection {
@@ -77,6 +85,15 @@ impl PoseRejection {
                     names[*arm]
                 )
             }
+            PoseRejection::CannotClose {
+                arm,
+                support,
+                failure,
+            } => format!(
+                "{} grasp of arm {}: {failure}",
+                if *support { "support" } else { "power" },
+                names[*arm]
+            ),
         }
     }
 }
@@ -113,21 +130,36 @@ pub fn object_pose_for_power_grasp(
         }
     }
 
+    // Both power grasps must close on the part (a property of the grasps and the mesh).
+    for (arm, gap) in ctx.grips.power.iter().enumerate() {
+        if let Err(failure) = gap {
+            return Err(PoseRejection::CannotClose {
+                arm,
+                support: false,
+                failure: *failure,
+            });
+        }
+    }
+
     // RotObjDummy: rotate part + dummies in steps of Δφ until the dummies clear the support,
     // then n_ext further steps that must stay clear.
-    // The dummy is the open gripper of the paper plus the same gripper closed: it will close
-    // at the grasp, and the closed fingers reach ~13 mm deeper.
+    // The dummy is the open gripper of the paper plus the same gripper closed on the part at
+    // the width it grasps: the pads go deeper as the fingers close. Both are grasping (they
+    // close on the part there), so they keep the finger–support clearance.
     let dummy_shapes: [Vec<_>; 2] = [0, 1].map(|arm| {
         let g = &ctx.arm(arm).gripper;
         let mut shapes = g.shapes(GripperState::Open);
-        shapes.extend(g.shapes(GripperState::Closed));
+        shapes.extend(g.shapes(GripperState::Closed {
+            gap: ctx.power_gap(arm),
+        }));
         shapes
     });
+    let clearance = params.finger_support_clearance + FINE_PLANNING_MARGIN;
     let dummies_clear = |theta: f64| -> bool {
         let pose = candidate.rotated_pose(&ctx.p_init, theta);
         (0..2).all(|arm| {
             let flange = pose * grasps.power[arm] * ctx.arm(arm).gripper.power_point().inverse();
-            lowest_point(&dummy_shapes[arm], &flange) > ctx.scene.support_height + PLANNING_MARGIN
+            lowest_point(&dummy_shapes[arm], &flange) > ctx.scene.support_height + clearance
         })
     };
     let step = params.step;
@@ -164,7 +196,7 @@ pub fn object_pose_for_power_grasp(
     // gripper closed on the part (contact with the part allowed).
     let power_ik = [0, 1].map(|arm| {
         let tool = p_obj * grasps.power[arm] * ctx.arm(arm).gripper.power_point().inverse();
-        ctx.free_ik(arm, &tool, &p_obj)
+        ctx.free_ik(arm, &tool, &p_obj, ctx.power_gap(arm))
     });
     for (arm, solutions) in power_ik.iter().enumerate() {
         if solutions.is_empty() {
@@ -172,8 +204,15 @@ pub fn object_pose_for_power_grasp(
         }
     }
     // IKSolSup: the supportive arm's precision point at G_s on the part at P_obj.
+    if let Err(failure) = ctx.grips.support[supportive] {
+        return Err(PoseRejection::CannotClose {
+            arm: supportive,
+            support: true,
+            failure,
+        });
+    }
     let tool = p_obj * grasps.support * ctx.arm(supportive).gripper.precision_point().inverse();
-    let support_ik = ctx.free_ik(supportive, &tool, &p_obj);
+    let support_ik = ctx.free_ik(supportive, &tool, &p_obj, ctx.support_gap(supportive));
     if support_ik.is_empty() {
         return Err(PoseRejection::SupportGraspUnreachable { arm: supportive });
     }

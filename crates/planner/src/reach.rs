@@ -18,7 +18,7 @@ use std::sync::Mutex;
 use pregrasp_collision::Contact;
 use pregrasp_robot::Joints;
 
-use crate::context::PlanningContext;
+use crate::context::{PlanningContext, FINE_RESOLUTION};
 use crate::timeline::{Moment, CONTACT_ZONE};
 use crate::timing::{scaled, time_along, CONTACT_SCALE, TRANSIT_SCALE};
 
@@ -118,7 +118,8 @@ pub fn reach_lines(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachLin
     let strict = |q: &State<6>| free(q, false);
     let touching = |q: &State<6>| free(q, true);
     let strict_motion = ctx.motion_validator(query.arm, &strict);
-    let contact_motion = ctx.motion_validator(query.arm, &touching);
+    // Within the contact zone the gripper may be a few millimetres above the table.
+    let contact_motion = ctx.motion_validator_at(query.arm, &touching, FINE_RESOLUTION);
     let fk = |q: &State<6>| kin.fk(q);
     let ik = |pose: &Isometry3<f64>, seed: &State<6>| kin.ik_nearest(pose, seed);
     let line = CartesianSettings {

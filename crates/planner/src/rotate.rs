@@ -11,7 +11,7 @@ use nalgebra::Isometry3;
 use pregrasp_robot::Joints;
 
 use crate::axes::RotationAxisCandidate;
-use crate::context::{PlanningContext, MOTION_RESOLUTION};
+use crate::context::{PlanningContext, FINE_RESOLUTION};
 use crate::poses::PowerGraspPose;
 use crate::timeline::{lerp_joints, substeps, Moment};
 
@@ -67,76 +67,139 @@ impl RotationFailure {
     }
 }
 
-/// The moment of μ_rot at angle `theta` with the supportive arm at `q`.
+/// The moment of μ_rot at angle `theta` with the supportive arm at `q`, holding G_s at the
+/// width it closes on.
 pub fn rotation_moment(
     ctx: &PlanningContext,
     pose: &PowerGraspPose,
     object: Isometry3<f64>,
     q: Joints,
 ) -> Moment {
-    Moment::at_rest(ctx.starts(), object).holding(pose.supportive, q)
+    Moment::at_rest(ctx.starts(), object).holding(
+        pose.supportive,
+        q,
+        ctx.support_gap(pose.supportive),
+    )
 }
 
+/// How many times a step of Δφ may be halved where the continuing IK branch moves fast (near a
+/// wrist singularity the joints turn quickly but continuously): down to Δφ / 16.
+pub const MAX_STEP_HALVINGS: u32 = 4;
+
 /// `RotPath`: μ_rot from one c_IK^s, or why there is none.
+///
+/// Built backwards from θ_goal in steps of Δφ; a step whose IK solution jumps by more than
+/// `max_joint_step` is halved (up to [`MAX_STEP_HALVINGS`] times) so a fast but continuous
+/// branch is followed with more points instead of being refused. Every state between points
+/// is checked at [`FINE_RESOLUTION`]: the gripper holds a pinch a few millimetres above the
+/// table.
 pub fn rotation_path(
     ctx: &PlanningContext,
     candidate: &RotationAxisCandidate,
     pose: &PowerGraspPose,
     c_ik_s: &Joints,
 ) -> Result<RotationPath, RotationFailure> {
-    let sup = pose.supportive;
-    let arm = ctx.arm(sup);
     let params = &ctx.scene.planner;
-    let tool_in_grasp = arm.gripper.precision_point().inverse();
-    let base_inv = arm.base.inverse();
     let n = (pose.theta_goal / params.step).round() as usize;
-    let weights = ctx.spaces[sup].weights;
-
-    let mut theta = vec![0.0; n + 1];
-    let mut q = vec![[0.0; 6]; n + 1];
-    let mut object = vec![ctx.p_init; n + 1];
-    theta[n] = pose.theta_goal;
-    q[n] = *c_ik_s;
-    object[n] = pose.p_obj;
-    let check = |moment: &Moment, th: f64| -> Result<(), RotationFailure> {
-        ctx.check(moment).map_err(|c| RotationFailure::Collision {
-            theta: th,
-            a: c.a,
-            b: c.b,
-        })
+    let tracker = Tracker {
+        ctx,
+        candidate,
+        pose,
     };
-    check(&rotation_moment(ctx, pose, object[n], q[n]), theta[n])?;
-
+    tracker.check(
+        &rotation_moment(ctx, pose, pose.p_obj, *c_ik_s),
+        pose.theta_goal,
+    )?;
+    // Points from θ_goal down to 0 (reversed at the end).
+    let mut theta = vec![pose.theta_goal];
+    let mut q = vec![*c_ik_s];
+    let mut object = vec![pose.p_obj];
     for k in (0..n).rev() {
         let th = k as f64 * params.step;
-        let obj = candidate.rotated_pose(&ctx.p_init, th);
-        let target = base_inv * obj * ctx.scene.grasps.support * tool_in_grasp;
+        let (from_theta, from_q) = (*theta.last().expect("≥ 1"), *q.last().expect("≥ 1"));
+        tracker.step(from_theta, &from_q, th, 0, &mut |t, qi, o| {
+            theta.push(t);
+            q.push(qi);
+            object.push(o);
+        })?;
+    }
+    theta.reverse();
+    q.reverse();
+    object.reverse();
+    Ok(RotationPath { theta, q, object })
+}
+
+struct Tracker<'a> {
+    ctx: &'a PlanningContext<'a>,
+    candidate: &'a RotationAxisCandidate,
+    pose: &'a PowerGraspPose,
+}
+
+impl Tracker<'_> {
+    fn check(&self, moment: &Moment, theta: f64) -> Result<(), RotationFailure> {
+        self.ctx
+            .check(moment)
+            .map_err(|c| RotationFailure::Collision {
+                theta,
+                a: c.a,
+                b: c.b,
+            })
+    }
+
+    /// From `(from_theta, from_q)` to angle `to`, emitting the points reached (excluding the
+    /// start), halving the step where the branch moves too fast.
+    fn step(
+        &self,
+        from_theta: f64,
+        from_q: &Joints,
+        to: f64,
+        depth: u32,
+        emit: &mut dyn FnMut(f64, Joints, Isometry3<f64>),
+    ) -> Result<(), RotationFailure> {
+        let ctx = self.ctx;
+        let sup = self.pose.supportive;
+        let arm = ctx.arm(sup);
+        let max_step = ctx.scene.planner.max_joint_step;
+        let obj = self.candidate.rotated_pose(&ctx.p_init, to);
+        let target = arm.base.inverse()
+            * obj
+            * ctx.scene.grasps.support
+            * arm.gripper.precision_point().inverse();
         let next = arm
             .kin
-            .ik_nearest(&target, &q[k + 1])
-            .ok_or(RotationFailure::Unreachable { theta: th })?;
-        for j in 0..6 {
-            let delta = (next[j] - q[k + 1][j]).abs();
-            if delta > params.max_joint_step {
-                return Err(RotationFailure::JointJump {
-                    theta: th,
-                    joint: j,
-                    delta,
-                });
+            .ik_nearest(&target, from_q)
+            .ok_or(RotationFailure::Unreachable { theta: to })?;
+        let jump = (0..6)
+            .map(|j| (j, (next[j] - from_q[j]).abs()))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("6 joints");
+        if jump.1 > max_step {
+            if depth < MAX_STEP_HALVINGS {
+                let mid = 0.5 * (from_theta + to);
+                let mut reached = (from_theta, *from_q);
+                self.step(from_theta, from_q, mid, depth + 1, &mut |t, qi, o| {
+                    reached = (t, qi);
+                    emit(t, qi, o)
+                })?;
+                return self.step(reached.0, &reached.1, to, depth + 1, emit);
             }
+            return Err(RotationFailure::JointJump {
+                theta: to,
+                joint: jump.0,
+                delta: jump.1,
+            });
         }
         // Interpolated states between the two points: joints linearly, angle linearly.
-        let steps = substeps(&next, &q[k + 1], &weights, MOTION_RESOLUTION);
+        let weights = ctx.spaces[sup].weights;
+        let steps = substeps(&next, from_q, &weights, FINE_RESOLUTION);
         for s in 0..steps {
             let f = s as f64 / steps as f64;
-            let qi = lerp_joints(&next, &q[k + 1], f);
-            let ti = th + f * (theta[k + 1] - th);
-            let oi = candidate.rotated_pose(&ctx.p_init, ti);
-            check(&rotation_moment(ctx, pose, oi, qi), ti)?;
+            let qi = lerp_joints(&next, from_q, f);
+            let ti = to + f * (from_theta - to);
+            let oi = self.candidate.rotated_pose(&ctx.p_init, ti);
+            self.check(&rotation_moment(ctx, self.pose, oi, qi), ti)?;
         }
-        theta[k] = th;
-        q[k] = next;
-        object[k] = obj;
+        emit(to, next, obj);
+        Ok(())
     }
-    Ok(RotationPath { theta, q, object })
 }

@@ -58,11 +58,11 @@ impl Moment {
         }
     }
 
-    /// The same moment with arm `arm` at `q` holding the part: gripper closed on it, contact
-    /// between that gripper and the part allowed.
-    pub fn holding(mut self, arm: usize, q: Joints) -> Moment {
+    /// The same moment with arm `arm` at `q` holding the part: gripper closed on it at `gap`
+    /// (the width it holds, m), contact between that gripper and the part allowed.
+    pub fn holding(mut self, arm: usize, q: Joints, gap: f64) -> Moment {
         self.q[arm] = q;
-        self.gripper[arm] = GripperState::Closed;
+        self.gripper[arm] = GripperState::Closed { gap };
         self.contact_allowed[arm] = true;
         self
     }

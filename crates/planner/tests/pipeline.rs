@@ -117,10 +117,27 @@ fn power_grasps_on_the_axes_give_no_plan_with_the_distance_reason() {
 }
 
 #[test]
+fn support_grasp_off_the_part_gives_no_plan_naming_the_grasp() {
+    let (mut scene, mesh) = example("chair_side");
+    // Two metres beyond the part: the fingers would close on nothing.
+    scene.grasps.support.translation.vector.x += 2.0;
+    let file = run(&scene, &mesh);
+    assert_eq!(file.status, "no_plan");
+    let reason = file.reason.expect("a reason");
+    assert!(
+        reason.starts_with("grasp: support grasp of arm")
+            && reason.ends_with("close on nothing (no part between the fingers)"),
+        "{reason}"
+    );
+}
+
+#[test]
 fn support_grasp_out_of_reach_gives_no_plan_naming_ik() {
     let (mut scene, mesh) = example("chair_side");
-    // Two metres beyond the part, out of every arm's reach.
-    scene.grasps.support.translation.vector.x += 2.0;
+    // Approached from below, through the table: the fingers still close on the bar, but no
+    // arm can get there without touching the support.
+    let flip = UnitQuaternion::from_euler_angles(std::f64::consts::PI, 0.0, 0.0);
+    scene.grasps.support.rotation *= flip;
     let file = run(&scene, &mesh);
     assert_eq!(file.status, "no_plan");
     let reason = file.reason.expect("a reason");
@@ -169,6 +186,29 @@ mod edited_plans_fail_the_check {
         // Swing the shoulder down until the forearm lies in the table.
         seg.points[k].q[1] = 0.6;
         assert!(failed_rules(&file, &mesh).contains(&2));
+    }
+
+    /// The table raised until the pinching fingertips are 1 mm inside it: rule 2 fails on the
+    /// supportive gripper against the support (the part is then below the table too: rule 3).
+    #[test]
+    fn fingertips_1_mm_inside_the_table_fail_rule_2() {
+        let (mut file, mesh) = planned();
+        let report = check_plan(&file, &mesh);
+        let closest = report.closest_grasp_to_support.expect("states checked");
+        assert!(
+            closest >= 0.002,
+            "planned with the 2 mm clearance: {closest}"
+        );
+        file.support_height += closest + 0.001;
+        let report = check_plan(&file, &mesh);
+        let rule2 = report.rules.iter().find(|r| r.rule == 2).unwrap();
+        assert_eq!(rule2.ok, Some(false));
+        assert!(
+            rule2.detail.contains("/gripper_") && rule2.detail.ends_with("touches support"),
+            "{}",
+            rule2.detail
+        );
+        assert!(report.closest_grasp_to_support.unwrap() <= -0.001 + 1e-9);
     }
 
     #[test]

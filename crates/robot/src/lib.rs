@@ -7,6 +7,7 @@
 //! the flange frame. Units: metres, radians, seconds.
 
 mod angle;
+mod finger;
 mod fk;
 mod gripper;
 mod ik;
@@ -14,11 +15,12 @@ mod links;
 mod model;
 
 pub use angle::{atan2, wrap_angle};
+pub use finger::{BoxJson, FingerKinematics, FingerLink, FingerPose};
 pub use fk::UrKinematics;
-pub use gripper::{Gripper2F85, GripperState, GRIPPER_FRAME, OPEN_PAD_HALF_GAP};
+pub use gripper::{Gripper2F85, GripperState, GRIPPER_FRAME};
 pub use ik::{joint_distance, IkSolutions, IK_RESIDUAL_TOL};
 pub use links::{
-    arm_geometry, housing_scale, joint_sweep_radii, ArmGeometry, Capsule, LinkShape, Primitive,
-    LINK_MARGIN,
+    arm_geometry, fitted_links_of, joint_sweep_radii, ArmGeometry, Capsule, Cylinder, FittedLink,
+    LinkShape, Primitive,
 };
 pub use model::{DhParams, Joints, UnknownModel, UrModel, DEFAULT_JOINT_ACCEL, JOINT_NAMES};

@@ -1,17 +1,12 @@
-//! Conservative collision geometry of the arm links, in the DH frames they move with.
+//! Collision geometry of the arm links, in the DH frames they move with.
 //!
-//! Source: the UR5e link envelopes measured from the MuJoCo Menagerie meshes
-//! (`shared/facts/ur5e-2f85.md`). Each housing is a cylinder (end-face centres `a`, `b`,
-//! radius r) enclosed by a capsule whose segment is inset by `e = min(h, r/2)` from each face
-//! (h = half length) and whose radius is `√(r² + e²) + m`: every cylinder point is within
-//! `√(r² + e²)` of the segment, so the capsule contains the cylinder grown by the margin
-//! `m = 5 mm`. Tubes between two housings use their measured radius rounded up, plus `m`.
-//!
-//! Placement: lengths along the links come from the model's DH parameters (a2, a3, d5,
-//! d6); housing radii and the lateral offsets of the housings along the joint axes are the
-//! UR5e values scaled by `k = (d4 + d5 + d6) / (d4 + d5 + d6)_UR5e` (the wrist offsets are
-//! set by the housing sizes). Only the UR5e is measured; the other models are this scaling,
-//! not a measurement.
+//! Source: `data/ur_links.json`, fitted by `tools/geometry/derive.py` to the visual meshes of
+//! Universal Robots' ROS 2 description (UR3e, UR5e, UR10e, UR16e and the CB3 UR5, each from its
+//! own meshes; provenance and per-link numbers in `data/PROVENANCE.md`). Every link is a few
+//! flat-ended [`Cylinder`]s: coaxial stacks on the joint axes for the housings, the base and the
+//! flange, and cylinders from joint axis to joint axis for the tubes, so no round cap sticks out
+//! along an axis. Every mesh vertex lies inside its link's shapes (tested); the shapes carry no
+//! margin — the clearance the arms keep is a planner setting (`[planner] link_clearance`).
 //!
 //! DH frames at q = 0 (UR5e, base coordinates): frames 1–3 have x = X, y = Z, z = −Y;
 //! frame 4 has x = X, y = −Y, z = −Z; frames 5 and 6 have x = X, y = Z, z = −Y. The link
@@ -22,12 +17,6 @@ use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 
 use crate::gripper::{Gripper2F85, GripperState};
 use crate::model::{Joints, UrModel};
-
-/// Safety margin added around every measured envelope (m).
-pub const LINK_MARGIN: f64 = 0.005;
-
-/// Sum d4 + d5 + d6 of the UR5e (m), the reference for the housing scale.
-const UR5E_WRIST_SUM: f64 = 0.1333 + 0.0997 + 0.0996;
 
 /// A capsule: the points within `radius` of the segment `a`–`b` (a sphere when `a == b`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,34 +30,6 @@ pub struct Capsule {
 }
 
 impl Capsule {
-    /// Smallest capsule of this construction containing the cylinder with end-face centres
-    /// `a`, `b` and radius `r`, grown by [`LINK_MARGIN`] (see the module documentation).
-    pub fn enclosing_cylinder(a: Point3<f64>, b: Point3<f64>, r: f64) -> Capsule {
-        let axis = b - a;
-        let h = 0.5 * axis.norm();
-        let e = h.min(0.5 * r);
-        let dir = if h > 0.0 {
-            axis / (2.0 * h)
-        } else {
-            Vector3::zeros()
-        };
-        Capsule {
-            a: a + e * dir,
-            b: b - e * dir,
-            radius: (r * r + e * e).sqrt() + LINK_MARGIN,
-        }
-    }
-
-    /// A tube of radius `r` along `a`–`b` whose ends are buried in housings, grown by
-    /// [`LINK_MARGIN`].
-    pub fn tube(a: Point3<f64>, b: Point3<f64>, r: f64) -> Capsule {
-        Capsule {
-            a,
-            b,
-            radius: r + LINK_MARGIN,
-        }
-    }
-
     /// Distance from `p` to the capsule's segment (m).
     pub fn segment_distance(&self, p: &Point3<f64>) -> f64 {
         let ab = self.b - self.a;
@@ -87,11 +48,41 @@ impl Capsule {
     }
 }
 
+/// A solid circular cylinder with flat ends: the points within `radius` of the segment `a`–`b`
+/// whose projection onto the line `ab` falls between `a` and `b`. `a` and `b` are the centres of
+/// the end faces.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cylinder {
+    /// Centre of the first end face, in the owning frame (m).
+    pub a: Point3<f64>,
+    /// Centre of the second end face, in the owning frame (m).
+    pub b: Point3<f64>,
+    /// Radius (m).
+    pub radius: f64,
+}
+
+impl Cylinder {
+    /// True when `p` lies inside (or on) the cylinder, within `tol`.
+    pub fn contains(&self, p: &Point3<f64>, tol: f64) -> bool {
+        let ab = self.b - self.a;
+        let len = ab.norm();
+        if len == 0.0 {
+            return false;
+        }
+        let axis = ab / len;
+        let t = (p - self.a).dot(&axis);
+        let radial = ((p - self.a) - axis * t).norm();
+        t >= -tol && t <= len + tol && radial <= self.radius + tol
+    }
+}
+
 /// A collision primitive in the frame of the link that carries it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Primitive {
     /// A capsule (a sphere when both ends coincide).
     Capsule(Capsule),
+    /// A flat-ended cylinder (joint housings, the base).
+    Cylinder(Cylinder),
     /// A box with its centre and axes at `pose` in the owning frame.
     Cuboid {
         /// Pose of the box centre in the owning frame.
@@ -115,6 +106,7 @@ impl Primitive {
     pub fn max_origin_distance(&self) -> f64 {
         match self {
             Primitive::Capsule(c) => c.a.coords.norm().max(c.b.coords.norm()) + c.radius,
+            Primitive::Cylinder(c) => c.a.coords.norm().max(c.b.coords.norm()) + c.radius,
             Primitive::Cuboid { pose, half_extents } => {
                 pose.translation.vector.norm() + half_extents.norm()
             }
@@ -149,16 +141,6 @@ impl ArmGeometry {
     }
 }
 
-/// Housing scale of `model` relative to the UR5e (see the module documentation).
-pub fn housing_scale(model: UrModel) -> f64 {
-    let dh = model.dh();
-    (dh.d4 + dh.d5 + dh.d6) / UR5E_WRIST_SUM
-}
-
-fn p(x: f64, y: f64, z: f64) -> Point3<f64> {
-    Point3::new(x, y, z)
-}
-
 /// Conservative link shapes of `model` and the shape pairs checked for self-collision.
 ///
 /// Self-collision pairs: every pair of shapes on links two or more joints apart, except
@@ -167,136 +149,129 @@ fn p(x: f64, y: f64, z: f64) -> Point3<f64> {
 /// z4 at a fixed offset from wrist_1) and the base vs the upper arm's shoulder housing (a
 /// solid of revolution about the shoulder-lift axis, at a fixed height above the base).
 pub fn arm_geometry(model: UrModel) -> ArmGeometry {
-    let dh = model.dh();
-    let k = housing_scale(model);
-    let (a2, a3, d4, d5, d6) = (-dh.a2, -dh.a3, dh.d4, dh.d5, dh.d6); // |a2|, |a3| > 0
-    let cyl = |frame, name, a, b, r| LinkShape {
-        name,
-        frame,
-        primitive: Primitive::Capsule(Capsule::enclosing_cylinder(a, b, r)),
-    };
-    let tube = |frame, name, a, b, r| LinkShape {
-        name,
-        frame,
-        primitive: Primitive::Capsule(Capsule::tube(a, b, r)),
-    };
-    let m = LINK_MARGIN;
-    let base_r = 0.0755 * k + m;
-    let links = vec![
-        // Base: Ø151 mm foot whose top is 64 mm below the shoulder axis (UR5e: z 0…0.099),
-        // as a box from 2 mm above the mounting plane (so the mounting surface itself does
-        // not register) to the top plus margin.
-        LinkShape {
-            name: "base",
-            frame: 0,
-            primitive: Primitive::aabb(
-                Vector3::new(-base_r, -base_r, 0.002),
-                Vector3::new(base_r, base_r, dh.d1 - 0.064 * k + m),
-            ),
-        },
-        // Shoulder (frame 1 at the shoulder-lift axis; y = up, z = towards the upper arm).
-        cyl(
-            1,
-            "shoulder_pan",
-            p(0.0, -0.064 * k, 0.0),
-            p(0.0, 0.072 * k, 0.0),
-            0.060 * k,
-        ),
-        cyl(
-            1,
-            "shoulder_lift",
-            p(0.0, 0.0, -0.060 * k),
-            p(0.0, 0.0, 0.074 * k),
-            0.060 * k,
-        ),
-        // Upper arm (frame 2 at the elbow axis; the shoulder axis is at x = |a2|).
-        cyl(
-            2,
-            "upper_arm_shoulder",
-            p(a2, 0.0, 0.060 * k),
-            p(a2, 0.0, 0.216 * k),
-            0.060 * k,
-        ),
-        tube(
-            2,
-            "upper_arm_tube",
-            p(a2, 0.0, 0.138 * k),
-            p(0.0, 0.0, 0.138 * k),
-            0.050 * k,
-        ),
-        cyl(
-            2,
-            "upper_arm_elbow",
-            p(0.0, 0.0, 0.060 * k),
-            p(0.0, 0.0, 0.216 * k),
-            0.060 * k,
-        ),
-        // Forearm (frame 3 at the wrist-1 axis; the elbow axis is at x = |a3|).
-        cyl(
-            3,
-            "forearm_elbow",
-            p(a3, 0.0, -0.050 * k),
-            p(a3, 0.0, 0.060 * k),
-            0.058 * k,
-        ),
-        tube(
-            3,
-            "forearm_tube",
-            p(a3, 0.0, 0.007 * k),
-            p(0.0, 0.0, 0.007 * k),
-            0.040 * k,
-        ),
-        cyl(
-            3,
-            "forearm_wrist",
-            p(0.0, 0.0, -0.050 * k),
-            p(0.0, 0.0, 0.060 * k),
-            0.040 * k,
-        ),
-        // Wrist 1 (frame 4 on the wrist-2 axis; y = −(wrist-1 axis offset), z = wrist-2 axis).
-        cyl(
-            4,
-            "wrist_1_joint",
-            p(0.0, -(d4 - 0.060 * k), 0.0),
-            p(0.0, 0.0, 0.0),
-            0.040 * k,
-        ),
-        cyl(
-            4,
-            "wrist_1_housing",
-            p(0.0, 0.0, -0.056 * k),
-            p(0.0, 0.0, d5 - 0.046 * k),
-            0.040 * k,
-        ),
-        // Wrist 2 (frame 5 at o5; z = wrist-3 axis, y back towards wrist 1).
-        cyl(
-            5,
-            "wrist_2_housing",
-            p(0.0, 0.0, -0.056 * k),
-            p(0.0, 0.0, d6 - 0.046 * k),
-            0.040 * k,
-        ),
-        cyl(
-            5,
-            "wrist_2_joint",
-            p(0.0, 0.0, 0.0),
-            p(0.0, d5 - 0.054 * k, 0.0),
-            0.040 * k,
-        ),
-        // Wrist 3 (frame 6 = flange; the disc between the wrist-2 housing and the flange face).
-        cyl(
-            6,
-            "wrist_3_flange",
-            p(0.0, 0.0, -0.046 * k),
-            p(0.0, 0.0, 0.0),
-            0.044 * k,
-        ),
-    ];
+    let links = fitted_links(model)
+        .unwrap_or_else(|| panic!("ur_links.json has no shapes for {model}"))
+        .clone();
+    with_self_collision_pairs(links)
+}
+
+#[derive(serde::Deserialize)]
+struct FittedShapeJson {
+    name: String,
+    kind: String,
+    a: [f64; 3],
+    b: [f64; 3],
+    radius: f64,
+}
+
+#[derive(serde::Deserialize)]
+struct FittedLinkJson {
+    name: String,
+    frame: usize,
+    shapes: Vec<FittedShapeJson>,
+    #[serde(default)]
+    excess_mm: Option<f64>,
+}
+
+#[derive(serde::Deserialize)]
+struct FittedModelJson {
+    links: Vec<FittedLinkJson>,
+}
+
+#[derive(serde::Deserialize)]
+struct FittedFileJson {
+    models: std::collections::BTreeMap<String, FittedModelJson>,
+}
+
+/// One link of a fitted model: its shapes and the largest outward excess the fit measured over
+/// the link's mesh (see `data/PROVENANCE.md`; the mesh vertices the shapes must contain are
+/// test data, `data/ur_link_vertices.json`).
+#[derive(Clone, Debug)]
+pub struct FittedLink {
+    /// Link name: base, shoulder, upper_arm, forearm, wrist_1, wrist_2, wrist_3.
+    pub name: String,
+    /// DH frame the link moves with.
+    pub frame: usize,
+    /// Indices into [`arm_geometry`]'s `links` of this link's shapes.
+    pub shapes: Vec<usize>,
+    /// Largest outward excess of the shapes over the mesh (mm), as measured by the fit.
+    pub excess_mm: Option<f64>,
+}
+
+struct FittedModel {
+    shapes: Vec<LinkShape>,
+    links: Vec<FittedLink>,
+}
+
+/// The link shapes fitted to the description meshes (`data/ur_links.json`, made by
+/// `tools/geometry/derive.py`), per model; parsed once.
+fn fitted_models() -> &'static std::collections::BTreeMap<String, FittedModel> {
+    static MODELS: std::sync::OnceLock<std::collections::BTreeMap<String, FittedModel>> =
+        std::sync::OnceLock::new();
+    MODELS.get_or_init(|| {
+        let file: FittedFileJson = serde_json::from_str(include_str!("../data/ur_links.json"))
+            .expect("built-in ur_links.json is valid");
+        file.models
+            .into_iter()
+            .map(|(name, m)| {
+                let mut shapes = Vec::new();
+                let mut links = Vec::new();
+                for l in m.links {
+                    let mut indices = Vec::new();
+                    for s in l.shapes {
+                        let (a, b) = (Point3::from(s.a), Point3::from(s.b));
+                        let primitive = match s.kind.as_str() {
+                            "cylinder" => Primitive::Cylinder(Cylinder {
+                                a,
+                                b,
+                                radius: s.radius,
+                            }),
+                            "capsule" => Primitive::Capsule(Capsule {
+                                a,
+                                b,
+                                radius: s.radius,
+                            }),
+                            other => panic!("ur_links.json: unknown shape kind {other:?}"),
+                        };
+                        indices.push(shapes.len());
+                        shapes.push(LinkShape {
+                            name: Box::leak(s.name.into_boxed_str()),
+                            frame: l.frame,
+                            primitive,
+                        });
+                    }
+                    links.push(FittedLink {
+                        name: l.name,
+                        frame: l.frame,
+                        shapes: indices,
+                        excess_mm: l.excess_mm,
+                    });
+                }
+                (name, FittedModel { shapes, links })
+            })
+            .collect()
+    })
+}
+
+fn fitted_links(model: UrModel) -> Option<&'static Vec<LinkShape>> {
+    fitted_models().get(model.name()).map(|m| &m.shapes)
+}
+
+/// The fitted links of `model`, or `None` for a model whose shapes are the parametric envelope
+/// (no mesh fitted).
+pub fn fitted_links_of(model: UrModel) -> Option<&'static [FittedLink]> {
+    fitted_models()
+        .get(model.name())
+        .map(|m| m.links.as_slice())
+}
+
+/// Adds the self-collision pairs (see [`arm_geometry`]).
+fn with_self_collision_pairs(links: Vec<LinkShape>) -> ArmGeometry {
     let excluded = |a: &LinkShape, b: &LinkShape| {
         let frames = (a.frame.min(b.frame), a.frame.max(b.frame));
         frames == (4, 6)
-            || (a.name == "base" && b.name == "upper_arm_shoulder")
-            || (b.name == "base" && a.name == "upper_arm_shoulder")
+            || (a.frame == 0 && b.name == "upper_arm_shoulder")
+            || (b.frame == 0 && a.name == "upper_arm_shoulder")
     };
     let mut self_collision_pairs = Vec::new();
     for i in 0..links.len() {
@@ -332,7 +307,12 @@ pub fn joint_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> Joints {
         let r = shape.primitive.max_origin_distance();
         reach_in_frame[shape.frame] = reach_in_frame[shape.frame].max(r);
     }
-    for state in [GripperState::Open, GripperState::Closed] {
+    // Every opening (the fingers move on arcs: an intermediate gap may reach farthest).
+    let stroke = gripper.fingers().stroke();
+    let states = (0..=32).map(|k| GripperState::Closed {
+        gap: stroke * k as f64 / 32.0,
+    });
+    for state in states.chain([GripperState::Open]) {
         for shape in gripper.shapes(state) {
             let r = shape.primitive.max_origin_distance();
             reach_in_frame[6] = reach_in_frame[6].max(r);

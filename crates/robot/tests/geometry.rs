@@ -1,5 +1,6 @@
-//! Link and gripper geometry: the capsules enclose the measured UR5e housings wherever the
-//! arm is, the 2F-85 keeps its stroke free, and the self-collision pairs tell collision truths.
+//! Link and gripper geometry: the fitted shapes contain every vertex of the description meshes,
+//! the 2F-85 fingers follow the real linkage and keep the stroke free, and the self-collision
+//! pairs tell collision truths.
 
 mod common;
 
@@ -7,8 +8,8 @@ use common::{intersects, placed};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::shape::{Capsule as PCapsule, Cuboid};
 use pregrasp_robot::{
-    arm_geometry, joint_sweep_radii, Gripper2F85, GripperState, Joints, Primitive, UrKinematics,
-    UrModel,
+    arm_geometry, fitted_links_of, joint_sweep_radii, Gripper2F85, GripperState, Joints, Primitive,
+    UrKinematics, UrModel,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -42,55 +43,6 @@ fn menagerie_bodies(q: &Joints) -> [Isometry3<f64>; 6] {
     })
 }
 
-/// Sample points on a cylinder (two rims and the mid circle) in a body frame.
-fn cylinder_points(axis: usize, center: [f64; 3], r: f64, from: f64, to: f64) -> Vec<Point3<f64>> {
-    let mut pts = Vec::new();
-    for t in [from, 0.5 * (from + to), to] {
-        for k in 0..16 {
-            let phi = k as f64 * PI / 8.0;
-            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
-            let mut p = center;
-            p[axis] = t;
-            p[u] += r * phi.cos();
-            p[v] += r * phi.sin();
-            pts.push(Point3::from(p));
-        }
-        let mut c = center;
-        c[axis] = t;
-        pts.push(Point3::from(c));
-    }
-    pts
-}
-
-/// Measured UR5e housings per moving body (body index, points in the body frame), from
-/// `shared/facts/ur5e-2f85.md`.
-fn measured_housings() -> Vec<(usize, Vec<Point3<f64>>)> {
-    vec![
-        (0, cylinder_points(2, [0.0; 3], 0.060, -0.064, 0.072)), // shoulder pan housing
-        (0, cylinder_points(1, [0.0; 3], 0.060, 0.0, 0.074)),    // shoulder lift motor
-        (1, cylinder_points(1, [0.0; 3], 0.060, -0.078, 0.072)), // upper arm, shoulder end
-        (
-            1,
-            cylinder_points(1, [0.0, 0.0, 0.425], 0.060, -0.078, 0.072),
-        ), // elbow end
-        (1, cylinder_points(2, [0.0; 3], 0.045, 0.09, 0.34)),    // upper arm tube
-        (2, cylinder_points(1, [0.0; 3], 0.058, -0.057, 0.053)), // forearm elbow housing
-        (2, cylinder_points(2, [0.0; 3], 0.038, 0.09, 0.34)),    // forearm tube
-        (
-            2,
-            cylinder_points(1, [0.0, 0.0, 0.392], 0.040, -0.056, 0.053),
-        ), // wrist-1 end
-        (3, cylinder_points(1, [0.0; 3], 0.040, 0.053, 0.127)),  // wrist_1 joint part
-        (
-            3,
-            cylinder_points(2, [0.0, 0.127, 0.0], 0.040, -0.056, 0.054),
-        ), // wrist-2 housing
-        (4, cylinder_points(1, [0.0, 0.0, 0.1], 0.040, -0.057, 0.053)), // wrist-3 housing
-        (4, cylinder_points(2, [0.0; 3], 0.040, 0.054, 0.1)),    // wrist_2 joint part
-        (5, cylinder_points(1, [0.0; 3], 0.044, 0.053, 0.099)),  // wrist_3 flange disc
-    ]
-}
-
 #[test]
 fn menagerie_chain_matches_dh_flange() {
     // Validates the independent chain used below: attachment_site = DH flange (≤ 1.5 mm,
@@ -122,52 +74,171 @@ fn menagerie_chain_matches_dh_flange() {
     }
 }
 
+/// Every vertex of the description meshes lies inside the fitted shapes of its link (no
+/// under-approximation), for every model with fitted data; prints each link's shapes and the
+/// largest outward excess the fit measured.
 #[test]
-fn capsules_enclose_measured_ur5e_housings_at_any_q() {
-    let kin = UrKinematics::new(UrModel::Ur5e);
-    let geometry = arm_geometry(UrModel::Ur5e);
-    let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let mut configs: Vec<Joints> = vec![[0.0; 6]];
-    configs.extend((0..20).map(|_| std::array::from_fn(|_| rng.random_range(-PI..PI))));
-    for q in &configs {
-        let frames = kin.fk_frames(q);
-        let bodies = menagerie_bodies(q);
-        for (body, points) in measured_housings() {
-            let dh_frame = body + 1;
-            for p in &points {
-                let world = bodies[body] * p;
-                let inside = geometry.links.iter().any(|l| {
-                    l.frame == dh_frame
-                        && match l.primitive {
-                            Primitive::Capsule(c) => {
-                                c.contains(&(frames[dh_frame].inverse() * world))
-                            }
-                            Primitive::Cuboid { .. } => false,
-                        }
-                });
-                assert!(
-                    inside,
-                    "body {body} point {p} (world {world}) outside, q={q:?}"
-                );
+fn every_mesh_vertex_is_inside_its_link_shapes() {
+    let mut fitted = 0;
+    for model in UrModel::ALL {
+        let Some(links) = fitted_links_of(model) else {
+            continue;
+        };
+        fitted += 1;
+        let geometry = arm_geometry(model);
+        for link in links {
+            let vertices = mesh_vertices(model.name(), &link.name);
+            assert!(!vertices.is_empty(), "{model} {}: no vertices", link.name);
+            let mut worst: f64 = f64::NEG_INFINITY;
+            // The base's shapes start 2 mm above the mounting plane, so that the plane the
+            // arm stands on never registers as a contact; the foot's bottom rim is not modelled.
+            let mounted = |v: &&Point3<f64>| link.frame != 0 || v.z >= BASE_MOUNT_GAP;
+            for v in vertices.iter().filter(mounted) {
+                // Signed distance outside the nearest shape (≤ 0 inside).
+                let outside = link
+                    .shapes
+                    .iter()
+                    .map(|&i| outside_distance(&geometry.links[i].primitive, v))
+                    .fold(f64::INFINITY, f64::min);
+                worst = worst.max(outside);
             }
+            assert!(
+                worst <= 1e-6,
+                "{model} {}: a mesh vertex lies {:.3} mm outside the shapes",
+                link.name,
+                worst * 1e3
+            );
+            println!(
+                "{model:6} {:10} {} shape(s), {} vertices inside, excess {:.1} mm",
+                link.name,
+                link.shapes.len(),
+                vertices.len(),
+                link.excess_mm.unwrap_or(f64::NAN)
+            );
+        }
+    }
+    assert_eq!(fitted, UrModel::ALL.len(), "every model has fitted shapes");
+}
+
+/// The description-mesh vertices of `link` of `model` (its DH frame) that the shapes must
+/// contain: `data/ur_link_vertices.json`, made with the shapes by `tools/geometry/derive.py`.
+fn mesh_vertices(model: &str, link: &str) -> Vec<Point3<f64>> {
+    let file: serde_json::Value =
+        serde_json::from_str(include_str!("../data/ur_link_vertices.json")).unwrap();
+    let xyz = |p: &serde_json::Value| {
+        Point3::new(
+            p[0].as_f64().unwrap(),
+            p[1].as_f64().unwrap(),
+            p[2].as_f64().unwrap(),
+        )
+    };
+    file["models"][model]["links"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|l| l["name"] == link)
+        .map(|l| l["hull"].as_array().unwrap().iter().map(xyz).collect())
+        .unwrap_or_default()
+}
+
+/// Height above the mounting plane where the base shapes start (m).
+const BASE_MOUNT_GAP: f64 = 0.002;
+
+/// How far `p` lies outside `prim` (m; ≤ 0 inside).
+fn outside_distance(prim: &Primitive, p: &Point3<f64>) -> f64 {
+    match prim {
+        Primitive::Capsule(c) => c.segment_distance(p) - c.radius,
+        Primitive::Cylinder(c) => {
+            let ab = c.b - c.a;
+            let len = ab.norm();
+            let axis = ab / len;
+            let t = (p - c.a).dot(&axis);
+            let radial = ((p - c.a) - axis * t).norm() - c.radius;
+            let along = (-t).max(t - len);
+            radial.max(along)
+        }
+        Primitive::Cuboid { pose, half_extents } => {
+            let l = pose.inverse_transform_point(p);
+            (0..3)
+                .map(|i| l[i].abs() - half_extents[i])
+                .fold(f64::NEG_INFINITY, f64::max)
         }
     }
 }
 
+/// The UR5e foot is a Ø151 mm cylinder: a point 1 mm outside it radially is outside the model
+/// at every height of the foot (the old square box reached 114 mm from the axis).
 #[test]
-fn base_box_encloses_the_measured_foot() {
+fn base_is_a_round_foot() {
     let geometry = arm_geometry(UrModel::Ur5e);
-    let base = &geometry.links[geometry.index_of("base").expect("base shape")];
-    assert_eq!(base.frame, 0);
-    let Primitive::Cuboid { pose, half_extents } = base.primitive else {
-        panic!("base is a box")
-    };
-    // Ø151 mm foot, z 0.002 … 0.099 (the lowest 2 mm are left to the mounting plane).
-    for p in cylinder_points(2, [0.0; 3], 0.0755, 0.002, 0.099) {
-        let local = pose.inverse() * p;
+    let base: Vec<_> = geometry.links.iter().filter(|l| l.frame == 0).collect();
+    assert!(!base.is_empty());
+    for z in [0.01, 0.03, 0.05, 0.08] {
+        for k in 0..16 {
+            let phi = k as f64 * PI / 8.0;
+            let p = Point3::new(0.0766 * phi.cos(), 0.0766 * phi.sin(), z);
+            assert!(
+                base.iter()
+                    .all(|l| outside_distance(&l.primitive, &p) > 0.0),
+                "z {z}, φ {phi}"
+            );
+        }
+    }
+}
+
+/// The pads follow the MuJoCo Menagerie 2F-85 (facts table, gap → pad centre z) within
+/// 0.5 mm, and their contact faces are half the gap from the axis.
+#[test]
+fn pads_follow_the_menagerie_linkage() {
+    let fingers = Gripper2F85::default().fingers();
+    for (gap, z) in [
+        (0.0852, 0.1416),
+        (0.0700, 0.1467),
+        (0.0533, 0.1507),
+        (0.0356, 0.1534),
+        (0.0172, 0.1547),
+    ] {
+        let pose = fingers.at(gap);
         assert!(
-            (0..3).all(|i| local[i].abs() <= half_extents[i] + 1e-12),
-            "{p}"
+            (pose.pad_center_z - z).abs() < 5e-4,
+            "gap {gap}: pad centre {} vs {z}",
+            pose.pad_center_z
+        );
+        if gap <= fingers.stroke() {
+            assert!((pose.pad_face_x - gap / 2.0).abs() < 1e-4, "gap {gap}");
+        }
+    }
+    // Fingertips: 160.3 mm open, 173.5 mm closed (menagerie), within 0.5 mm.
+    assert!((fingers.at(1.0).tip_z - 0.1603).abs() < 5e-4);
+    assert!((fingers.at(0.0).tip_z - 0.1735).abs() < 5e-4);
+}
+
+/// The deepest point of the finger shapes is the fingertip of the table, at every gap: the
+/// boxes reach no deeper than the real finger.
+#[test]
+fn finger_boxes_end_at_the_fingertips() {
+    let g = Gripper2F85::default();
+    for k in 0..=20 {
+        let gap = 0.0852 * k as f64 / 20.0;
+        let state = GripperState::Closed { gap };
+        let deepest = g
+            .shapes(state)
+            .iter()
+            .map(|s| match s.primitive {
+                Primitive::Cuboid { pose, half_extents } => {
+                    let m = pose.rotation.to_rotation_matrix();
+                    pose.translation.z
+                        + (0..3)
+                            .map(|i| m[(2, i)].abs() * half_extents[i])
+                            .sum::<f64>()
+                }
+                _ => unreachable!("gripper shapes are boxes"),
+            })
+            .fold(f64::NEG_INFINITY, f64::max);
+        let tip = g.finger_pose(state).tip_z;
+        assert!(
+            (deepest - tip).abs() < 1.5e-3,
+            "gap {gap}: shapes reach {deepest}, fingertip {tip}"
         );
     }
 }
@@ -179,13 +250,15 @@ fn open_gripper_leaves_the_85mm_stroke_free() {
     assert!(open
         .iter()
         .all(|s| s.name.starts_with("gripper_") && s.frame == 6));
-    // The volume swept by the pads: 85 mm along x, the 22 mm pad width, the pad z span.
+    // The volume swept by the pads: between the open pad faces, the 22 mm pad width, the pad
+    // z span (37.5 mm centred on the open pad centre).
+    let at_open = g.finger_pose(GripperState::Open);
     let stroke = (
-        Isometry3::translation(0.0, 0.0, 0.5 * (0.1228 + 0.1603)),
+        Isometry3::translation(0.0, 0.0, at_open.pad_center_z),
         Box::new(Cuboid::new(Vector3::new(
-            0.0425,
+            at_open.pad_face_x - 1e-4,
             0.011,
-            0.5 * (0.1603 - 0.1228),
+            0.0185,
         ))) as Box<dyn parry3d_f64::shape::Shape>,
     );
     for s in &open {
@@ -205,7 +278,7 @@ fn open_gripper_leaves_the_85mm_stroke_free() {
         .iter()
         .any(|s| intersects(&placed(s, &Isometry3::identity()), &outside)));
     // Closed, the same pad volume is occupied.
-    let closed = g.shapes(GripperState::Closed);
+    let closed = g.shapes(GripperState::FULLY_CLOSED);
     assert!(closed
         .iter()
         .any(|s| intersects(&placed(s, &Isometry3::identity()), &stroke)));
@@ -251,7 +324,11 @@ fn self_collisions(model: UrModel, q: &Joints) -> Vec<(&'static str, &'static st
             hits.push((geometry.links[i].name, geometry.links[j].name));
         }
     }
-    for state in [GripperState::Open, GripperState::Closed] {
+    for state in [
+        GripperState::Open,
+        GripperState::Closed { gap: 0.03 },
+        GripperState::FULLY_CLOSED,
+    ] {
         for gs in Gripper2F85::default().shapes(state) {
             let pg = placed(&gs, &frames[6]);
             for i in Gripper2F85::forbidden_arm_links(&geometry) {
@@ -291,27 +368,16 @@ fn folded_arm_and_inward_gripper_collide() {
                 || b.starts_with("upper_arm")),
             "{model}: {folded:?}"
         );
-        // Gripper pointing straight down beside the base axis, fingertips below the base
-        // top, a finger over the foot: every IK solution puts the gripper into the base.
-        let kin = UrKinematics::new(model);
-        let base_top = model.dh().d1 - 0.064 * pregrasp_robot::housing_scale(model);
-        // Approach axis −Z, closing axis (fingers) along the base's y axis.
-        let down = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), PI)
-            * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), FRAC_PI_2);
-        let flange = Isometry3::from_parts(
-            Translation3::new(0.0, -1.001 * model.dh().d4, base_top + 0.1),
-            down,
-        );
-        let sols = kin.ik(&flange, &[0.0; 6]);
-        assert!(!sols.is_empty(), "{model}: pose reachable");
-        for q in sols.iter().take(16) {
-            let hits = self_collisions(model, q);
-            assert!(
-                hits.iter()
-                    .any(|(a, b)| a.starts_with("gripper") && *b == "base"),
-                "{model}: {hits:?}"
-            );
-        }
+        // Elbow and wrist_1 folded so the gripper points back at the arm: somewhere it hits.
+        let grid = || (-7..=7).map(|k| k as f64 * 0.4);
+        let gripper_hits = grid().any(|q4| {
+            grid().any(|q3| {
+                self_collisions(model, &[0.0, -FRAC_PI_2, q3, q4, FRAC_PI_2, 0.0])
+                    .iter()
+                    .any(|(a, _)| a.starts_with("gripper"))
+            })
+        });
+        assert!(gripper_hits, "{model}");
     }
 }
 
@@ -347,6 +413,20 @@ fn sweep_radii_bound_point_displacement() {
         // Probe points: capsule ends pushed out by the radius, gripper box corners.
         let mut probes: Vec<(usize, Point3<f64>)> = Vec::new();
         for l in &geometry.links {
+            if let Primitive::Cylinder(c) = l.primitive {
+                let d = (c.b - c.a).normalize();
+                let u = d
+                    .cross(&Vector3::x())
+                    .try_normalize(1e-9)
+                    .unwrap_or(d.cross(&Vector3::y()).normalize());
+                let w = d.cross(&u);
+                for e in [c.a, c.b] {
+                    for k in 0..8 {
+                        let phi = k as f64 * PI / 4.0;
+                        probes.push((l.frame, e + c.radius * (phi.cos() * u + phi.sin() * w)));
+                    }
+                }
+            }
             if let Primitive::Capsule(c) = l.primitive {
                 for e in [c.a, c.b] {
                     for d in [
@@ -365,7 +445,7 @@ fn sweep_radii_bound_point_displacement() {
         for s in g
             .shapes(GripperState::Open)
             .into_iter()
-            .chain(g.shapes(GripperState::Closed))
+            .chain(g.shapes(GripperState::FULLY_CLOSED))
         {
             if let Primitive::Cuboid {
                 pose,

@@ -72,10 +72,16 @@ pub struct DhJson {
     pub alpha: [f64; 6],
 }
 
+/// The gripper's shapes open, fully closed, and closed at the widths this arm grasps with in
+/// the plans (the width it closes on at the support grasp G_s and at its power grasp).
 #[derive(Serialize, Default)]
 pub struct GripperShapesJson {
     pub open: Vec<ShapeJson>,
     pub closed: Vec<ShapeJson>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closed_precision: Option<Vec<ShapeJson>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closed_power: Option<Vec<ShapeJson>>,
 }
 
 #[derive(Serialize)]
@@ -101,12 +107,27 @@ pub enum ShapeJson {
         pose: PoseJson,
         half_extents: [f64; 3],
     },
+    /// A flat-ended cylinder: `a`, `b` are the centres of its end faces.
+    Cylinder {
+        name: String,
+        frame: usize,
+        a: [f64; 3],
+        b: [f64; 3],
+        radius: f64,
+    },
 }
 
 impl From<&LinkShape> for ShapeJson {
     fn from(s: &LinkShape) -> Self {
         match &s.primitive {
             Primitive::Capsule(c) => ShapeJson::Capsule {
+                name: s.name.to_string(),
+                frame: s.frame,
+                a: c.a.coords.into(),
+                b: c.b.coords.into(),
+                radius: c.radius,
+            },
+            Primitive::Cylinder(c) => ShapeJson::Cylinder {
                 name: s.name.to_string(),
                 frame: s.frame,
                 a: c.a.coords.into(),
@@ -208,6 +229,15 @@ fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
     }
     let gripper = gripper_of(robot);
     let shapes = |state| gripper.shapes(state).iter().map(ShapeJson::from).collect();
+    // The widths this robot closes on, as the plans record them.
+    let width = |grasp: &str| {
+        plan.plans
+            .iter()
+            .flat_map(|p| &p.segments)
+            .filter(|s| s.robot == robot.name && s.grasp == grasp)
+            .find_map(|s| s.grip_width)
+    };
+    let closed_at = |grasp: &str| width(grasp).map(|gap| shapes(GripperState::Closed { gap }));
     let kin = UrKinematics::new(model);
     RobotModelJson {
         name: robot.name.clone(),
@@ -221,7 +251,9 @@ fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
             .collect(),
         gripper: GripperShapesJson {
             open: shapes(GripperState::Open),
-            closed: shapes(GripperState::Closed),
+            closed: shapes(GripperState::FULLY_CLOSED),
+            closed_precision: closed_at("support"),
+            closed_power: closed_at("power"),
         },
         fk_check: fk_check_configs(robot, plan)
             .into_iter()

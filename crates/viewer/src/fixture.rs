@@ -137,6 +137,8 @@ fn base_file(mesh_path: &str) -> PlanFile {
             approach_distance: APPROACH,
             max_joint_step_deg: 10.0,
             seed: 0,
+            link_clearance: None,
+            finger_support_clearance: None,
         },
         object: ObjectJson {
             mesh: mesh_path.into(),
@@ -376,6 +378,7 @@ fn build_plan(s: &Setup, cand: &CandidateJson, theta_goal: f64) -> Result<PlanJs
                 grasp: grasp.into(),
                 retreat_to,
                 approach_from,
+                grip_width: None,
                 points,
             }
         };

@@ -227,3 +227,39 @@ fn a_degenerate_mesh_still_renders_without_hull_edges() {
     let html = render_html(&plan, &mesh, &ViewOptions::default());
     assert_eq!(embedded(&html)["hull_edges"].as_array().unwrap().len(), 0);
 }
+
+/// A gripper holding the part is drawn closed at the width the plan records: the pads of the
+/// `closed_precision` / `closed_power` sets face each other `grip_width` apart.
+#[test]
+fn holding_grippers_are_drawn_at_their_grip_width() {
+    let mut plan = fixture::demo_plan("plate.stl").expect("fixture builds");
+    for seg in plan.plans.iter_mut().flat_map(|p| p.segments.iter_mut()) {
+        seg.grip_width = Some(if seg.grasp == "support" { 0.030 } else { 0.050 });
+    }
+    let html = render_html(&plan, &fixture::plate_mesh(), &ViewOptions::default());
+    let data = embedded(&html);
+    for r in data["robots"].as_array().unwrap() {
+        for (set, width) in [("closed_precision", 0.030), ("closed_power", 0.050)] {
+            let Some(shapes) = r["gripper"][set].as_array() else {
+                continue;
+            };
+            // Inner face of each pad box: |centre x| − its half extent along x (the pads are
+            // not rotated about y).
+            let faces: Vec<f64> = shapes
+                .iter()
+                .filter(|s| s["name"].as_str().unwrap().starts_with("gripper_pad_"))
+                .map(|s| {
+                    let x = s["pose"]["xyz"][0].as_f64().unwrap();
+                    x.abs() - s["half_extents"][0].as_f64().unwrap()
+                })
+                .collect();
+            assert_eq!(faces.len(), 2, "{set}: two pads");
+            for f in faces {
+                assert!((f - width / 2.0).abs() < 2e-4, "{set}: pad face at {f}");
+            }
+        }
+        assert!(
+            r["gripper"]["closed_precision"].is_array() || r["gripper"]["closed_power"].is_array()
+        );
+    }
+}

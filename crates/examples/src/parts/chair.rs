@@ -38,7 +38,7 @@ pub struct ChairSideParams {
 impl Default for ChairSideParams {
     fn default() -> Self {
         Self {
-            thickness: 0.040,
+            thickness: 0.025,
             seat_height: 0.45,
             depth: 0.42,
             back_height: 0.85,

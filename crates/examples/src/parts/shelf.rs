@@ -52,7 +52,7 @@ pub struct ShelfSideParams {
 impl Default for ShelfSideParams {
     fn default() -> Self {
         Self {
-            thickness: 0.030,
+            thickness: 0.018,
             length: 0.80,
             depth: 0.36,
             chamfer: 0.06,

@@ -33,7 +33,7 @@ pub struct StoolSideParams {
 impl Default for StoolSideParams {
     fn default() -> Self {
         Self {
-            thickness: 0.040,
+            thickness: 0.025,
             height: 0.46,
             top_width: 0.30,
             bottom_width: 0.52,

@@ -32,7 +32,7 @@ pub fn assert_solutions_exact(kin: &UrKinematics, sols: &[Joints], target: &Isom
 }
 
 use parry3d_f64::query::intersection_test;
-use parry3d_f64::shape::{Capsule as PCapsule, Cuboid, Shape};
+use parry3d_f64::shape::{Capsule as PCapsule, Cuboid, Cylinder as PCylinder, Shape};
 use pregrasp_robot::{LinkShape, Primitive};
 
 /// A link shape placed in the base frame by its frame pose, as a parry shape.
@@ -42,6 +42,21 @@ pub fn placed(shape: &LinkShape, frame_pose: &Isometry3<f64>) -> (Isometry3<f64>
             Isometry3::identity(),
             Box::new(PCapsule::new(frame_pose * c.a, frame_pose * c.b, c.radius)),
         ),
+        Primitive::Cylinder(c) => {
+            let (a, b) = (frame_pose * c.a, frame_pose * c.b);
+            let d = b - a;
+            let rot = nalgebra::UnitQuaternion::rotation_between(&nalgebra::Vector3::y(), &d)
+                .unwrap_or_else(|| {
+                    nalgebra::UnitQuaternion::from_axis_angle(
+                        &nalgebra::Vector3::x_axis(),
+                        std::f64::consts::PI,
+                    )
+                });
+            (
+                Isometry3::from_parts(nalgebra::center(&a, &b).coords.into(), rot),
+                Box::new(PCylinder::new(0.5 * d.norm(), c.radius)),
+            )
+        }
         Primitive::Cuboid { pose, half_extents } => {
             (frame_pose * pose, Box::new(Cuboid::new(half_extents)))
         }

@@ -1,0 +1,69 @@
+//! Parts close to the arms (issue 20): the link shapes follow the real links, so a part 40 mm
+//! from a robot's foot plans and its plan passes the checker.
+
+use std::path::Path;
+
+use nalgebra::Point3;
+use pregrasp_examples::scene::{object_pose, scene_toml};
+use pregrasp_examples::{ChairSideParams, SceneLayout};
+use pregrasp_io::scene::Scene;
+use pregrasp_planner::check::check_plan;
+use pregrasp_planner::pipeline::{plan, PlanOptions};
+
+/// Radius of the UR5e foot (m): a Ø151 mm cylinder.
+const FOOT_RADIUS: f64 = 0.0755;
+
+/// Smallest horizontal distance (m) from the vertical axis through `base` to the part's
+/// vertices, with the part laid out by `layout`.
+fn distance_to_foot_axis(layout: &SceneLayout, base: [f64; 3]) -> (f64, Point3<f64>) {
+    let design = ChairSideParams::default().design();
+    let pose = object_pose(&design, layout);
+    design
+        .mesh()
+        .vertices
+        .iter()
+        .map(|v| {
+            let w = pose * v;
+            ((w.x - base[0]).hypot(w.y - base[1]), w)
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .expect("vertices")
+}
+
+#[test]
+fn a_part_40_mm_from_a_foot_plans() {
+    // Slide the chair side towards the arms until its nearest corner is 40 mm from the right
+    // arm's foot (the old square base model reached 114 mm from the axis, +8 mm of margins).
+    let mut layout = SceneLayout::default();
+    let base = layout.arms[1].base_xyz;
+    let target = FOOT_RADIUS + 0.040;
+    for _ in 0..8 {
+        let (d, nearest) = distance_to_foot_axis(&layout, base);
+        let dy = nearest.y - base[1];
+        let dx = nearest.x - base[0];
+        let want_dx = (target * target - dy * dy).max(0.0).sqrt();
+        let _ = d;
+        layout.axis_x += want_dx - dx;
+    }
+    let (d, _) = distance_to_foot_axis(&layout, base);
+    assert!(
+        (d - target).abs() < 5e-4,
+        "nearest vertex {d} m from the foot axis"
+    );
+
+    let design = ChairSideParams::default().design();
+    let text = scene_toml(
+        "near_foot",
+        "chair side by the foot",
+        "unused.stl",
+        &design,
+        &layout,
+    );
+    let scene = Scene::from_str(&text, Path::new("near_foot.toml")).unwrap();
+    let mesh = design.mesh();
+    let report = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}).unwrap();
+    let file = report.file;
+    assert_eq!(file.status, "planned", "{:?}", file.reason);
+    let check = check_plan(&file, &mesh);
+    assert!(check.is_valid(), "{:?}", check.rules);
+}
