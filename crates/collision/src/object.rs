@@ -12,7 +12,7 @@ use parry3d_f64::query;
 use parry3d_f64::shape::{Cuboid as PCuboid, TriMesh};
 use pregrasp_geometry::Mesh;
 
-use crate::distance::{aabb_aabb_sq, segment_triangle_sq};
+use crate::distance::{aabb_aabb_sq, closest_point_on_triangle, segment_triangle_sq};
 use crate::error::CollisionError;
 use crate::shape::{Bounded, Placed};
 
@@ -170,6 +170,7 @@ impl ObjectGeometry {
         let (lo, hi) = (c - ext, c + ext);
         let cub = PCuboid::new(*half);
         let id = Isometry3::identity();
+        let reach2 = half.norm_squared();
         let mut hit = false;
         self.mesh.bvh().traverse(|node| {
             if aabb_aabb_sq(&lo, &hi, &node.mins(), &node.maxs()) > 0.0 {
@@ -177,6 +178,11 @@ impl ObjectGeometry {
             }
             if let Some(leaf) = node.leaf_data() {
                 let tri = self.mesh.triangle(leaf);
+                // The box lies within |half| of its centre: a farther triangle cannot touch it.
+                let q = closest_point_on_triangle(&c, &tri.a, &tri.b, &tri.c);
+                if (q - c).norm_squared() > reach2 {
+                    return TraversalAction::Continue;
+                }
                 if query::intersection_test(box_pose, &cub, &id, &tri).unwrap_or(true) {
                     hit = true;
                     return TraversalAction::EarlyExit;

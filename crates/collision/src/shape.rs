@@ -421,6 +421,42 @@ fn cylinder_pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
             return false;
         }
     }
+    // Cylinder vs cylinder: each exact against the other's enclosing capsule (a miss there is a
+    // miss), and against its inscribed capsule (a hit there is a hit).
+    if let (
+        Placed::Cylinder {
+            a: a1,
+            b: b1,
+            radius: r1,
+        },
+        Placed::Cylinder {
+            a: a2,
+            b: b2,
+            radius: r2,
+        },
+    ) = (*s1, *s2)
+    {
+        let outer12 = segment_cylinder_distance(&a1, &b1, &a2, &b2, r2, r1 + margin);
+        if outer12 > r1 + margin {
+            return false;
+        }
+        let outer21 = segment_cylinder_distance(&a2, &b2, &a1, &b1, r1, r2 + margin);
+        if outer21 > r2 + margin {
+            return false;
+        }
+        for (seg, other) in [
+            (cylinder_capsules(&a1, &b1, r1).2, (a2, b2, r2, r1)),
+            (cylinder_capsules(&a2, &b2, r2).2, (a1, b1, r1, r2)),
+        ] {
+            if let Some((p, q)) = seg {
+                let (oa, ob, or, own) = other;
+                if segment_cylinder_distance(&p, &q, &oa, &ob, or, own + margin) <= own + margin {
+                    return true;
+                }
+            }
+        }
+        return gjk_distance(s1, s2) <= margin;
+    }
     let inner = |s: &Placed| inner_capsule(s).map(|(a, b, r)| as_capsule(a, b, r));
     let (i1, i2) = (inner(s1), inner(s2));
     match (i1, i2) {

@@ -497,13 +497,19 @@ impl CollisionWorld {
                     b: c,
                     radius: r,
                 });
-                let skip_gripper =
-                    state.grasping[i] || sink.skip_spheres(pi.gripper_sphere(), &part);
-                for (k, s) in shapes.iter().enumerate() {
-                    if skip_gripper && set.is_gripper[k] {
+                for (g, members) in set.group_members.iter().enumerate() {
+                    let sphere = pi.group_sphere(g);
+                    let gripper = g == 7;
+                    if members.is_empty()
+                        || gripper && state.grasping[i]
+                        || sink.skip_spheres(sphere, &part)
+                    {
                         continue;
                     }
-                    sink.object(obj, pose, s, (Id::Arm(i, k), Id::Object))?;
+                    for &k in members {
+                        let (k, s) = (k as usize, &shapes[k as usize]);
+                        sink.object(obj, pose, s, (Id::Arm(i, k), Id::Object))?;
+                    }
                 }
             }
         }
