@@ -125,33 +125,38 @@ impl ObjectGeometry {
     /// and only what falls between goes to parry's GJK.
     fn cylinder_hits(&self, a: &P, b: &P, r: f64, margin: f64) -> bool {
         let ext = crate::shape::cylinder_rim_extent(a, b, r) + Vector3::repeat(margin);
-        let (lo, hi) = (a.inf(b) - ext, a.sup(b) + ext);
         let outer2 = (r + margin) * (r + margin);
         let (_, _, inner) = crate::shape::cylinder_capsules(a, b, r);
         // Built only if a triangle falls between the two capsule bounds.
         let mut parry = None;
         let id = Isometry3::identity();
+        self.any_triangle(&(a.inf(b) - ext), &(a.sup(b) + ext), |ta, tb, tc| {
+            if segment_triangle_sq(a, b, ta, tb, tc) > outer2 {
+                return false;
+            }
+            if inner.is_some_and(|(ia, ib)| segment_triangle_sq(&ia, &ib, ta, tb, tc) <= outer2) {
+                return true;
+            }
+            let (cyl_pose, cyl) =
+                parry.get_or_insert_with(|| crate::shape::parry_cylinder(a, b, r));
+            let tri = parry3d_f64::shape::Triangle::new(*ta, *tb, *tc);
+            query::distance(cyl_pose, cyl, &id, &tri).map_or(true, |d| d <= margin)
+        })
+    }
+
+    /// Whether `touches` holds for any triangle whose BVH leaf box meets the box `[lo, hi]`
+    /// (object frame); stops at the first.
+    fn any_triangle(&self, lo: &P, hi: &P, mut touches: impl FnMut(&P, &P, &P) -> bool) -> bool {
         let verts = self.mesh.vertices();
         let idx = self.mesh.indices();
         let mut hit = false;
         self.mesh.bvh().traverse(|node| {
-            if aabb_aabb_sq(&lo, &hi, &node.mins(), &node.maxs()) > 0.0 {
+            if aabb_aabb_sq(lo, hi, &node.mins(), &node.maxs()) > 0.0 {
                 return TraversalAction::Prune;
             }
             if let Some(leaf) = node.leaf_data() {
                 let [i, j, k] = idx[leaf as usize];
-                let (ta, tb, tc) = (&verts[i as usize], &verts[j as usize], &verts[k as usize]);
-                if segment_triangle_sq(a, b, ta, tb, tc) > outer2 {
-                    return TraversalAction::Continue;
-                }
-                let inside = inner
-                    .is_some_and(|(ia, ib)| segment_triangle_sq(&ia, &ib, ta, tb, tc) <= outer2);
-                if inside || {
-                    let (cyl_pose, cyl) =
-                        parry.get_or_insert_with(|| crate::shape::parry_cylinder(a, b, r));
-                    query::distance(cyl_pose, cyl, &id, &self.mesh.triangle(leaf))
-                        .map_or(true, |d| d <= margin)
-                } {
+                if touches(&verts[i as usize], &verts[j as usize], &verts[k as usize]) {
                     hit = true;
                     return TraversalAction::EarlyExit;
                 }
@@ -167,30 +172,18 @@ impl ObjectGeometry {
     fn cuboid_hits(&self, box_pose: &Isometry3<f64>, half: &Vector3<f64>) -> bool {
         let ext = box_pose.rotation.to_rotation_matrix().matrix().abs() * half;
         let c = P::from(box_pose.translation.vector);
-        let (lo, hi) = (c - ext, c + ext);
         let cub = PCuboid::new(*half);
         let id = Isometry3::identity();
         let reach2 = half.norm_squared();
-        let mut hit = false;
-        self.mesh.bvh().traverse(|node| {
-            if aabb_aabb_sq(&lo, &hi, &node.mins(), &node.maxs()) > 0.0 {
-                return TraversalAction::Prune;
+        self.any_triangle(&(c - ext), &(c + ext), |ta, tb, tc| {
+            // The box lies within |half| of its centre: a farther triangle cannot touch it.
+            let q = closest_point_on_triangle(&c, ta, tb, tc);
+            if (q - c).norm_squared() > reach2 {
+                return false;
             }
-            if let Some(leaf) = node.leaf_data() {
-                let tri = self.mesh.triangle(leaf);
-                // The box lies within |half| of its centre: a farther triangle cannot touch it.
-                let q = closest_point_on_triangle(&c, &tri.a, &tri.b, &tri.c);
-                if (q - c).norm_squared() > reach2 {
-                    return TraversalAction::Continue;
-                }
-                if query::intersection_test(box_pose, &cub, &id, &tri).unwrap_or(true) {
-                    hit = true;
-                    return TraversalAction::EarlyExit;
-                }
-            }
-            TraversalAction::Continue
-        });
-        hit
+            let tri = parry3d_f64::shape::Triangle::new(*ta, *tb, *tc);
+            query::intersection_test(box_pose, &cub, &id, &tri).unwrap_or(true)
+        })
     }
 
     /// Distance from the primitive to the part at `pose` (signed for capsules).
@@ -215,26 +208,10 @@ impl ObjectGeometry {
     /// the capsule's AABB, exact segment–triangle distance at the leaves, first hit wins.
     fn capsule_hits(&self, a: &P, b: &P, r: f64) -> bool {
         let rv = Vector3::repeat(r);
-        let (lo, hi) = (a.inf(b) - rv, a.sup(b) + rv);
         let r2 = r * r;
-        let verts = self.mesh.vertices();
-        let idx = self.mesh.indices();
-        let mut hit = false;
-        self.mesh.bvh().traverse(|node| {
-            if aabb_aabb_sq(&lo, &hi, &node.mins(), &node.maxs()) > 0.0 {
-                return TraversalAction::Prune;
-            }
-            if let Some(leaf) = node.leaf_data() {
-                let [i, j, k] = idx[leaf as usize];
-                let (ta, tb, tc) = (&verts[i as usize], &verts[j as usize], &verts[k as usize]);
-                if segment_triangle_sq(a, b, ta, tb, tc) <= r2 {
-                    hit = true;
-                    return TraversalAction::EarlyExit;
-                }
-            }
-            TraversalAction::Continue
-        });
-        hit
+        self.any_triangle(&(a.inf(b) - rv), &(a.sup(b) + rv), |ta, tb, tc| {
+            segment_triangle_sq(a, b, ta, tb, tc) <= r2
+        })
     }
 
     /// Distance from segment `[a, b]` (object frame) to the mesh surface: BVH descent pruning

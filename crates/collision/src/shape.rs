@@ -283,25 +283,36 @@ fn gjk_distance(s1: &Placed, s2: &Placed) -> f64 {
     }
 }
 
+/// A segment `(a, b)` with a radius: a capsule's, or the axis and radius of a cylinder.
+type SweptSegment = (P, P, f64);
+
+/// `(cylinder, capsule)` when the pair is one of each, in either order.
+#[inline]
+fn cylinder_and_capsule(s1: &Placed, s2: &Placed) -> Option<(SweptSegment, SweptSegment)> {
+    match (*s1, *s2) {
+        (
+            Placed::Cylinder { a, b, radius },
+            Placed::Capsule {
+                a: p,
+                b: q,
+                radius: r,
+            },
+        )
+        | (
+            Placed::Capsule {
+                a: p,
+                b: q,
+                radius: r,
+            },
+            Placed::Cylinder { a, b, radius },
+        ) => Some(((a, b, radius), (p, q, r))),
+        _ => None,
+    }
+}
+
 /// Distance between two primitives (signed for capsule pairs, `0` in contact otherwise).
 pub fn pair_distance(s1: &Placed, s2: &Placed) -> f64 {
-    if let (
-        Placed::Cylinder { a, b, radius },
-        Placed::Capsule {
-            a: p,
-            b: q,
-            radius: rc,
-        },
-    )
-    | (
-        Placed::Capsule {
-            a: p,
-            b: q,
-            radius: rc,
-        },
-        Placed::Cylinder { a, b, radius },
-    ) = (*s1, *s2)
-    {
+    if let Some(((a, b, radius), (p, q, rc))) = cylinder_and_capsule(s1, s2) {
         return segment_cylinder_distance(&p, &q, &a, &b, radius, 0.0) - rc;
     }
     if matches!(s1, Placed::Cylinder { .. }) || matches!(s2, Placed::Cylinder { .. }) {
@@ -378,27 +389,10 @@ pub fn pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
 /// [`pair_intersects`] for pairs with at least one cylinder.
 fn cylinder_pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
     // Cylinder vs capsule: exact, by the segment–cylinder distance.
-    if let (
-        Placed::Cylinder { a, b, radius },
-        Placed::Capsule {
-            a: p,
-            b: q,
-            radius: rc,
-        },
-    )
-    | (
-        Placed::Capsule {
-            a: p,
-            b: q,
-            radius: rc,
-        },
-        Placed::Cylinder { a, b, radius },
-    ) = (*s1, *s2)
-    {
+    if let Some(((a, b, radius), (p, q, rc))) = cylinder_and_capsule(s1, s2) {
         let reach = rc + margin;
-        let (sa, sb) = (a, b);
         let r = radius + reach;
-        if segment_segment_sq(&p, &q, &sa, &sb) > r * r {
+        if segment_segment_sq(&p, &q, &a, &b) > r * r {
             return false;
         }
         return segment_cylinder_distance(&p, &q, &a, &b, radius, reach) <= reach;
