@@ -12,12 +12,13 @@
 //! closes on — measured here again from the mesh, not read from the file.
 
 use nalgebra::{Isometry3, Point3, Vector3};
-use pregrasp_collision::{closing_gap, ArmModel, CollisionWorld, ObjectPlacement, WorldState};
+use pregrasp_collision::{ArmModel, CollisionWorld, ObjectPlacement, WorldState};
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{PlanFile, PlanJson, PointJson, PoseJson, SegmentJson};
 use pregrasp_io::scene::{DEFAULT_FINGER_SUPPORT_CLEARANCE, DEFAULT_LINK_CLEARANCE};
 use pregrasp_robot::{joint_sweep_radii, Gripper2F85, GripperState, Joints, UrModel};
 
+use crate::context::grip_widths;
 use crate::timeline::{lerp_joints, lerp_pose, substeps, CONTACT_ZONE};
 
 /// Largest travel of any arm point between two checked states (m).
@@ -279,24 +280,18 @@ struct GripGaps {
 
 /// Measures, from the mesh, the gap each gripper closes to at each grasp.
 fn grip_gaps(file: &PlanFile, world: &CollisionWorld) -> Result<GripGaps, String> {
-    let object = world.object().expect("the check world has the part");
-    let g_s = file.grasps.support.to_isometry();
+    let power = file.grasps.power.each_ref().map(PoseJson::to_isometry);
+    let widths = grip_widths(world, &file.grasps.support.to_isometry(), &power);
+    let name = |arm: usize| &file.robots[arm].name;
     let mut gaps = GripGaps {
         support: [0.0; 2],
         power: [0.0; 2],
     };
     for arm in 0..2 {
-        let gripper = &world.arms()[arm].gripper;
-        let name = &file.robots[arm].name;
-        gaps.support[arm] = closing_gap(
-            object,
-            gripper,
-            &(g_s * gripper.precision_point().inverse()),
-        )
-        .map_err(|e| format!("support grasp of arm {name}: {e}"))?;
-        let g_p = file.grasps.power[arm].to_isometry();
-        gaps.power[arm] = closing_gap(object, gripper, &(g_p * gripper.power_point().inverse()))
-            .map_err(|e| format!("power grasp of arm {name}: {e}"))?;
+        gaps.support[arm] =
+            widths.support[arm].map_err(|e| format!("support grasp of arm {}: {e}", name(arm)))?;
+        gaps.power[arm] =
+            widths.power[arm].map_err(|e| format!("power grasp of arm {}: {e}", name(arm)))?;
     }
     Ok(gaps)
 }

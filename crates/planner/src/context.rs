@@ -81,7 +81,7 @@ impl<'a> PlanningContext<'a> {
         let world = CollisionWorld::new(scene.support_height, Some(mesh), arms)
             .with_margin(params.link_clearance + PLANNING_MARGIN)
             .with_grasp_support_margin(params.finger_support_clearance + FINE_PLANNING_MARGIN);
-        let grips = grip_widths(&world, scene);
+        let grips = grip_widths(&world, &scene.grasps.support, &scene.grasps.power);
         let held = |arm: usize| -> Vec<f64> {
             [grips.support[arm], grips.power[arm]]
                 .into_iter()
@@ -213,18 +213,21 @@ pub fn arm_models(scene: &Scene) -> Result<[ArmModel; 2], ContextError> {
     Ok([build(0)?, build(1)?])
 }
 
-/// The widths both grippers close on at every grasp of the scene, from the part's mesh.
-pub fn grip_widths(world: &CollisionWorld, scene: &Scene) -> GripWidths {
-    let object = world.object().expect("the planning world has the part");
+/// The widths both grippers close on at G_s (`support`, by the precision point) and at their
+/// power grasps (`power`, by the power point), from the part's mesh in `world`.
+pub fn grip_widths(
+    world: &CollisionWorld,
+    support: &Isometry3<f64>,
+    power: &[Isometry3<f64>; 2],
+) -> GripWidths {
+    let object = world.object().expect("the world has the part");
+    let gripper = |arm: usize| &world.arms()[arm].gripper;
     let measure = |arm: usize, grasp: &Isometry3<f64>, point: Isometry3<f64>| {
-        let gripper = &world.arms()[arm].gripper;
-        closing_gap(object, gripper, &(grasp * point.inverse()))
+        closing_gap(object, gripper(arm), &(grasp * point.inverse()))
     };
-    let gripper = |arm: usize| world.arms()[arm].gripper;
     GripWidths {
-        support: [0, 1]
-            .map(|arm| measure(arm, &scene.grasps.support, gripper(arm).precision_point())),
-        power: [0, 1].map(|arm| measure(arm, &scene.grasps.power[arm], gripper(arm).power_point())),
+        support: [0, 1].map(|arm| measure(arm, support, gripper(arm).precision_point())),
+        power: [0, 1].map(|arm| measure(arm, &power[arm], gripper(arm).power_point())),
     }
 }
 
