@@ -240,6 +240,32 @@ impl ArmModel {
         }
     }
 
+    /// Calls `f` with each gripper primitive placed in the world at `q` (only the flange is
+    /// computed, not the links).
+    pub(crate) fn for_each_gripper_shape(
+        &self,
+        q: &Joints,
+        state: GripperState,
+        mut f: impl FnMut(&Placed),
+    ) {
+        let flange = self.base * self.kin.fk(q);
+        let set = &self.shapes;
+        let cached = match state {
+            GripperState::Open => Some(&set.open_gripper),
+            GripperState::Closed { gap } => set
+                .closed_grippers
+                .iter()
+                .find(|(g, _)| *g == gap)
+                .map(|(_, prims)| prims),
+        };
+        match cached {
+            Some(prims) => prims.iter().for_each(|p| f(&place(&flange, p))),
+            None => self
+                .gripper
+                .for_each_shape(state, |_, _, p| f(&place(&flange, &p))),
+        }
+    }
+
     /// Every primitive of the arm placed in the world at `q` (for viewers and debugging):
     /// `(name, primitive)`.
     pub fn placed_shapes(&self, q: &Joints, state: GripperState) -> Vec<(String, Placed)> {

@@ -233,15 +233,11 @@ impl CollisionWorld {
         let Some(h) = self.support else {
             return f64::INFINITY;
         };
-        let posed = self.arms[arm].pose(&state.q[arm], state.gripper[arm]);
-        let set = self.arms[arm].set();
-        posed
-            .shapes()
-            .iter()
-            .zip(&set.is_gripper)
-            .filter(|(_, g)| **g)
-            .map(|(s, _)| plane_distance(&s.shape, h))
-            .fold(f64::INFINITY, f64::min)
+        let mut lowest = f64::INFINITY;
+        self.arms[arm].for_each_gripper_shape(&state.q[arm], state.gripper[arm], |s| {
+            lowest = lowest.min(plane_distance(s, h));
+        });
+        lowest
     }
 
     /// The safety margin (m).

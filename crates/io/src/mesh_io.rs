@@ -30,6 +30,8 @@ pub enum MeshError {
     Write { file: String, error: std::io::Error },
     #[error("{file}: mesh file is empty")]
     Empty { file: String },
+    #[error("{file}: not a regular file (a mesh must be a file, not a directory, pipe or device)")]
+    NotAFile { file: String },
     #[error("{file}: unsupported mesh format (expected .stl or .obj)")]
     Format { file: String },
     #[error("{file}: not a mesh file: {reason}")]
@@ -61,6 +63,11 @@ pub fn load_mesh(path: &Path, scale: f64) -> Result<LoadedMesh, MeshError> {
     let file = path.display().to_string();
     if !(scale.is_finite() && scale > 0.0) {
         return Err(MeshError::Scale { file, scale });
+    }
+    // Only a regular file: a FIFO or device would block the read for ever.
+    match std::fs::metadata(path) {
+        Ok(meta) if !meta.is_file() => return Err(MeshError::NotAFile { file }),
+        _ => {}
     }
     let bytes = std::fs::read(path).map_err(|error| MeshError::Read {
         file: file.clone(),
@@ -129,12 +136,24 @@ pub fn parse_stl(bytes: &[u8], file: &str, scale: f64) -> Result<LoadedMesh, Mes
     Ok(loaded)
 }
 
+/// The ASCII STL reader's message in words for people: its "expected finite f32, got NaN which
+/// is Nan" becomes "a vertex coordinate is not a finite number (NaN)".
+fn readable_stl_reason(reason: &str) -> String {
+    match reason.split_once("expected finite f32, got ") {
+        Some((before, rest)) => {
+            let value = rest.split(" which is").next().unwrap_or(rest);
+            format!("{before}a vertex coordinate is not a finite number ({value})")
+        }
+        None => reason.to_string(),
+    }
+}
+
 /// Reads an ASCII STL with `stl_io`, requiring the closing `endsolid`.
 fn read_ascii_stl(bytes: &[u8], file: &str) -> Result<Vec<[[f32; 3]; 3]>, MeshError> {
     let malformed = |e: std::io::Error| MeshError::Malformed {
         file: file.to_string(),
         format: "ASCII STL",
-        reason: e.to_string(),
+        reason: readable_stl_reason(&e.to_string()),
     };
     let truncated = |reason: &str| MeshError::Truncated {
         file: file.to_string(),

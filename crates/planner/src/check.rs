@@ -38,6 +38,7 @@ pub const LINE_POSITION_TOLERANCE: f64 = 0.002;
 pub const LINE_ANGLE_TOLERANCE: f64 = 0.01;
 
 const STRUCTURE: &str = "plan structure (segments, robots, times, continuity)";
+const STRUCTURE_OK: &str = "segments sup1, rot, mas1, sup2 in order, times increasing, continuous";
 
 /// The verdict on one rule.
 #[derive(Clone, Debug, PartialEq)]
@@ -58,6 +59,9 @@ pub struct CheckReport {
     /// The closest any grasping gripper came to the support over all checked states (m;
     /// `None` when no state was checked).
     pub closest_grasp_to_support: Option<f64>,
+    /// The file does not follow the plan format: the offending field's path and the problem.
+    /// No motion was judged.
+    pub malformed: Option<String>,
 }
 
 impl CheckReport {
@@ -126,6 +130,15 @@ impl Rule {
 
 /// Checks every plan in `file`; `mesh` is the object mesh in the object frame (scaled).
 pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
+    if let Err(e) = crate::plan_format::validate(file) {
+        let mut structure = Rule::new();
+        structure.fail(format!("malformed plan file: {e}"));
+        return CheckReport {
+            rules: vec![structure.result(0, STRUCTURE, |_| String::new())],
+            closest_grasp_to_support: None,
+            malformed: Some(e),
+        };
+    }
     match PlanChecker::new(file, mesh) {
         Ok(checker) => checker.check(file),
         Err(e) => {
@@ -134,6 +147,7 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
             CheckReport {
                 rules: vec![structure.result(0, STRUCTURE, |_| String::new())],
                 closest_grasp_to_support: None,
+                malformed: None,
             }
         }
     }
@@ -233,41 +247,51 @@ impl PlanChecker {
         }
         let mm = |x: f64| format!("{:.2} mm", x * 1e3);
         CheckReport {
-        closest_grasp_to_support: finger_support.is_finite().then_some(finger_support),
-        rules: vec![
-            match structure.violation {
-                Some(v) => RuleResult { rule: 0, title: STRUCTURE, ok: Some(false), detail: v },
-                None => RuleResult {
-                    rule: 0,
-                    title: STRUCTURE,
-                    ok: Some(true),
-                    detail: format!(
-                        "{} plan(s): segments sup1, rot, mas1, sup2 in order, times increasing, continuous",
-                        file.plans.len()
-                    ),
+            closest_grasp_to_support: finger_support.is_finite().then_some(finger_support),
+            malformed: None,
+            rules: vec![
+                match structure.violation {
+                    Some(v) => RuleResult {
+                        rule: 0,
+                        title: STRUCTURE,
+                        ok: Some(false),
+                        detail: v,
+                    },
+                    None => RuleResult {
+                        rule: 0,
+                        title: STRUCTURE,
+                        ok: Some(true),
+                        detail: format!("{} plan(s): {STRUCTURE_OK}", file.plans.len()),
+                    },
                 },
-            },
-            limits.result(1, "joint limits and joint speeds", |x| {
-                format!("{:.1} % of a limit", x * 100.0)
-            }),
-            collision_result(
-                collisions,
-                states_checked,
-                finger_support,
-                (link_clearance, finger_clearance),
-            ),
-            rotation.result(3, "rotation keeps the part on the support about a fixed axis", mm),
-            grasps.result(4, "tool poses at grasps and on approach/retreat lines", |x| {
-                format!("{:.2} % of a tolerance", x * 100.0)
-            }),
-            RuleResult {
-                rule: 5,
-                title: "determinism",
-                ok: None,
-                detail: "not checkable from one file: plan the scene twice and compare bytes".into(),
-            },
-        ],
-    }
+                limits.result(1, "joint limits and joint speeds", |x| {
+                    format!("{:.1} % of a limit", x * 100.0)
+                }),
+                collision_result(
+                    collisions,
+                    states_checked,
+                    finger_support,
+                    (link_clearance, finger_clearance),
+                ),
+                rotation.result(
+                    3,
+                    "rotation keeps the part on the support about a fixed axis",
+                    mm,
+                ),
+                grasps.result(
+                    4,
+                    "tool poses at grasps and on approach/retreat lines",
+                    |x| format!("{:.2} % of a tolerance", x * 100.0),
+                ),
+                RuleResult {
+                    rule: 5,
+                    title: "determinism",
+                    ok: None,
+                    detail: "not checkable from one file: plan the scene twice and compare bytes"
+                        .into(),
+                },
+            ],
+        }
     }
 }
 

@@ -4,6 +4,7 @@
 //! - [`poses`] (with [`dummies`]): Algorithm 2, P_obj and θ_goal per candidate, roles, IK sets;
 //! - [`rotate`], [`reach`], [`paths`]: Algorithm 3, μ_rot, μ_sup1, μ_mas1, μ_sup2;
 //! - [`timing`], [`output`]: timed segments and the plan file;
+//! - [`plan_format`]: is a file a plan file (shape and ranges, before any motion is judged);
 //! - [`check`]: the plan-file validity rules, re-verified with our own models;
 //! - [`pipeline`]: all of it, candidates in parallel, deterministic for any thread count.
 //!
@@ -16,6 +17,7 @@ pub mod dummies;
 pub mod output;
 pub mod paths;
 pub mod pipeline;
+pub mod plan_format;
 pub mod poses;
 pub mod reach;
 pub mod rotate;

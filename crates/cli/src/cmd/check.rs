@@ -12,7 +12,7 @@ use super::{EXIT_NO_PLAN, EXIT_OK};
 
 #[derive(clap::Args)]
 #[command(
-    after_help = "Exit status: 0 valid, 2 invalid (the failed rules are marked FAIL), 1 unreadable plan or mesh."
+    after_help = "Exit status: 0 valid, 2 invalid (the failed rules are marked FAIL), 1 unreadable or malformed plan file (the offending field is named) or unreadable mesh."
 )]
 pub struct Args {
     /// The plan file to check.
@@ -34,6 +34,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .with_context(|| format!("{}: object.mesh", args.plan.display()))?
         .mesh;
     let report = check_plan(&file, &mesh);
+    if let Some(problem) = &report.malformed {
+        anyhow::bail!("{}: not a valid plan file: {problem}", args.plan.display());
+    }
     for rule in &report.rules {
         let verdict = match rule.ok {
             Some(true) => "ok  ",

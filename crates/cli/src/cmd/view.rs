@@ -29,7 +29,7 @@ pub struct Args {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     pub plan_number: u64,
     /// Playback speed factor (0.25, 0.5, 1, 2, 4 or 8).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = parse_speed)]
     pub speed: f64,
     /// Do not start playing when the page opens.
     #[arg(long)]
@@ -84,5 +84,17 @@ fn resolve_mesh(mesh: &str, plan_path: &Path) -> PathBuf {
     match plan_path.parent() {
         Some(dir) if dir.join(&given).exists() => dir.join(given),
         _ => given,
+    }
+}
+
+/// A playback speed the page offers: 0.25 … 8.
+fn parse_speed(text: &str) -> Result<f64, String> {
+    let speed: f64 = text
+        .parse()
+        .map_err(|_| format!("{text:?} is not a number"))?;
+    if (0.25..=8.0).contains(&speed) {
+        Ok(speed)
+    } else {
+        Err(format!("{speed} is out of range: choose 0.25 … 8"))
     }
 }

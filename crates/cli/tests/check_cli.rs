@@ -1,0 +1,95 @@
+//! `pregrasp check` on malformed plan files (issue 18, findings 1 and 2): refused before any
+//! motion is judged, exit 1, with the path of the offending field.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+
+fn pregrasp(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pregrasp"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+/// A fresh plan of the chair side in `dir/plan.json` (the mesh beside it), as JSON.
+fn planned(dir: &Path) -> Value {
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let scene = examples.join("chair_side.toml");
+    let out = pregrasp(
+        dir,
+        &[
+            "plan",
+            scene.to_str().unwrap(),
+            "-o",
+            "plan.json",
+            "--quiet",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(0));
+    serde_json::from_str(&std::fs::read_to_string(dir.join("plan.json")).unwrap()).unwrap()
+}
+
+/// Writes `plan` edited by `edit` and runs `check` on it: (exit code, stderr, seconds).
+fn check_edited(edit: impl FnOnce(&mut Value)) -> (Option<i32>, String, f64) {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut plan = planned(tmp.path());
+    edit(&mut plan);
+    let path: PathBuf = tmp.path().join("edited.json");
+    std::fs::write(&path, serde_json::to_string(&plan).unwrap()).unwrap();
+    let t0 = Instant::now();
+    let out = pregrasp(tmp.path(), &["check", "edited.json"]);
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+        t0.elapsed().as_secs_f64(),
+    )
+}
+
+#[test]
+fn check_refuses_an_absurd_joint_value_at_once() {
+    let (code, err, secs) =
+        check_edited(|p| p["plans"][0]["segments"][2]["points"][3]["q"][0] = 1.2e29.into());
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("plans[0].segments[2].points[3].q[0]"), "{err}");
+    assert!(
+        secs < Duration::from_secs(60).as_secs_f64(),
+        "took {secs} s"
+    );
+}
+
+#[test]
+fn check_refuses_plans_that_do_not_follow_the_format() {
+    let cases: Vec<(&str, Box<dyn FnOnce(&mut Value)>)> = vec![
+        ("status", Box::new(|p| p["status"] = "maybe".into())),
+        ("status", Box::new(|p| p["status"] = "".into())),
+        (
+            "object.initial_pose.quat_xyzw",
+            Box::new(|p| {
+                p["object"]["initial_pose"]["quat_xyzw"] = serde_json::json!([0, 0, 0, 0])
+            }),
+        ),
+        (
+            "plans[0].object_goal_pose.quat_xyzw",
+            Box::new(|p| {
+                p["plans"][0]["object_goal_pose"]["quat_xyzw"] = serde_json::json!([0, 0, 0, 0])
+            }),
+        ),
+        (
+            "plans[0].segments[1].name",
+            Box::new(|p| p["plans"][0]["segments"][1]["name"] = "".into()),
+        ),
+        (
+            "robots[1].model",
+            Box::new(|p| p["robots"][1]["model"] = "ur99".into()),
+        ),
+    ];
+    for (field, edit) in cases {
+        let (code, err, _) = check_edited(edit);
+        assert_eq!(code, Some(1), "{field}: {err}");
+        assert!(err.contains(field), "expected {field} in: {err}");
+    }
+}

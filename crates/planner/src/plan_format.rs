@@ -1,0 +1,151 @@
+//! Is a plan file a plan file? The format's shape and value ranges, checked before any motion
+//! is judged: a malformed file is refused with the JSON path of the offending field, and no
+//! value can size a loop (a joint angle of 1e29 rad would otherwise be interpolated at the
+//! checker's resolution for ever).
+
+use pregrasp_io::plan_file::{PlanFile, PoseJson};
+use pregrasp_robot::UrModel;
+
+/// Largest magnitude of a joint value (rad) a plan may hold: no UR joint turns beyond ±2π, so
+/// anything past ±20 rad is not a joint angle (values between the limits and this bound are
+/// judged by rule 1).
+pub const MAX_JOINT_VALUE: f64 = 20.0;
+/// Largest magnitude of a coordinate (m).
+pub const MAX_COORDINATE: f64 = 1.0e3;
+/// Largest time stamp (s): a day.
+pub const MAX_TIME: f64 = 86_400.0;
+
+/// The first field of `file` that does not follow the plan format, as `path: problem`.
+pub fn validate(file: &PlanFile) -> Result<(), String> {
+    if file.format != "pregrasp.plan/1" {
+        return Err(format!(
+            "format: {:?} is not \"pregrasp.plan/1\"",
+            file.format
+        ));
+    }
+    if file.status != "planned" && file.status != "no_plan" {
+        return Err(format!(
+            "status: {:?} is neither \"planned\" nor \"no_plan\"",
+            file.status
+        ));
+    }
+    number("support_height", file.support_height, MAX_COORDINATE)?;
+    pose("object.initial_pose", &file.object.initial_pose)?;
+    if !(file.object.scale.is_finite() && file.object.scale > 0.0) {
+        return Err(format!(
+            "object.scale: {} is not a positive number",
+            file.object.scale
+        ));
+    }
+    if file.robots.len() != 2 {
+        return Err(format!("robots: {} robots, expected 2", file.robots.len()));
+    }
+    for (i, r) in file.robots.iter().enumerate() {
+        if UrModel::from_name(&r.model).is_none() {
+            return Err(format!(
+                "robots[{i}].model: unknown robot model {:?}",
+                r.model
+            ));
+        }
+        pose(&format!("robots[{i}].base"), &r.base)?;
+        pose(&format!("robots[{i}].precision_point"), &r.precision_point)?;
+        pose(&format!("robots[{i}].power_point"), &r.power_point)?;
+        joints(&format!("robots[{i}].start"), &r.start)?;
+    }
+    pose("grasps.support", &file.grasps.support)?;
+    for (i, g) in file.grasps.power.iter().enumerate() {
+        pose(&format!("grasps.power[{i}]"), g)?;
+    }
+    for (c, cand) in file.candidates.iter().enumerate() {
+        for (e, p) in cand.axis.iter().enumerate() {
+            for (k, x) in p.iter().enumerate() {
+                number(
+                    &format!("candidates[{c}].axis[{e}][{k}]"),
+                    *x,
+                    MAX_COORDINATE,
+                )?;
+            }
+        }
+        if cand.direction != "ccw" && cand.direction != "cw" {
+            return Err(format!(
+                "candidates[{c}].direction: {:?} is neither \"ccw\" nor \"cw\"",
+                cand.direction
+            ));
+        }
+    }
+    for (k, plan) in file.plans.iter().enumerate() {
+        pose(
+            &format!("plans[{k}].object_goal_pose"),
+            &plan.object_goal_pose,
+        )?;
+        for (s, seg) in plan.segments.iter().enumerate() {
+            let at = format!("plans[{k}].segments[{s}]");
+            if !matches!(seg.name.as_str(), "sup1" | "rot" | "mas1" | "sup2") {
+                return Err(format!(
+                    "{at}.name: {:?} is not a segment of the format",
+                    seg.name
+                ));
+            }
+            if !matches!(seg.kind.as_str(), "reach" | "rotate" | "regrasp") {
+                return Err(format!("{at}.kind: {:?} is not a segment kind", seg.kind));
+            }
+            if !matches!(seg.grasp.as_str(), "support" | "power") {
+                return Err(format!(
+                    "{at}.grasp: {:?} is neither \"support\" nor \"power\"",
+                    seg.grasp
+                ));
+            }
+            if let Some(w) = seg.grip_width {
+                number(&format!("{at}.grip_width"), w, 1.0)?;
+            }
+            for (p, point) in seg.points.iter().enumerate() {
+                number(&format!("{at}.points[{p}].t"), point.t, MAX_TIME)?;
+                joints(&format!("{at}.points[{p}].q"), &point.q)?;
+                if let Some(o) = &point.object_pose {
+                    pose(&format!("{at}.points[{p}].object_pose"), o)?;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A finite number no larger than `max` in magnitude.
+fn number(path: &str, x: f64, max: f64) -> Result<(), String> {
+    if !x.is_finite() {
+        return Err(format!("{path}: {x} is not a finite number"));
+    }
+    if x.abs() > max {
+        return Err(format!("{path}: {x} is out of range (±{max})"));
+    }
+    Ok(())
+}
+
+fn joints(path: &str, q: &[f64; 6]) -> Result<(), String> {
+    for (j, x) in q.iter().enumerate() {
+        if !x.is_finite() || x.abs() > MAX_JOINT_VALUE {
+            return Err(format!(
+                "{path}[{j}]: {x} rad is not a joint angle (|q| ≤ {MAX_JOINT_VALUE} rad)"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Finite coordinates in range and a unit-normalisable quaternion (not zero).
+fn pose(path: &str, p: &PoseJson) -> Result<(), String> {
+    for (k, x) in p.xyz.iter().enumerate() {
+        number(&format!("{path}.xyz[{k}]"), *x, MAX_COORDINATE)?;
+    }
+    let q = p.quat_xyzw;
+    if q.iter().any(|x| !x.is_finite()) {
+        return Err(format!("{path}.quat_xyzw: not finite"));
+    }
+    let norm = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if norm < 1e-9 {
+        return Err(format!(
+            "{path}.quat_xyzw: a zero quaternion is no rotation"
+        ));
+    }
+    Ok(())
+}
