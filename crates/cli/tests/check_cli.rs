@@ -61,9 +61,12 @@ fn check_refuses_an_absurd_joint_value_at_once() {
     );
 }
 
+/// One edit of a plan file.
+type Edit = Box<dyn FnOnce(&mut Value)>;
+
 #[test]
 fn check_refuses_plans_that_do_not_follow_the_format() {
-    let cases: Vec<(&str, Box<dyn FnOnce(&mut Value)>)> = vec![
+    let cases: Vec<(&str, Edit)> = vec![
         ("status", Box::new(|p| p["status"] = "maybe".into())),
         ("status", Box::new(|p| p["status"] = "".into())),
         (
