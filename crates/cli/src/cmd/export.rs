@@ -1,0 +1,123 @@
+//! `pregrasp export PLAN.json --format F -o DIR [--plan K]`: the plan for the cell — URScript
+//! per arm, CSV, ROS 2 trajectories, glTF (`docs/export.md`).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use pregrasp_export::{export, write_all, Format, Options};
+use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::plan_file::PlanFile;
+
+use super::check::resolve_mesh;
+use super::EXIT_OK;
+
+#[derive(clap::Args)]
+#[command(
+    after_help = "Writes into DIR: <arm>.script (URScript, one per controller), <arm>.csv, \
+<arm>_<segment>.yaml (ROS 2 JointTrajectory), plan.glb (glTF 2.0). Nothing is written unless \
+every file could be made. See docs/export.md.\nExit status: 0 written, 1 bad input (no plan, \
+--plan out of range, unknown format, bad option, unreadable file)."
+)]
+pub struct Args {
+    /// The plan file.
+    pub plan: PathBuf,
+    /// urscript, csv, ros2, gltf or all (a comma-separated list works too).
+    #[arg(long, short = 'f', default_value = "all")]
+    pub format: String,
+    /// Output directory (created if missing).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Which plan of the file's ranked `plans` (0 = best).
+    #[arg(long = "plan", default_value_t = 0)]
+    pub plan_index: usize,
+    /// CSV sample rate (Hz; 125 is the RTDE rate).
+    #[arg(long, default_value_t = 125.0)]
+    pub rate: f64,
+    /// servoj lookahead_time (s), 0.03..0.2.
+    #[arg(long, default_value_t = 0.1)]
+    pub lookahead: f64,
+    /// servoj gain, 100..2000.
+    #[arg(long, default_value_t = 300.0)]
+    pub gain: f64,
+    /// Hand-off I/O: this controller's standard digital OUT, and the IN wired to the other's OUT.
+    #[arg(long, default_value = "0,0")]
+    pub sync_io: String,
+    /// Joint speed (rad/s) of the first movej to the plan's first point.
+    #[arg(long, default_value_t = 0.3)]
+    pub movej_speed: f64,
+    /// Joint acceleration (rad/s²) of that movej.
+    #[arg(long, default_value_t = 0.5)]
+    pub movej_accel: f64,
+    /// Robotiq speed register (SET SPE, 0..255).
+    #[arg(long, default_value_t = 128)]
+    pub grip_speed: u8,
+    /// Robotiq force register (SET FOR, 0..255).
+    #[arg(long, default_value_t = 255)]
+    pub grip_force: u8,
+    /// A close is commanded this much (m) narrower than the plan's grip_width.
+    #[arg(long, default_value_t = 0.01)]
+    pub grip_squeeze: f64,
+    /// Prefix of the ROS joint names (e.g. `left_`).
+    #[arg(long, default_value = "")]
+    pub ros_prefix: String,
+    /// The part mesh for glTF, when it is not where the plan's `object.mesh` says (taken
+    /// relative to the current directory, then to the plan file's directory).
+    #[arg(long)]
+    pub mesh: Option<PathBuf>,
+}
+
+fn parse_sync_io(s: &str) -> anyhow::Result<(u8, u8)> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let bad = || anyhow::anyhow!("--sync-io {s:?}: expected OUT,IN, two numbers 0..7");
+    if parts.len() != 2 {
+        return Err(bad());
+    }
+    let out = parts[0].parse::<u8>().map_err(|_| bad())?;
+    let inp = parts[1].parse::<u8>().map_err(|_| bad())?;
+    Ok((out, inp))
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let formats = Format::parse_list(&args.format)?;
+    let (sync_out, sync_in) = parse_sync_io(&args.sync_io)?;
+    let options = Options {
+        rate: args.rate,
+        lookahead: args.lookahead,
+        gain: args.gain,
+        sync_out,
+        sync_in,
+        movej_speed: args.movej_speed,
+        movej_accel: args.movej_accel,
+        grip_speed: args.grip_speed,
+        grip_force: args.grip_force,
+        grip_squeeze: args.grip_squeeze,
+        ros_prefix: args.ros_prefix.clone(),
+    };
+    options.validate()?;
+    let file = PlanFile::read(&args.plan)?;
+    let shown = args.plan.display().to_string();
+    // Refuse a plan-less file or a bad index before reading any mesh.
+    pregrasp_export::Timeline::new(&file, args.plan_index).with_context(|| shown.clone())?;
+    let mesh = if formats.contains(&Format::Gltf) {
+        let path = args
+            .mesh
+            .clone()
+            .unwrap_or_else(|| resolve_mesh(&args.plan, &file.object.mesh));
+        let loaded =
+            load_mesh(&path, file.object.scale).with_context(|| format!("{shown}: object.mesh"))?;
+        for w in &loaded.warnings {
+            eprintln!("warning: {w}");
+        }
+        Some(loaded.mesh)
+    } else {
+        None
+    };
+    let files = export(&file, args.plan_index, &formats, &options, mesh.as_ref())
+        .with_context(|| shown.clone())?;
+    let written = write_all(&args.output, &files)?;
+    for p in &written {
+        println!("wrote {}", p.display());
+    }
+    Ok(ExitCode::from(EXIT_OK))
+}

@@ -1,0 +1,287 @@
+//! Exports a plan of a plan file (`docs/plan-format.md`) for the cell (`docs/export.md`):
+//!
+//! - [`urscript`]: one URScript program per arm — `servoj` at 500 Hz, Robotiq 2F-85 commands
+//!   through the URCap's socket, a digital-I/O hand-off between the two controllers;
+//! - [`csv`]: per arm, `t,q1..q6,gripper` at a fixed rate (plus every plan point);
+//! - [`ros2`]: per arm and segment it moves in, a `trajectory_msgs/msg/JointTrajectory` as YAML;
+//! - [`gltf`]: one binary glTF 2.0 file, both arms, grippers, table and part, animated.
+//!
+//! Everything is produced in memory first ([`export`]); [`write_all`] then writes the files
+//! through temporary names and renames them, so a failed export leaves nothing half-written.
+//! Output is deterministic: the same plan and options give the same bytes.
+
+pub mod csv;
+pub mod gltf;
+pub mod ros2;
+pub mod timeline;
+pub mod urscript;
+
+use std::path::Path;
+
+use pregrasp_geometry::Mesh;
+use pregrasp_io::plan_file::PlanFile;
+
+pub use timeline::Timeline;
+
+/// Everything that can go wrong in an export. Messages are complete sentences for the CLI.
+#[derive(Debug, thiserror::Error)]
+pub enum ExportError {
+    #[error("the plan file has status {status:?} and no plan to export ({reason})")]
+    NoPlan { status: String, reason: String },
+    #[error("--plan {index} is out of range: the plan file has {count} plan(s), 0..{count}")]
+    PlanIndex { index: usize, count: usize },
+    #[error("unknown export format {0:?} (expected urscript, csv, ros2, gltf or all)")]
+    Format(String),
+    #[error("bad option: {0}")]
+    Option(String),
+    #[error("plan cannot be exported: {0}")]
+    Plan(String),
+    #[error("the glTF export needs the part's mesh")]
+    NoMesh,
+    #[error("{path}: cannot write: {error}")]
+    Write { path: String, error: std::io::Error },
+}
+
+/// An export format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Format {
+    UrScript,
+    Csv,
+    Ros2,
+    Gltf,
+}
+
+impl Format {
+    /// Every format, in the order `all` writes them.
+    pub const ALL: [Format; 4] = [Format::UrScript, Format::Csv, Format::Ros2, Format::Gltf];
+
+    /// Parses `urscript`, `csv`, `ros2`, `gltf`, `all`, or a comma-separated list of them.
+    pub fn parse_list(s: &str) -> Result<Vec<Format>, ExportError> {
+        let mut out = Vec::new();
+        for word in s.split(',') {
+            match word.trim().to_ascii_lowercase().as_str() {
+                "urscript" => out.push(Format::UrScript),
+                "csv" => out.push(Format::Csv),
+                "ros2" => out.push(Format::Ros2),
+                "gltf" | "glb" => out.push(Format::Gltf),
+                "all" => out.extend(Format::ALL),
+                _ => return Err(ExportError::Format(word.trim().to_string())),
+            }
+        }
+        out.sort();
+        out.dedup();
+        Ok(out)
+    }
+}
+
+/// Export settings (`pregrasp export` options; defaults in [`Options::default`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// CSV sample rate (Hz): 125, the RTDE rate.
+    pub rate: f64,
+    /// `servoj` lookahead time (s), 0.03..0.2.
+    pub lookahead: f64,
+    /// `servoj` gain, 100..2000.
+    pub gain: f64,
+    /// Digital output this controller drives for the hand-off.
+    pub sync_out: u8,
+    /// Digital input wired to the other controller's output.
+    pub sync_in: u8,
+    /// Joint speed (rad/s) of the initial `movej` to the first point.
+    pub movej_speed: f64,
+    /// Joint acceleration (rad/s²) of the initial `movej`.
+    pub movej_accel: f64,
+    /// Robotiq speed register (`SET SPE`, 0..255).
+    pub grip_speed: u8,
+    /// Robotiq force register (`SET FOR`, 0..255).
+    pub grip_force: u8,
+    /// How much narrower than `grip_width` a close is commanded (m), so the fingers press on
+    /// the part and the gripper reports it.
+    pub grip_squeeze: f64,
+    /// Prefix of the ROS joint names (e.g. `left_`).
+    pub ros_prefix: String,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            rate: 125.0,
+            lookahead: 0.1,
+            gain: 300.0,
+            sync_out: 0,
+            sync_in: 0,
+            movej_speed: 0.3,
+            movej_accel: 0.5,
+            grip_speed: 128,
+            grip_force: 255,
+            grip_squeeze: 0.01,
+            ros_prefix: String::new(),
+        }
+    }
+}
+
+impl Options {
+    /// Refuses values the controller or the formats cannot take.
+    pub fn validate(&self) -> Result<(), ExportError> {
+        let bad = |m: String| Err(ExportError::Option(m));
+        if !(self.rate.is_finite() && self.rate > 0.0 && self.rate <= 1000.0) {
+            return bad(format!("--rate {} must be in (0, 1000] Hz", self.rate));
+        }
+        if !(0.03..=0.2).contains(&self.lookahead) {
+            return bad(format!(
+                "--lookahead {} must be in [0.03, 0.2] s (servoj)",
+                self.lookahead
+            ));
+        }
+        if !(100.0..=2000.0).contains(&self.gain) {
+            return bad(format!(
+                "--gain {} must be in [100, 2000] (servoj)",
+                self.gain
+            ));
+        }
+        if self.sync_out > 7 || self.sync_in > 7 {
+            return bad(format!(
+                "--sync-io {},{}: standard digital I/O are numbered 0..7",
+                self.sync_out, self.sync_in
+            ));
+        }
+        if !(self.movej_speed > 0.0 && self.movej_speed <= 1.0) {
+            return bad(format!(
+                "--movej-speed {} must be in (0, 1] rad/s",
+                self.movej_speed
+            ));
+        }
+        if !(self.movej_accel > 0.0 && self.movej_accel <= 1.4) {
+            return bad(format!(
+                "--movej-accel {} must be in (0, 1.4] rad/s²",
+                self.movej_accel
+            ));
+        }
+        if !(0.0..=0.085).contains(&self.grip_squeeze) {
+            return bad(format!(
+                "--grip-squeeze {} must be in [0, 0.085] m",
+                self.grip_squeeze
+            ));
+        }
+        if !self
+            .ros_prefix
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '/')
+        {
+            return bad(format!(
+                "--ros-prefix {:?}: only letters, digits, `_` and `/`",
+                self.ros_prefix
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// One exported file: its name (no directory) and its bytes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutFile {
+    pub name: String,
+    pub bytes: Vec<u8>,
+}
+
+/// Exports plan `index` of `file` in `formats`. `mesh` (the part, in metres) is needed for
+/// glTF only. Nothing is written.
+pub fn export(
+    file: &PlanFile,
+    index: usize,
+    formats: &[Format],
+    options: &Options,
+    mesh: Option<&Mesh>,
+) -> Result<Vec<OutFile>, ExportError> {
+    options.validate()?;
+    let timeline = Timeline::new(file, index)?;
+    for a in &timeline.arms {
+        if a.name.is_empty()
+            || !a
+                .name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+        {
+            return Err(ExportError::Plan(format!(
+                "robot name {:?} cannot name a file (letters, digits, `_`, `-` only)",
+                a.name
+            )));
+        }
+    }
+    let mut out = Vec::new();
+    for f in formats {
+        match f {
+            Format::UrScript => out.extend(urscript::export(&timeline, options)?),
+            Format::Csv => out.extend(csv::export(&timeline, options)),
+            Format::Ros2 => out.extend(ros2::export(&timeline, options)),
+            Format::Gltf => {
+                let mesh = mesh.ok_or(ExportError::NoMesh)?;
+                out.push(OutFile {
+                    name: "plan.glb".into(),
+                    bytes: gltf::export(&timeline, mesh)?,
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Writes `files` into `dir` (created if missing): each to a temporary file in `dir` first;
+/// only when all are written are they renamed to their names. On failure the temporary files
+/// are removed and no named file has been touched.
+pub fn write_all(dir: &Path, files: &[OutFile]) -> Result<Vec<std::path::PathBuf>, ExportError> {
+    use std::io::Write;
+    let err = |path: &Path| {
+        let path = path.display().to_string();
+        move |error| ExportError::Write { path, error }
+    };
+    std::fs::create_dir_all(dir).map_err(err(dir))?;
+    for f in files {
+        let target = dir.join(&f.name);
+        if target.is_dir() {
+            return Err(ExportError::Write {
+                path: target.display().to_string(),
+                error: std::io::Error::other("a directory is in the way"),
+            });
+        }
+    }
+    let mut temps = Vec::with_capacity(files.len());
+    for f in files {
+        let target = dir.join(&f.name);
+        let mut tmp = tempfile::Builder::new()
+            .prefix(".pregrasp-export-")
+            .tempfile_in(dir)
+            .map_err(err(&target))?;
+        tmp.write_all(&f.bytes).map_err(err(&target))?;
+        tmp.flush().map_err(err(&target))?;
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            tmp.as_file()
+                .set_permissions(std::fs::Permissions::from_mode(0o644))
+                .map_err(err(&target))?;
+        }
+        temps.push((tmp, target));
+    }
+    // Dropping an unpersisted NamedTempFile deletes it: an early return cleans up.
+    let mut written = Vec::with_capacity(temps.len());
+    for (tmp, target) in temps {
+        tmp.persist(&target).map_err(|e| ExportError::Write {
+            path: target.display().to_string(),
+            error: e.error,
+        })?;
+        written.push(target);
+    }
+    Ok(written)
+}
+
+/// `x` as text that reads back as the same `f64` and always has a decimal point (YAML and
+/// CSV readers then take it as a float): Rust's shortest round-trip form, never exponential.
+pub fn float(x: f64) -> String {
+    let s = format!("{x}");
+    if s.contains('.') || s.contains("inf") || s.contains("NaN") {
+        s
+    } else {
+        format!("{s}.0")
+    }
+}
