@@ -1,0 +1,30 @@
+//! Will it hold? A quasi-static check of pregrasp's rotation (`μ_rot`).
+//!
+//! While the supportive arm turns the part about its edge, the part is pinched by the two pads
+//! of a parallel gripper at `G_s` and rests on the support along the rotation axis. At every
+//! state of the plan's `rot` segment this crate finds the **smallest grip force** that keeps the
+//! part in static equilibrium — gravity, Coulomb friction at the pads and at the support, six
+//! equations — as a small second-order cone program ([`statics`]), and from the worst state the
+//! grip force to set ([`plan`]).
+//!
+//! Assumptions: rigid bodies, Coulomb friction, quasi-static motion (no inertia: the rotation
+//! is slow), the line contact with the support modelled by its two endpoints, both pads
+//! squeezing with the same normal force. See `docs/physics.md`.
+
+pub mod mass;
+pub mod plan;
+pub mod settings;
+pub mod statics;
+
+pub use mass::{MassError, MassProperties};
+pub use plan::{
+    analyse_plan, PartMass, PhysicsError, PlanPhysics, StateReport, StateStatus, Verdict,
+    SUPPORT_CONTACT_TOLERANCE,
+};
+pub use settings::{
+    PhysicsSettings, SettingsError, DEFAULT_DENSITY, DEFAULT_MU_PAD, DEFAULT_MU_SUPPORT,
+    DEFAULT_SAFETY_FACTOR, GRAVITY, GRIP_FORCE_RANGE, PAD_PATCH_TORSION_RADIUS,
+};
+pub use statics::{
+    min_grip_force, ContactModel, Equilibrium, Pads, SolverError, StaticOutcome, StaticProblem,
+};

@@ -1,0 +1,51 @@
+//! Mass properties of a closed triangle mesh: volume and centre of mass from signed-tetrahedron
+//! integrals (each triangle with the origin spans a tetrahedron; their signed volumes add up to
+//! the enclosed volume whatever the origin, and so do their first moments).
+
+use pregrasp_geometry::{Mesh, Point, Vector};
+
+/// Volume and centre of mass of a solid of uniform density bounded by a mesh.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct MassProperties {
+    /// Enclosed volume (m³), > 0 (the absolute value: inward-wound meshes are accepted).
+    pub volume: f64,
+    /// Centre of mass in the mesh's frame (m).
+    pub centroid: Point,
+}
+
+/// Why a mesh has no usable mass properties.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum MassError {
+    #[error("the mesh encloses no volume ({volume:.3e} m³): it is not a closed solid")]
+    NoVolume { volume: f64 },
+}
+
+impl MassProperties {
+    /// Volume and centroid of the solid `mesh` bounds. The mesh must be closed and consistently
+    /// oriented (either way round); otherwise the integrals mean nothing, and a mesh enclosing
+    /// less than 1 mm³ is refused.
+    pub fn from_mesh(mesh: &Mesh) -> Result<MassProperties, MassError> {
+        // Work relative to a vertex of the mesh, so large coordinates lose no precision.
+        let origin = mesh.vertices.first().copied().unwrap_or_else(Point::origin);
+        let mut six_volume = 0.0;
+        let mut moment = Vector::zeros(); // Σ 6·V_i · (a + b + c) (relative to `origin`)
+        for t in &mesh.triangles {
+            let a = mesh.vertices[t[0] as usize] - origin;
+            let b = mesh.vertices[t[1] as usize] - origin;
+            let c = mesh.vertices[t[2] as usize] - origin;
+            let v6 = a.dot(&b.cross(&c));
+            six_volume += v6;
+            moment += v6 * (a + b + c);
+        }
+        let volume = six_volume / 6.0;
+        if !volume.is_finite() || volume.abs() < 1e-9 {
+            return Err(MassError::NoVolume { volume });
+        }
+        // Centroid of a tetrahedron (0, a, b, c) is (a + b + c) / 4.
+        let centroid = origin + moment / (4.0 * six_volume);
+        Ok(MassProperties {
+            volume: volume.abs(),
+            centroid,
+        })
+    }
+}

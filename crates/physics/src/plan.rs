@@ -1,0 +1,389 @@
+//! The check of one plan of a plan file: every state of its `rot` segment as a quasi-static
+//! problem ([`crate::statics`]), the worst state, and the grip force to set.
+
+use nalgebra::{Isometry3, Point3, Vector3};
+use pregrasp_geometry::Mesh;
+use pregrasp_io::plan_file::{PlanFile, SegmentJson};
+
+use crate::mass::{MassError, MassProperties};
+use crate::settings::{PhysicsSettings, GRAVITY, GRIP_FORCE_RANGE};
+use crate::statics::{
+    min_grip_force, Equilibrium, Pads, SolverError, StaticOutcome, StaticProblem,
+};
+
+/// Support contacts are the rotation axis' endpoints (at each state's pose) that lie at most
+/// this far (m) from the support plane, beyond the plan's `lift` (P_init hovers `lift` above it).
+pub const SUPPORT_CONTACT_TOLERANCE: f64 = 0.001;
+
+/// Errors of the analysis: the plan file lacks what it needs.
+#[derive(Debug, thiserror::Error)]
+pub enum PhysicsError {
+    #[error("plan {index} does not exist (the file has {count} plan(s))")]
+    NoSuchPlan { index: usize, count: usize },
+    #[error("plans[{plan}]: no `rot` segment")]
+    NoRotation { plan: usize },
+    #[error("plans[{plan}].segments[rot].points[{point}]: no object_pose")]
+    NoObjectPose { plan: usize, point: usize },
+    #[error("plans[{plan}].candidate: no candidate with id {id}")]
+    NoCandidate { plan: usize, id: usize },
+    #[error("object.mass: must be > 0, found {0}")]
+    BadMass(f64),
+    #[error("object mesh: {0}")]
+    Mass(#[from] MassError),
+    #[error("plans[{plan}], state at t = {t:.3} s: {error}")]
+    Solver {
+        plan: usize,
+        t: f64,
+        error: SolverError,
+    },
+}
+
+/// The part's mass and centre of mass.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct PartMass {
+    /// kg.
+    pub mass: f64,
+    /// Where the mass comes from, for reports: `"--mass"`, `"plan object.mass"` or
+    /// `"700 kg/m³ × mesh volume 0.00459 m³"`.
+    pub source: String,
+    /// Volume enclosed by the mesh (m³).
+    pub volume: f64,
+    /// Centre of mass in the object frame (uniform density), m.
+    pub centroid: Point3<f64>,
+}
+
+impl PartMass {
+    /// Mass from `given` (e.g. `--mass`, labelled `given_label`), else the plan's `object.mass`,
+    /// else `settings.density` × the mesh's volume; centre of mass from the mesh.
+    pub fn resolve(
+        file: &PlanFile,
+        mesh: &Mesh,
+        given: Option<(f64, &str)>,
+        density: f64,
+    ) -> Result<PartMass, PhysicsError> {
+        let props = MassProperties::from_mesh(mesh)?;
+        let (mass, source) = match (given, file.object.mass) {
+            (Some((m, label)), _) => (m, label.to_string()),
+            (None, Some(m)) => (m, "plan object.mass".to_string()),
+            (None, None) => (
+                density * props.volume,
+                format!(
+                    "{density} kg/m³ × mesh volume {:.6} m³ (no mass given)",
+                    props.volume
+                ),
+            ),
+        };
+        if !(mass.is_finite() && mass > 0.0) {
+            return Err(PhysicsError::BadMass(mass));
+        }
+        Ok(PartMass {
+            mass,
+            source,
+            volume: props.volume,
+            centroid: props.centroid,
+        })
+    }
+}
+
+/// How one state ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StateStatus {
+    Held,
+    /// Only with more support friction: the part slides on the support.
+    Slides,
+    /// Not with any grip force.
+    CannotHold,
+}
+
+/// One checked state of `rot`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct StateReport {
+    /// Index of the `rot` point, or `None` for a state interpolated between two points.
+    pub point: Option<usize>,
+    /// Time since `rot` began (s).
+    pub t: f64,
+    /// Rotation of the part from P_init (degrees).
+    pub theta_deg: f64,
+    /// How many axis endpoints touch the support (0, 1 or 2).
+    pub support_contacts: usize,
+    pub status: StateStatus,
+    /// N_min (N) when held.
+    pub n_min: Option<f64>,
+    /// Σ normal force at the support (N).
+    pub support_normal: Option<f64>,
+    /// |Σ tangential force| at the support (N).
+    pub support_tangential: Option<f64>,
+    /// Largest |t|/(μ n) at the support contacts.
+    pub support_friction_use: Option<f64>,
+    /// Largest |t|/(μ N) at the pads when they squeeze with the recommended force (with the
+    /// largest safe force, 235 N, when the part cannot be held).
+    pub pad_friction_use: Option<f64>,
+    #[serde(skip)]
+    pub equilibrium: Option<Equilibrium>,
+}
+
+/// The verdict on one plan.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// Every state is held with a grip force within the gripper's range.
+    Holds,
+    /// Some state needs more than the gripper's 235 N (with the safety factor), or no force.
+    CannotHold,
+    /// Some state needs more support friction than there is.
+    SlidesAtSupport,
+}
+
+impl Verdict {
+    pub fn describe(self) -> &'static str {
+        match self {
+            Verdict::Holds => "holds",
+            Verdict::CannotHold => "cannot hold",
+            Verdict::SlidesAtSupport => "slides at the support",
+        }
+    }
+}
+
+/// The check of one plan.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct PlanPhysics {
+    /// Index into the plan file's `plans`.
+    pub plan: usize,
+    pub candidate: usize,
+    pub part: PartMass,
+    pub settings: PhysicsSettings,
+    /// The supportive arm, which holds `G_s` during `rot`.
+    pub robot: String,
+    /// Pad gap used (m): `rot.grip_width`, or 0 when the plan has none.
+    pub grip_width: f64,
+    pub states: Vec<StateReport>,
+    /// Index into `states` of the worst one (not held, else the largest N_min).
+    pub worst: usize,
+    /// Largest N_min (N) over the states, when all are held.
+    pub n_max: Option<f64>,
+    /// `safety_factor × n_max` (N).
+    pub required: Option<f64>,
+    /// The grip force to set: `clamp(required, 20, 235)` N, when it holds.
+    pub recommended: Option<f64>,
+    pub verdict: Verdict,
+    /// Things the verdict alone does not say (axis off the support, ...).
+    pub warnings: Vec<String>,
+}
+
+impl PlanPhysics {
+    /// The verdict is not "holds", or a warning was raised.
+    pub fn flagged(&self) -> bool {
+        self.verdict != Verdict::Holds || !self.warnings.is_empty()
+    }
+}
+
+/// One state of `rot` before it is checked.
+struct State {
+    point: Option<usize>,
+    t: f64,
+    pose: Isometry3<f64>,
+}
+
+fn rot_states(seg: &SegmentJson, plan: usize, substeps: usize) -> Result<Vec<State>, PhysicsError> {
+    let mut poses = Vec::with_capacity(seg.points.len());
+    for (i, p) in seg.points.iter().enumerate() {
+        let pose = p
+            .object_pose
+            .as_ref()
+            .ok_or(PhysicsError::NoObjectPose { plan, point: i })?
+            .to_isometry();
+        poses.push((p.t, pose));
+    }
+    let mut states = Vec::new();
+    for (i, &(t, pose)) in poses.iter().enumerate() {
+        if i > 0 {
+            let (t0, p0) = poses[i - 1];
+            for s in 1..=substeps {
+                let f = s as f64 / (substeps + 1) as f64;
+                states.push(State {
+                    point: None,
+                    t: t0 + f * (t - t0),
+                    pose: p0.lerp_slerp(&pose, f),
+                });
+            }
+        }
+        states.push(State {
+            point: Some(i),
+            t,
+            pose,
+        });
+    }
+    Ok(states)
+}
+
+/// Checks plan `plan_index` of `file`: every state of its `rot` segment (plus
+/// `settings.substeps` interpolated states between neighbouring points).
+pub fn analyse_plan(
+    file: &PlanFile,
+    plan_index: usize,
+    part: &PartMass,
+    settings: &PhysicsSettings,
+) -> Result<PlanPhysics, PhysicsError> {
+    let plan = file.plans.get(plan_index).ok_or(PhysicsError::NoSuchPlan {
+        index: plan_index,
+        count: file.plans.len(),
+    })?;
+    let rot = plan
+        .segments
+        .iter()
+        .find(|s| s.name == "rot" || s.kind == "rotate")
+        .ok_or(PhysicsError::NoRotation { plan: plan_index })?;
+    let candidate = file
+        .candidates
+        .iter()
+        .find(|c| c.id == plan.candidate)
+        .ok_or(PhysicsError::NoCandidate {
+            plan: plan_index,
+            id: plan.candidate,
+        })?;
+    let p_init = file.object.initial_pose.to_isometry();
+    let p_init_inv = p_init.inverse();
+    // The axis endpoints as points of the part (object frame): they move with it.
+    let axis_obj = candidate.axis.map(|a| p_init_inv * Point3::from(a));
+    let g_s = file.grasps.support.to_isometry();
+    let width = rot.grip_width.unwrap_or(0.0).max(0.0);
+    let weight = part.mass * GRAVITY;
+    let model = settings.contact_model();
+    let h = file.support_height;
+    let above_max = file.planner.lift.max(0.0) + SUPPORT_CONTACT_TOLERANCE;
+
+    let mut states = Vec::new();
+    for s in rot_states(rot, plan_index, settings.substeps)? {
+        let support: Vec<Point3<f64>> = axis_obj
+            .iter()
+            .map(|a| s.pose * a)
+            .filter(|p| {
+                let above = p.z - h;
+                (-SUPPORT_CONTACT_TOLERANCE..=above_max).contains(&above)
+            })
+            .collect();
+        let tool = s.pose * g_s;
+        let problem = StaticProblem {
+            com: s.pose * part.centroid,
+            weight,
+            pads: Pads {
+                centre: Point3::from(tool.translation.vector),
+                closing_axis: tool.rotation * Vector3::x(),
+                width_axis: tool.rotation * Vector3::y(),
+                width,
+            },
+            support,
+        };
+        let outcome = min_grip_force(&problem, &model).map_err(|error| PhysicsError::Solver {
+            plan: plan_index,
+            t: s.t,
+            error,
+        })?;
+        let theta_deg = (s.pose * p_init_inv).rotation.angle().to_degrees();
+        let base = StateReport {
+            point: s.point,
+            t: s.t,
+            theta_deg,
+            support_contacts: problem.support.len(),
+            status: StateStatus::Held,
+            n_min: None,
+            support_normal: None,
+            support_tangential: None,
+            support_friction_use: None,
+            pad_friction_use: None,
+            equilibrium: None,
+        };
+        states.push(match outcome {
+            StaticOutcome::Held(eq) => StateReport {
+                n_min: Some(eq.grip_force),
+                support_normal: Some(eq.support_normal_total()),
+                support_tangential: Some(eq.support_tangential_total()),
+                support_friction_use: Some(eq.support_friction_use(model.mu_support)),
+                equilibrium: Some(eq),
+                ..base
+            },
+            StaticOutcome::Slides => StateReport {
+                status: StateStatus::Slides,
+                ..base
+            },
+            StaticOutcome::CannotHold => StateReport {
+                status: StateStatus::CannotHold,
+                ..base
+            },
+        });
+    }
+
+    let severity = |s: &StateReport| match s.status {
+        StateStatus::CannotHold => 2,
+        StateStatus::Slides => 1,
+        StateStatus::Held => 0,
+    };
+    let worst = (0..states.len())
+        .max_by(|&a, &b| {
+            let (sa, sb) = (&states[a], &states[b]);
+            severity(sa)
+                .cmp(&severity(sb))
+                .then(sa.n_min.unwrap_or(0.0).total_cmp(&sb.n_min.unwrap_or(0.0)))
+        })
+        .unwrap_or(0);
+    let all_held = states.iter().all(|s| s.status == StateStatus::Held);
+    let n_max = all_held.then(|| states.iter().filter_map(|s| s.n_min).fold(0.0, f64::max));
+    let required = n_max.map(|n| settings.safety_factor * n);
+    let (lo, hi) = GRIP_FORCE_RANGE;
+    let verdict = match (states.get(worst).map(|s| s.status), required) {
+        (Some(StateStatus::CannotHold), _) => Verdict::CannotHold,
+        (Some(StateStatus::Slides), _) => Verdict::SlidesAtSupport,
+        (_, Some(r)) if r > hi => Verdict::CannotHold,
+        _ => Verdict::Holds,
+    };
+    let recommended = match (verdict, required) {
+        (Verdict::Holds, Some(r)) => Some(r.clamp(lo, hi)),
+        _ => None,
+    };
+    let squeeze = recommended.unwrap_or(hi);
+    for s in &mut states {
+        if let Some(eq) = &s.equilibrium {
+            s.pad_friction_use = Some(eq.pad_friction_use(&model, squeeze));
+        }
+    }
+
+    let mut warnings = Vec::new();
+    let off = states.iter().filter(|s| s.support_contacts == 0).count();
+    if off > 0 {
+        warnings.push(format!(
+            "{off} of {} states: neither axis endpoint is within {:.1} mm of the support — the \
+             part's edge is not on the line the plan claims, and the pads alone hold it there",
+            states.len(),
+            above_max * 1e3
+        ));
+    }
+    let one = states.iter().filter(|s| s.support_contacts == 1).count();
+    if one > 0 {
+        warnings.push(format!(
+            "{one} of {} states: only one axis endpoint touches the support",
+            states.len()
+        ));
+    }
+    if rot.grip_width.is_none() {
+        warnings.push(
+            "rot has no grip_width: both pad contacts are taken at the precision point".into(),
+        );
+    }
+
+    Ok(PlanPhysics {
+        plan: plan_index,
+        candidate: plan.candidate,
+        part: part.clone(),
+        settings: *settings,
+        robot: rot.robot.clone(),
+        grip_width: width,
+        states,
+        worst,
+        n_max,
+        required,
+        recommended,
+        verdict,
+        warnings,
+    })
+}

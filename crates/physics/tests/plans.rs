@@ -1,0 +1,171 @@
+//! The check on real plans: the built-in examples planned by the pipeline.
+//!
+//! Run with `--nocapture` to see the numbers `docs/physics.md` quotes.
+
+use std::path::Path;
+
+use pregrasp_geometry::Mesh;
+use pregrasp_io::plan_file::PlanFile;
+use pregrasp_io::scene::Scene;
+use pregrasp_physics::{
+    analyse_plan, PartMass, PhysicsSettings, PlanPhysics, StateStatus, Verdict,
+};
+use pregrasp_planner::pipeline::{plan, PlanOptions};
+
+fn planned(name: &str) -> (PlanFile, Mesh) {
+    let ex = pregrasp_examples::by_name(name).expect("built-in example");
+    let scene = Scene::from_str(&ex.scene_toml, Path::new(&format!("examples/{name}.toml")))
+        .expect("example scene parses");
+    let file = plan(
+        &scene,
+        &ex.mesh,
+        &PlanOptions { max_plans: 1 },
+        &|_| {},
+        &|| {},
+    )
+    .expect("models build")
+    .file;
+    assert!(!file.plans.is_empty(), "{name}: planned");
+    (file, ex.mesh)
+}
+
+fn check(file: &PlanFile, mesh: &Mesh, settings: &PhysicsSettings) -> PlanPhysics {
+    let part = PartMass::resolve(file, mesh, None, settings.density).unwrap();
+    analyse_plan(file, 0, &part, settings).unwrap()
+}
+
+fn show(name: &str, r: &PlanPhysics) {
+    let w = &r.states[r.worst];
+    println!(
+        "{name}: mass {:.2} kg ({}), grip width {:.1} mm, {} states; worst θ {:.1}°: N_min {:.2} N, \
+         support n {:.2} N t {:.2} N (use {:.2}); N_max {:.2} N → set {:.1} N, pads use {:.2}; {}",
+        r.part.mass,
+        r.part.source,
+        r.grip_width * 1e3,
+        r.states.len(),
+        w.theta_deg,
+        w.n_min.unwrap_or(f64::NAN),
+        w.support_normal.unwrap_or(f64::NAN),
+        w.support_tangential.unwrap_or(f64::NAN),
+        w.support_friction_use.unwrap_or(f64::NAN),
+        r.n_max.unwrap_or(f64::NAN),
+        r.recommended.unwrap_or(f64::NAN),
+        w.pad_friction_use.unwrap_or(f64::NAN),
+        r.verdict.describe(),
+    );
+    for s in r.states.iter().filter(|s| s.point.is_some()) {
+        println!(
+            "  θ {:6.2}°  N_min {:7.3} N  support n {:6.2} t {:6.3} use {:.3}  contacts {}",
+            s.theta_deg,
+            s.n_min.unwrap_or(f64::NAN),
+            s.support_normal.unwrap_or(f64::NAN),
+            s.support_tangential.unwrap_or(f64::NAN),
+            s.support_friction_use.unwrap_or(f64::NAN),
+            s.support_contacts
+        );
+    }
+    for w in &r.warnings {
+        println!("  warning: {w}");
+    }
+}
+
+/// Every example's plan holds with the default friction, both support contacts touch in every
+/// state, and the recommended force lies in the gripper's range.
+#[test]
+fn example_plans_hold() {
+    let settings = PhysicsSettings::default();
+    for name in pregrasp_examples::NAMES {
+        let (file, mesh) = planned(name);
+        let r = check(&file, &mesh, &settings);
+        show(name, &r);
+        let rot_points = file.plans[0]
+            .segments
+            .iter()
+            .find(|s| s.name == "rot")
+            .unwrap()
+            .points
+            .len();
+        assert_eq!(
+            r.states.len(),
+            rot_points + (rot_points - 1) * settings.substeps
+        );
+        assert!(r.states.iter().all(|s| s.support_contacts == 2), "{name}");
+        assert_eq!(r.verdict, Verdict::Holds, "{name}");
+        assert!(r.warnings.is_empty(), "{name}: {:?}", r.warnings);
+        let rec = r.recommended.unwrap();
+        assert!((20.0..=235.0).contains(&rec));
+        assert!(rec >= settings.safety_factor * r.n_max.unwrap() - 1e-9 || rec == 20.0);
+        // The part is heavier than nothing: the support carries weight in every state.
+        assert!(r.states.iter().all(|s| s.support_normal.unwrap() > 0.0));
+    }
+}
+
+/// (d) The plan claims an axis 20 mm above the part's real edge: at no state is an axis
+/// endpoint on the support, so the pads alone would have to hold the part. It is flagged
+/// (a warning, and a verdict other than "holds").
+#[test]
+fn an_axis_lifted_off_the_edge_is_flagged() {
+    let settings = PhysicsSettings::default();
+    let (mut file, mesh) = planned("chair_side");
+    let honest = check(&file, &mesh, &settings);
+    let id = file.plans[0].candidate;
+    let cand = file.candidates.iter_mut().find(|c| c.id == id).unwrap();
+    for p in cand.axis.iter_mut() {
+        p[2] += 0.020;
+    }
+    let lifted = check(&file, &mesh, &settings);
+    show("chair_side, axis lifted 20 mm", &lifted);
+    assert!(lifted.states.iter().all(|s| s.support_contacts == 0));
+    assert!(lifted.flagged());
+    assert!(lifted.warnings[0].contains("pads alone"));
+    assert_ne!(lifted.verdict, Verdict::Holds);
+    // Where the pads alone can hold at all, it takes far more force than with the support.
+    for (a, b) in honest.states.iter().zip(&lifted.states) {
+        if let (StateStatus::Held, Some(nb)) = (b.status, b.n_min) {
+            assert!(nb > a.n_min.unwrap());
+        }
+    }
+}
+
+/// Less support friction never needs less grip; a heavier part needs proportionally more.
+#[test]
+fn grip_force_grows_with_weight_and_less_support_friction() {
+    let (file, mesh) = planned("stool_side");
+    let base = PhysicsSettings::default();
+    let part = PartMass::resolve(&file, &mesh, None, base.density).unwrap();
+    let r0 = analyse_plan(&file, 0, &part, &base).unwrap();
+    let heavy = PartMass {
+        mass: 2.0 * part.mass,
+        ..part.clone()
+    };
+    let r1 = analyse_plan(&file, 0, &heavy, &base).unwrap();
+    for (a, b) in r0.states.iter().zip(&r1.states) {
+        let (na, nb) = (a.n_min.unwrap(), b.n_min.unwrap());
+        assert!((nb - 2.0 * na).abs() <= 1e-6 * nb.max(1.0), "{na} vs {nb}");
+    }
+    let slippery = PhysicsSettings {
+        mu_support: 0.1,
+        ..base
+    };
+    let r2 = analyse_plan(&file, 0, &part, &slippery).unwrap();
+    for (a, b) in r0.states.iter().zip(&r2.states) {
+        if let Some(nb) = b.n_min {
+            assert!(nb >= a.n_min.unwrap() * (1.0 - 1e-6) - 1e-9);
+        }
+    }
+}
+
+/// A plan file without `object.mass` falls back on 700 kg/m³ × the mesh's volume, and says so.
+#[test]
+fn mass_falls_back_on_density() {
+    let (mut file, mesh) = planned("shelf_side");
+    let given = file.object.mass.unwrap();
+    file.object.mass = None;
+    let part = PartMass::resolve(&file, &mesh, None, 700.0).unwrap();
+    assert!(part.source.contains("700"));
+    assert!((part.mass - 700.0 * part.volume).abs() < 1e-12);
+    // The example scenes give wood's mass from the same outline: the same order.
+    assert!(part.mass > 0.3 * given && part.mass < 3.0 * given);
+    let forced = PartMass::resolve(&file, &mesh, Some((5.0, "--mass")), 700.0).unwrap();
+    assert_eq!(forced.mass, 5.0);
+}
