@@ -13,7 +13,16 @@ mod cmd;
 /// how one arm can rotate the part about one of its edges, with the table carrying its
 /// weight, until both grippers have room, and plans every motion of both arms.
 #[derive(Parser)]
-#[command(name = "pregrasp", version, about, long_about)]
+#[command(
+    name = "pregrasp",
+    version,
+    about,
+    long_about,
+    after_help = "Exit status: 0 success (planned, valid); 1 bad input (unreadable or malformed \
+                  file, value out of range; nothing written); 2 no plan, or a plan that fails \
+                  `check`; 64 command-line usage error (unknown command or option, missing or \
+                  unparsable argument)."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -40,13 +49,29 @@ enum Command {
     Example(cmd::example::ExampleCommand),
     /// Write an interactive 3D view (HTML) of a plan file.
     View(cmd::view::Args),
+    /// Export a plan for the cell: URScript per arm, CSV, ROS 2 trajectories, glTF.
+    Export(cmd::export::Args),
+    /// Will the pinch hold? The minimum grip force along the rotation (quasi-static).
+    Physics(cmd::physics::Args),
     /// Print the plan file's JSON Schema (`schema plan`), to validate plans without the repository.
     Schema(cmd::schema::Args),
 }
 
 fn main() -> ExitCode {
     // `kin` numbers such as `-3.3e-05` are made readable to clap first (see cmd::kin).
-    let cli = Cli::parse_from(cmd::kin::normalize_args(std::env::args_os()));
+    let cli = match Cli::try_parse_from(cmd::kin::normalize_args(std::env::args_os())) {
+        Ok(cli) => cli,
+        Err(err) => {
+            // --help and --version are answers, not errors; any other command-line mistake
+            // exits with the usage code, never with 1 (bad input) or 2 (no plan).
+            let _ = err.print();
+            return ExitCode::from(if err.use_stderr() {
+                cmd::EXIT_USAGE
+            } else {
+                cmd::EXIT_OK
+            });
+        }
+    };
     let result = match cli.command {
         Command::Demo(args) => cmd::demo::run(args),
         Command::Plan(args) => cmd::plan::run(args),
@@ -56,6 +81,8 @@ fn main() -> ExitCode {
         Command::Bench(command) => cmd::bench::run(command),
         Command::Example(command) => cmd::example::run(command),
         Command::View(args) => cmd::view::run(args),
+        Command::Export(args) => cmd::export::run(args),
+        Command::Physics(args) => cmd::physics::run(args),
         Command::Schema(args) => cmd::schema::run(args),
     };
     match result {

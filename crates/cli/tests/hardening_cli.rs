@@ -87,3 +87,37 @@ fn view_refuses_a_speed_out_of_range() {
         assert!(!tmp.path().join("page.html").exists());
     }
 }
+
+/// Finding 3: command-line mistakes exit 64, never 2 ("no plan") or 1 (bad input); help and
+/// version exit 0.
+#[test]
+fn usage_errors_exit_64_not_2() {
+    let tmp = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_pregrasp"))
+            .current_dir(tmp.path())
+            .args(args)
+            .output()
+            .unwrap()
+            .status
+            .code()
+    };
+    assert_eq!(run(&["plan"]), Some(64), "missing argument");
+    assert_eq!(run(&["frobnicate"]), Some(64), "unknown subcommand");
+    assert_eq!(
+        run(&[
+            "plan",
+            "s.toml",
+            "-o",
+            "p.json",
+            "--max-plans",
+            "99999999999999999999"
+        ]),
+        Some(64),
+        "number too large"
+    );
+    assert_eq!(run(&["plan", "s.toml", "--no-such-option"]), Some(64));
+    assert_eq!(run(&["--help"]), Some(0));
+    assert_eq!(run(&["--version"]), Some(0));
+    assert_eq!(run(&["plan", "--help"]), Some(0));
+}

@@ -209,12 +209,12 @@ fn kin_ik_takes_pose_and_seed_in_exponent_form_and_inverts_fk() {
 fn kin_refuses_words_that_are_not_numbers() {
     let tmp = tempfile::tempdir().unwrap();
     let out = pregrasp(tmp.path(), &["kin", "fk", "0", "0", "1.5x", "0", "0", "0"]);
-    assert_eq!(out.status.code(), Some(2), "clap's usage error");
+    assert_eq!(out.status.code(), Some(64), "a usage error");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("\"1.5x\" is not a number"), "{err}");
     // A word that is neither a number nor an option is an unknown option.
     let out = pregrasp(tmp.path(), &["kin", "fk", "0", "0", "-x1", "0", "0", "0"]);
-    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(out.status.code(), Some(64));
     assert!(String::from_utf8_lossy(&out.stderr).contains("unexpected argument '-x'"));
     let out = pregrasp(tmp.path(), &["kin", "fk", "0", "0", "0", "0", "0"]);
     assert_ne!(out.status.code(), Some(0), "five angles are too few");

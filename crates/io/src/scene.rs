@@ -249,10 +249,13 @@ impl Scene {
             file: cx.file.clone(),
             message: e.to_string().trim_end().replace('\n', " | "),
         })?;
+        // `[physics]` belongs to `pregrasp physics` (crates/physics reads it), not to planning.
         cx.unknown(
             &root,
             "",
-            &["name", "support", "object", "grasps", "robot", "planner"],
+            &[
+                "name", "support", "object", "grasps", "robot", "planner", "physics",
+            ],
         );
 
         let name = match root.get("name") {
