@@ -50,6 +50,9 @@ pub struct PartMass {
     pub volume: f64,
     /// Centre of mass in the object frame (uniform density), m.
     pub centroid: Point3<f64>,
+    /// The points of the part that can touch a plane (its convex hull's vertices), object frame.
+    #[serde(skip)]
+    pub hull: Vec<Point3<f64>>,
 }
 
 impl PartMass {
@@ -76,11 +79,15 @@ impl PartMass {
         if !(mass.is_finite() && mass > 0.0) {
             return Err(PhysicsError::BadMass(mass));
         }
+        let hull = pregrasp_geometry::ConvexHull::of_mesh(mesh)
+            .map(|h| h.vertices)
+            .unwrap_or_else(|_| mesh.vertices.clone());
         Ok(PartMass {
             mass,
             source,
             volume: props.volume,
             centroid: props.centroid,
+            hull,
         })
     }
 }
@@ -177,6 +184,40 @@ impl PlanPhysics {
         self.verdict != Verdict::Holds || !self.warnings.is_empty()
     }
 }
+
+/// How far (m) a point of the part that rests on the support slides along it while it stays
+/// there during `rot`, if more than [`SLIDE_TOLERANCE`]: kinematics alone, whatever the forces.
+/// A rotation about the part's real edge keeps the edge's points where they are; a rotation
+/// about a line off the edge drags them over the table.
+fn edge_slide(
+    rot: &SegmentJson,
+    plan: usize,
+    part: &PartMass,
+    support: f64,
+    above_max: f64,
+) -> Result<Option<f64>, PhysicsError> {
+    let states = rot_states(rot, plan, 4)?;
+    // Per hull vertex: where it first touched the support (x, y), while it still does.
+    let mut touch: Vec<Option<(f64, f64)>> = vec![None; part.hull.len()];
+    let mut worst: f64 = 0.0;
+    for s in &states {
+        for (v, anchor) in part.hull.iter().zip(touch.iter_mut()) {
+            let w = s.pose * v;
+            if w.z - support > above_max {
+                *anchor = None;
+                continue;
+            }
+            match anchor {
+                None => *anchor = Some((w.x, w.y)),
+                Some((x, y)) => worst = worst.max((w.x - *x).hypot(w.y - *y)),
+            }
+        }
+    }
+    Ok((worst > SLIDE_TOLERANCE).then_some(worst))
+}
+
+/// A point resting on the support that moves farther than this along it slides (m).
+pub const SLIDE_TOLERANCE: f64 = 0.001;
 
 /// One state of `rot` before it is checked.
 struct State {
@@ -349,6 +390,17 @@ pub fn analyse_plan(
     }
 
     let mut warnings = Vec::new();
+    let mut verdict = verdict;
+    let mut recommended = recommended;
+    if let Some(slide) = edge_slide(rot, plan_index, part, h, above_max)? {
+        verdict = Verdict::SlidesAtSupport;
+        recommended = None;
+        warnings.push(format!(
+            "the part's edge slides {:.1} mm along the support during rot: the rotation axis is \
+             not on the part's real edge",
+            slide * 1e3
+        ));
+    }
     let off = states.iter().filter(|s| s.support_contacts == 0).count();
     if off > 0 {
         warnings.push(format!(

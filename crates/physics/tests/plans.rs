@@ -169,3 +169,48 @@ fn mass_falls_back_on_density() {
     let forced = PartMass::resolve(&file, &mesh, Some((5.0, "--mass")), 700.0).unwrap();
     assert_eq!(forced.mass, 5.0);
 }
+
+/// The plan turns the part about a line 20 mm above its real edge (the axis it claims is that
+/// line): the edge resting on the table is dragged over it, and the plan is flagged as sliding.
+#[test]
+fn a_rotation_about_a_line_20_mm_above_the_edge_slides() {
+    use nalgebra::{Isometry3, Translation3, Vector3};
+    use pregrasp_io::plan_file::PoseJson;
+
+    let settings = PhysicsSettings::default();
+    let (mut file, mesh) = planned("chair_side");
+    let id = file.plans[0].candidate;
+    let cand = file.candidates.iter_mut().find(|c| c.id == id).unwrap();
+    for p in cand.axis.iter_mut() {
+        p[2] += 0.020;
+    }
+    let pivot = Vector3::from(cand.axis[0]);
+    let p_init = file.object.initial_pose.to_isometry();
+    let rot = file.plans[0]
+        .segments
+        .iter_mut()
+        .find(|s| s.name == "rot")
+        .unwrap();
+    for point in &mut rot.points {
+        let pose = point.object_pose.as_ref().unwrap().to_isometry();
+        // The same rotation as planned, about the lifted line instead of the edge.
+        let turn = (pose * p_init.inverse()).rotation;
+        let about = Translation3::from(pivot)
+            * Isometry3::from_parts(Translation3::identity(), turn)
+            * Translation3::from(-pivot);
+        point.object_pose = Some(PoseJson::from(&(about * p_init)));
+    }
+    let lifted = check(&file, &mesh, &settings);
+    show("chair_side, turned 20 mm above the edge", &lifted);
+    assert_eq!(lifted.verdict, Verdict::SlidesAtSupport);
+    assert!(
+        lifted.warnings.iter().any(|w| w.contains("slides")),
+        "{:?}",
+        lifted.warnings
+    );
+    // The honest plan: the edge stays put, no such warning.
+    let (honest_file, _) = planned("chair_side");
+    let honest = check(&honest_file, &mesh, &settings);
+    assert_eq!(honest.verdict, Verdict::Holds);
+    assert!(!honest.warnings.iter().any(|w| w.contains("slides")));
+}
