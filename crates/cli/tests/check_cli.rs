@@ -1,19 +1,14 @@
 //! `pregrasp check` on malformed plan files (issue 18, findings 1 and 2): refused before any
 //! motion is judged, exit 1, with the path of the offending field.
 
+mod common;
+
+use common::pregrasp;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
-
-fn pregrasp(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pregrasp"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
 
 /// A fresh plan of the chair side in `dir/plan.json` (the mesh beside it), as JSON.
 fn planned(dir: &Path) -> Value {

@@ -1,20 +1,11 @@
 //! `pregrasp export` as the real binary: writes every format from a planned example, refuses
 //! a plan-less file, an out-of-range --plan and an unknown --format with exit 1, writing nothing.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn pregrasp(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pregrasp"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
+use common::{examples_dir, pregrasp};
 
-fn examples_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
-}
+use std::path::Path;
 
 /// A temporary directory with `plan.json` planned from the chair side (its mesh is found
 /// through the plan's absolute `object.mesh`).

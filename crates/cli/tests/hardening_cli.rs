@@ -1,12 +1,12 @@
 //! Bad input found by generated inputs (issue 18, findings 5 and 6): refused at once, in words.
 
+mod common;
+
+use common::examples_dir;
+
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-
-fn examples_dir() -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
-}
 
 /// A copy of the chair-side scene in `dir` whose mesh entry is `meshes/chair_side.stl`.
 fn scene_in(dir: &Path) {

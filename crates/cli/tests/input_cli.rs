@@ -2,20 +2,11 @@
 //! naming the robot and the joint, and writes nothing. `kin fk` / `kin ik` take numbers as
 //! Python or a UR controller log prints them, negative exponents included, without `--`.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn pregrasp(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pregrasp"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
+use common::{examples_dir, pregrasp};
 
-fn examples_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
-}
+use std::path::Path;
 
 /// The chair-side example in `dir` (scene + mesh) with the right arm's start line replaced.
 fn chair_with_right_start(dir: &Path, start: &str) {

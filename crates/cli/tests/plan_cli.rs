@@ -1,19 +1,10 @@
 //! `pregrasp plan`, `check` and `demo` run as the real binary in temporary directories.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn pregrasp(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pregrasp"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
+use common::{examples_dir, pregrasp};
 
-fn examples_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
-}
+use std::path::Path;
 
 /// The plan file with its `timing_ms` removed (the only part that may differ between runs).
 fn plan_without_timing(path: &Path) -> String {
