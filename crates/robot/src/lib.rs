@@ -1,6 +1,6 @@
 //! Robot models for pregrasp: Universal Robots arms (UR3e, UR5e, UR10e, UR16e, UR5) with
 //! standard-DH forward kinematics and analytic inverse kinematics, the Robotiq 2F-85
-//! gripper, and conservative collision shapes for both.
+//! gripper with its finger linkage, and collision shapes fitted to both (no margin in them).
 //!
 //! Frames: every pose is in the arm's controller *Base* frame unless stated otherwise;
 //! the flange frame (tool0, DH frame 6) has z out of the flange, and the gripper frame is

@@ -125,7 +125,7 @@ pub struct LinkShape {
     pub primitive: Primitive,
 }
 
-/// Conservative collision model of an arm.
+/// Collision model of an arm: shapes that contain its links, and the pairs checked.
 #[derive(Clone, Debug)]
 pub struct ArmGeometry {
     /// Link shapes; `frame` indexes `fk_frames`.
@@ -141,7 +141,8 @@ impl ArmGeometry {
     }
 }
 
-/// Conservative link shapes of `model` and the shape pairs checked for self-collision.
+/// Link shapes of `model` (fitted to its description meshes) and the shape pairs checked for
+/// self-collision.
 ///
 /// Self-collision pairs: every pair of shapes on links two or more joints apart, except
 /// pairs whose distance no joint motion can change or that the mechanism keeps apart:
