@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::pregrasp;
+use common::{plan_chair_side, pregrasp};
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -12,19 +12,7 @@ use serde_json::Value;
 
 /// A fresh plan of the chair side in `dir/plan.json` (the mesh beside it), as JSON.
 fn planned(dir: &Path) -> Value {
-    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
-    let scene = examples.join("chair_side.toml");
-    let out = pregrasp(
-        dir,
-        &[
-            "plan",
-            scene.to_str().unwrap(),
-            "-o",
-            "plan.json",
-            "--quiet",
-        ],
-    );
-    assert_eq!(out.status.code(), Some(0));
+    plan_chair_side(dir);
     serde_json::from_str(&std::fs::read_to_string(dir.join("plan.json")).unwrap()).unwrap()
 }
 

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{examples_dir, pregrasp};
+use common::{plan_chair_side, pregrasp};
 
 use std::path::Path;
 
@@ -11,23 +11,7 @@ use std::path::Path;
 /// through the plan's absolute `object.mesh`).
 fn planned() -> tempfile::TempDir {
     let tmp = tempfile::tempdir().unwrap();
-    let scene = examples_dir().join("chair_side.toml");
-    let out = pregrasp(
-        tmp.path(),
-        &[
-            "plan",
-            scene.to_str().unwrap(),
-            "-o",
-            "plan.json",
-            "--quiet",
-        ],
-    );
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    plan_chair_side(tmp.path());
     tmp
 }
 

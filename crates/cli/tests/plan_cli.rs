@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{examples_dir, pregrasp};
+use common::{examples_dir, plan_chair_side, pregrasp};
 
 use std::path::Path;
 
@@ -112,18 +112,7 @@ fn write_far_support_scene(path: &Path) {
 #[test]
 fn check_reports_the_failed_rule_and_exits_2() {
     let tmp = tempfile::tempdir().unwrap();
-    let scene = examples_dir().join("chair_side.toml");
-    let out = pregrasp(
-        tmp.path(),
-        &[
-            "plan",
-            scene.to_str().unwrap(),
-            "-o",
-            "plan.json",
-            "--quiet",
-        ],
-    );
-    assert_eq!(out.status.code(), Some(0));
+    plan_chair_side(tmp.path());
     let path = tmp.path().join("plan.json");
     let mut plan: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
