@@ -93,8 +93,11 @@ pub struct Options {
     pub movej_accel: f64,
     /// Robotiq speed register (`SET SPE`, 0..255).
     pub grip_speed: u8,
-    /// Robotiq force register (`SET FOR`, 0..255).
+    /// Robotiq force register (`SET FOR`, 0..255) of the power grasps.
     pub grip_force: u8,
+    /// Force register of the support grasp (the fingertip pinch of `rot`); `None`: from the
+    /// plan's recommended grip force ([`urscript::force_register`]), else `grip_force`.
+    pub support_grip_force: Option<u8>,
     /// How much narrower than `grip_width` a close is commanded (m), so the fingers press on
     /// the part and the gripper reports it.
     pub grip_squeeze: f64,
@@ -114,6 +117,7 @@ impl Default for Options {
             movej_accel: 0.5,
             grip_speed: 128,
             grip_force: 255,
+            support_grip_force: None,
             grip_squeeze: 0.01,
             ros_prefix: String::new(),
         }

@@ -56,6 +56,8 @@ pub struct Segment {
     pub arm: usize,
     /// Plan time of the first point (s).
     pub t0: f64,
+    /// `support` or `power`: the grasp the segment's gripper holds when it ends.
+    pub grasp: String,
     pub grip_width: Option<f64>,
     /// Points with plan times.
     pub points: Vec<(f64, Joints)>,
@@ -80,6 +82,9 @@ pub struct Timeline {
     pub object_goal: Isometry3<f64>,
     /// Plan time at the end of the last segment (s).
     pub duration: f64,
+    /// The grip force (N) the plan's quasi-static check recommends for the support grasp
+    /// (`physics.grip_force_recommended`), when the plan carries one.
+    pub support_grip_force: Option<f64>,
 }
 
 fn joint_gap(a: &Joints, b: &Joints) -> f64 {
@@ -232,6 +237,7 @@ impl Timeline {
                 kind: seg.kind.clone(),
                 arm,
                 t0: t,
+                grasp: seg.grasp.clone(),
                 grip_width: seg.grip_width,
                 points,
                 object,
@@ -245,6 +251,7 @@ impl Timeline {
             object_initial: file.object.initial_pose.to_isometry(),
             object_goal: plan.object_goal_pose.to_isometry(),
             duration: t,
+            support_grip_force: plan.physics.as_ref().and_then(|p| p.grip_force_recommended),
         })
     }
 

@@ -13,7 +13,10 @@
 //! it from a PolyScope Script node).
 //!
 //! **Gripper.** Robotiq 2F-85 through the URCap's ASCII socket (127.0.0.1:63352): activated
-//! with `SET ACT 1`, `SET GTO 1`, `SET SPE`, `SET FOR` at start; `SET POS 0` (open) when a
+//! with `SET ACT 1`, `SET GTO 1`, `SET SPE`, `SET FOR` at start; before every close `SET FOR`
+//! with the grasp's force — for the support grasp the plan's recommended grip force
+//! (`physics.grip_force_recommended`, [`force_register`]), for the power grasps `grip_force`;
+//! `SET POS 0` (open) when a
 //! `reach` / `regrasp` begins, and `SET POS p` at its last point, `p` from the segment's
 //! `grip_width` `g` as [`grip_pos`]`(g − squeeze)` (the 2F-85 maps 0..85 mm linearly to
 //! 255..0, approximately) or 255 when the plan gives no width. After a close the program waits
@@ -51,6 +54,17 @@ pub const PULSE_MIN_TICKS: u32 = 10;
 pub const PULSE_MAX_TICKS: u32 = 500;
 /// The 2F-85's stroke (m): `SET POS 0` opens the pads to about this gap.
 pub const STROKE: f64 = 0.085;
+
+/// The 2F-85's grip force range (N): force register 0 ↦ 20 N, 255 ↦ 235 N.
+pub const FORCE_RANGE: (f64, f64) = (20.0, 235.0);
+
+/// Robotiq force register for a grip force `f` (N): 2F-85, 20..235 N ↦ 0..255, linear
+/// (approximate, as the gripper's own force control), rounded up so the gripper squeezes at
+/// least `f`; clamped.
+pub fn force_register(f: f64) -> u8 {
+    let (lo, hi) = FORCE_RANGE;
+    (255.0 * (f - lo) / (hi - lo)).ceil().clamp(0.0, 255.0) as u8
+}
 
 /// Robotiq position register for a gap `g` (m) between the pads: 2F-85, 0..85 mm ↦ 255..0,
 /// linear (approximate; the real mapping is within a few counts), clamped.
@@ -353,6 +367,14 @@ pub fn arm_script(timeline: &Timeline, arm: usize, o: &Options) -> String {
             settle_ticks(o.lookahead)
         );
         if opens {
+            let force = if seg.grasp == "support" {
+                o.support_grip_force
+                    .or(timeline.support_grip_force.map(force_register))
+                    .unwrap_or(o.grip_force)
+            } else {
+                o.grip_force
+            };
+            let _ = writeln!(w, "  pg_grip_set(\"SET FOR {force}\")");
             let pos = match seg.grip_width {
                 Some(g) => grip_pos((g - o.grip_squeeze).max(0.0)),
                 None => 255,

@@ -9,7 +9,7 @@ mod common;
 
 use std::collections::HashSet;
 
-use pregrasp_export::urscript::{grip_pos, DT};
+use pregrasp_export::urscript::{force_register, grip_pos, DT};
 use pregrasp_export::{export, Format, Options};
 use pregrasp_robot::UrModel;
 
@@ -23,6 +23,7 @@ enum Op {
     Line([f64; 6], [f64; 6], u32),
     Hold([f64; 6], u32),
     Open,
+    Force(u8),
     Close(u8),
     Check,
     Handoff,
@@ -84,6 +85,8 @@ fn read(script: &str) -> Vec<Op> {
                 .parse()
                 .unwrap();
             ops.push(Op::Hold(q, n as u32));
+        } else if let Some(rest) = line.strip_prefix("pg_grip_set(\"SET FOR ") {
+            ops.push(Op::Force(rest.split('"').next().unwrap().parse().unwrap()));
         } else if line == "pg_grip_open()" {
             ops.push(Op::Open);
         } else if let Some(rest) = line.strip_prefix("pg_grip_close(\"SET POS ") {
@@ -153,7 +156,11 @@ fn interpreted_servoj_stream_reproduces_the_plan_within_limits() {
         let model = UrModel::from_name(&robot.model).unwrap();
         let vmax = model.max_joint_speed();
         let limits = model.joint_limits();
-        let ops = read(&text);
+        // (the force register settings do not move the arm)
+        let ops: Vec<Op> = read(&text)
+            .into_iter()
+            .filter(|o| !matches!(o, Op::Force(_)))
+            .collect();
         let Op::MoveJ(first) = ops[0] else {
             panic!("movej first")
         };
@@ -464,4 +471,66 @@ fn options_reach_the_program_and_output_is_deterministic() {
         assert!(text.contains("PG_SYNC_OUT = 3\n") && text.contains("PG_SYNC_IN = 5\n"));
         assert!(text.contains(", a=0.5, v=0.2)"));
     }
+}
+
+/// The fingertip pinch of the support grasp squeezes with the force the plan's quasi-static
+/// check recommends (`physics.grip_force_recommended`, issue 15), the power grasps with
+/// `--grip-force`; `--support-grip-force` overrides the plan.
+#[test]
+fn support_grasp_squeezes_with_the_recommended_force() {
+    let (file, _) = common::chair_side();
+    let plan = &file.plans[0];
+    let recommended = plan
+        .physics
+        .as_ref()
+        .and_then(|p| p.grip_force_recommended)
+        .expect("the example plan holds and has a recommended force");
+    let pinch = force_register(recommended);
+    let force_before_closes = |options: &Options| -> Vec<(String, u8)> {
+        let mut out = Vec::new();
+        for (_, text) in scripts(options) {
+            let (mut segment, mut force) = (String::new(), None);
+            for op in read(&text) {
+                match op {
+                    Op::Segment(s) => segment = s,
+                    Op::Force(f) => force = Some(f),
+                    Op::Close(_) => {
+                        out.push((segment.clone(), force.expect("SET FOR before a close")))
+                    }
+                    _ => {}
+                }
+            }
+        }
+        out.sort();
+        out
+    };
+    let expect = |support: u8, power: u8| -> Vec<(String, u8)> {
+        let mut v: Vec<(String, u8)> = plan
+            .segments
+            .iter()
+            .filter(|s| s.kind != "rotate")
+            .map(|s| {
+                (
+                    s.name.clone(),
+                    if s.grasp == "support" { support } else { power },
+                )
+            })
+            .collect();
+        v.sort();
+        v
+    };
+    assert_eq!(force_before_closes(&Options::default()), expect(pinch, 255));
+    let custom = Options {
+        grip_force: 200,
+        support_grip_force: Some(17),
+        ..Options::default()
+    };
+    assert_eq!(force_before_closes(&custom), expect(17, 200));
+    // The register mapping: 20 N ↦ 0, 235 N ↦ 255, rounded up (never less than asked).
+    assert_eq!(force_register(20.0), 0);
+    assert_eq!(force_register(235.0), 255);
+    assert_eq!(force_register(500.0), 255);
+    let f = 100.0;
+    let back = 20.0 + force_register(f) as f64 / 255.0 * 215.0;
+    assert!(back >= f && back - f < 215.0 / 255.0);
 }

@@ -147,6 +147,52 @@ pub struct PlanJson {
     pub supportive: String,
     pub object_goal_pose: PoseJson,
     pub segments: Vec<SegmentJson>,
+    /// (Extension) The quasi-static check of `rot`: will the pinch hold the part? Absent in
+    /// files written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub physics: Option<PhysicsJson>,
+}
+
+/// A plan's `physics` object: the quasi-static check of its rotation (`docs/physics.md`). Forces
+/// in newtons; friction use is |tangential force| / (μ · normal force), 1 = at the cone's edge.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PhysicsJson {
+    /// `holds`, `cannot_hold` or `slides_at_support`.
+    pub verdict: String,
+    /// The part's mass (kg) and where it comes from.
+    pub mass: f64,
+    pub mass_source: String,
+    pub mu_pad: f64,
+    pub mu_support: f64,
+    pub safety_factor: f64,
+    /// The largest minimum grip force over the states of `rot` (N), when every state is held.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grip_force_min: Option<f64>,
+    /// `safety_factor × grip_force_min` (N).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grip_force_required: Option<f64>,
+    /// The 2F-85 force to set for the support grasp: `grip_force_required` clamped to
+    /// [20, 235] N; absent when the plan does not hold.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grip_force_recommended: Option<f64>,
+    /// Largest friction use at the pads, squeezing with the recommended force (with 235 N when
+    /// the plan does not hold).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pad_friction_use: Option<f64>,
+    /// Largest friction use at the support contacts.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub support_friction_use: Option<f64>,
+    /// Largest total normal force of the support on the part (N).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub support_normal_max: Option<f64>,
+    /// Time into `rot` (s) and rotation from P_init (degrees) of the worst state.
+    pub worst_t: f64,
+    pub worst_theta_deg: f64,
+    /// States checked (the points of `rot` and the ones interpolated between them).
+    pub states: usize,
+    /// What the verdict alone does not say (e.g. the edge slides 5.8 mm along the support).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -58,6 +58,8 @@ pub struct Scene {
     /// `[[robot]]` entries in file order: `robots[0]` owns `grasps.power[0]`.
     pub robots: [RobotSpec; 2],
     pub planner: PlannerParams,
+    /// `[physics]`: the quasi-static grip check of the rotation (every key optional).
+    pub physics: PhysicsParams,
     /// One line per ignored key, e.g. `scene.toml: object.colour: unknown key (ignored)`.
     pub warnings: Vec<String>,
 }
@@ -139,6 +141,69 @@ pub struct PlannerParams {
     /// within the last 2 cm of an approach to a grasp or the first 2 cm of a retreat from one —
     /// where a fingertip pinch sits a few millimetres above the table.
     pub finger_support_clearance: f64,
+}
+
+/// `[physics]`: what the quasi-static check of `μ_rot` (crate `pregrasp-physics`) needs beyond
+/// the mesh and `object.mass`. `None`: the check's default (see `docs/physics.md`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhysicsParams {
+    /// Coulomb friction coefficient pad–part, in (0, 10].
+    pub mu_pad: Option<f64>,
+    /// Coulomb friction coefficient part–support, in [0, 10].
+    pub mu_support: Option<f64>,
+    /// Grip force to set = this × the largest minimum grip force along `rot`, in [1, 100].
+    pub safety_factor: Option<f64>,
+    /// Torsion radius of a pad contact (m), in [0, 0.1]; 0: point contacts.
+    pub pad_torsion_radius: Option<f64>,
+    /// Density (kg/m³) of a part without `object.mass`, in (0, 30000].
+    pub density: Option<f64>,
+    /// `reject` (default true): the planner rejects a candidate whose rotation the gripper
+    /// cannot hold or that slides at the support. `false` keeps such plans and only reports.
+    pub reject: bool,
+}
+
+impl Default for PhysicsParams {
+    /// No table: every value the check's default, unsafe rotations rejected.
+    fn default() -> Self {
+        PhysicsParams {
+            mu_pad: None,
+            mu_support: None,
+            safety_factor: None,
+            pad_torsion_radius: None,
+            density: None,
+            reject: true,
+        }
+    }
+}
+
+/// The keys of `[physics]` that hold numbers.
+pub const PHYSICS_NUMBER_KEYS: [&str; 5] = [
+    "mu_pad",
+    "mu_support",
+    "safety_factor",
+    "pad_torsion_radius",
+    "density",
+];
+
+/// Checks the range of one numeric `[physics]` value (also used for the command-line overrides
+/// of `pregrasp physics`): `Err` says what the range is and what was found.
+pub fn check_physics_value(key: &str, x: f64) -> Result<(), String> {
+    // (lowest, highest, lowest allowed itself, unit)
+    let (lo, hi, lo_in, unit) = match key {
+        "mu_pad" => (0.0, 10.0, false, ""),
+        "mu_support" => (0.0, 10.0, true, ""),
+        "safety_factor" => (1.0, 100.0, true, ""),
+        "pad_torsion_radius" => (0.0, 0.1, true, " m"),
+        "density" => (0.0, 30_000.0, false, " kg/m³"),
+        _ => return Err("unknown key".into()),
+    };
+    let above_lo = if lo_in { x >= lo } else { x > lo };
+    if x.is_finite() && above_lo && x <= hi {
+        Ok(())
+    } else {
+        let open = if lo_in { '[' } else { '(' };
+        Err(format!("must be in {open}{lo}, {hi}]{unit}, found {x}"))
+    }
 }
 
 /// Default of `[planner] link_clearance` (m).
@@ -249,7 +314,6 @@ impl Scene {
             file: cx.file.clone(),
             message: e.to_string().trim_end().replace('\n', " | "),
         })?;
-        // `[physics]` belongs to `pregrasp physics` (crates/physics reads it), not to planning.
         cx.unknown(
             &root,
             "",
@@ -274,6 +338,10 @@ impl Scene {
             None => PlannerParams::default(),
             Some(v) => cx.planner(cx.as_table(v, "planner")?)?,
         };
+        let physics = match root.get("physics") {
+            None => PhysicsParams::default(),
+            Some(v) => cx.physics(cx.as_table(v, "physics")?)?,
+        };
         Ok(Scene {
             file: file.to_path_buf(),
             name,
@@ -282,6 +350,7 @@ impl Scene {
             grasps,
             robots,
             planner,
+            physics,
             warnings: cx.warnings,
         })
     }
@@ -823,6 +892,38 @@ impl Cx {
                 "finger_support_clearance",
                 d.finger_support_clearance,
             )?,
+        })
+    }
+
+    fn physics(&mut self, t: &Table) -> Result<PhysicsParams, SceneError> {
+        const P: &str = "physics";
+        let mut known = PHYSICS_NUMBER_KEYS.to_vec();
+        known.push("reject");
+        self.unknown(t, P, &known);
+        let value = |cx: &Cx, name: &str| -> Result<Option<f64>, SceneError> {
+            let x = cx.opt_f64(t, P, name)?;
+            if let Some(x) = x {
+                check_physics_value(name, x).map_err(|m| cx.err(&join(P, name), m))?;
+            }
+            Ok(x)
+        };
+        let reject = match t.get("reject") {
+            None => true,
+            Some(Value::Boolean(b)) => *b,
+            Some(v) => {
+                return Err(self.err(
+                    "physics.reject",
+                    format!("expected true or false, found {}", type_name(v)),
+                ))
+            }
+        };
+        Ok(PhysicsParams {
+            mu_pad: value(self, "mu_pad")?,
+            mu_support: value(self, "mu_support")?,
+            safety_factor: value(self, "safety_factor")?,
+            pad_torsion_radius: value(self, "pad_torsion_radius")?,
+            density: value(self, "density")?,
+            reject,
         })
     }
 }

@@ -18,6 +18,12 @@ pub struct MassProperties {
 pub enum MassError {
     #[error("the mesh encloses no volume ({volume:.3e} m³): it is not a closed solid")]
     NoVolume { volume: f64 },
+    #[error(
+        "the mesh is not a closed surface ({open} of its edges do not join exactly two \
+         triangles): its volume and centre of mass are unknown — close it, or give object.mass \
+         and check the result"
+    )]
+    NotClosed { open: usize },
 }
 
 impl MassProperties {
@@ -25,6 +31,10 @@ impl MassProperties {
     /// oriented (either way round); otherwise the integrals mean nothing, and a mesh enclosing
     /// less than 1 mm³ is refused.
     pub fn from_mesh(mesh: &Mesh) -> Result<MassProperties, MassError> {
+        let open = open_edges(mesh);
+        if open > 0 {
+            return Err(MassError::NotClosed { open });
+        }
         // Work relative to a vertex of the mesh, so large coordinates lose no precision.
         let origin = mesh.vertices.first().copied().unwrap_or_else(Point::origin);
         let mut six_volume = 0.0;
@@ -48,4 +58,17 @@ impl MassProperties {
             centroid,
         })
     }
+}
+
+/// The undirected edges of `mesh` not shared by exactly two triangles (0 for a closed surface).
+pub fn open_edges(mesh: &Mesh) -> usize {
+    let mut count: std::collections::HashMap<(u32, u32), u32> =
+        std::collections::HashMap::with_capacity(mesh.triangles.len() * 3 / 2);
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    count.values().filter(|&&n| n != 2).count()
 }

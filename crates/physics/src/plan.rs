@@ -3,7 +3,7 @@
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::{PlanFile, SegmentJson};
+use pregrasp_io::plan_file::{PhysicsJson, PlanFile, SegmentJson};
 
 use crate::mass::{MassError, MassProperties};
 use crate::settings::{PhysicsSettings, GRAVITY, GRIP_FORCE_RANGE};
@@ -183,6 +183,63 @@ impl PlanPhysics {
     pub fn flagged(&self) -> bool {
         self.verdict != Verdict::Holds || !self.warnings.is_empty()
     }
+
+    /// The plan file's `physics` object of this plan: the worst state's numbers and the
+    /// largest friction use over all states.
+    pub fn to_json(&self) -> PhysicsJson {
+        let max =
+            |f: fn(&StateReport) -> Option<f64>| self.states.iter().filter_map(f).reduce(f64::max);
+        let worst = self.states.get(self.worst);
+        PhysicsJson {
+            verdict: match self.verdict {
+                Verdict::Holds => "holds",
+                Verdict::CannotHold => "cannot_hold",
+                Verdict::SlidesAtSupport => "slides_at_support",
+            }
+            .to_string(),
+            mass: self.part.mass,
+            mass_source: self.part.source.clone(),
+            mu_pad: self.settings.mu_pad,
+            mu_support: self.settings.mu_support,
+            safety_factor: self.settings.safety_factor,
+            grip_force_min: self.n_max,
+            grip_force_required: self.required,
+            grip_force_recommended: self.recommended,
+            pad_friction_use: max(|s| s.pad_friction_use),
+            support_friction_use: max(|s| s.support_friction_use),
+            support_normal_max: max(|s| s.support_normal),
+            worst_t: worst.map_or(0.0, |s| s.t),
+            worst_theta_deg: worst.map_or(0.0, |s| s.theta_deg),
+            states: self.states.len(),
+            warnings: self.warnings.clone(),
+        }
+    }
+
+    /// Why the planner drops this plan's candidate (`[physics] reject`), or `None` if it holds.
+    pub fn rejection(&self) -> Option<String> {
+        let worst = self.states.get(self.worst)?;
+        let at = format!("at θ = {:.1}° (t = {:.2} s)", worst.theta_deg, worst.t);
+        match self.verdict {
+            Verdict::Holds => None,
+            Verdict::SlidesAtSupport => Some(match self.warnings.first() {
+                Some(w) if w.contains("slides") => format!("physics: slides at the support: {w}"),
+                _ => format!(
+                    "physics: slides at the support {at} (μ_support = {})",
+                    self.settings.mu_support
+                ),
+            }),
+            Verdict::CannotHold => Some(match self.required {
+                Some(r) => format!(
+                    "physics: cannot hold: the pinch needs {r:.0} N (safety factor {} × {:.0} N {at}), \
+                     more than the gripper's {:.0} N",
+                    self.settings.safety_factor,
+                    self.n_max.unwrap_or(0.0),
+                    GRIP_FORCE_RANGE.1
+                ),
+                None => format!("physics: cannot hold the part with any grip force {at}"),
+            }),
+        }
+    }
 }
 
 /// How far (m) a point of the part that rests on the support slides along it while it stays
@@ -258,8 +315,9 @@ fn rot_states(seg: &SegmentJson, plan: usize, substeps: usize) -> Result<Vec<Sta
     Ok(states)
 }
 
-/// Checks plan `plan_index` of `file`: every state of its `rot` segment (plus
-/// `settings.substeps` interpolated states between neighbouring points).
+/// Checks plan `plan_index` of `file`: every point of its `rot` segment, plus
+/// `settings.substeps` interpolated states in each interval between neighbouring points where
+/// the worst state may lie (all of them with `settings.refine_all`).
 pub fn analyse_plan(
     file: &PlanFile,
     plan_index: usize,
@@ -294,8 +352,7 @@ pub fn analyse_plan(
     let h = file.support_height;
     let above_max = file.planner.lift.max(0.0) + SUPPORT_CONTACT_TOLERANCE;
 
-    let mut states = Vec::new();
-    for s in rot_states(rot, plan_index, settings.substeps)? {
+    let solve = |s: &State| -> Result<StateReport, PhysicsError> {
         let support: Vec<Point3<f64>> = axis_obj
             .iter()
             .map(|a| s.pose * a)
@@ -335,7 +392,7 @@ pub fn analyse_plan(
             pad_friction_use: None,
             equilibrium: None,
         };
-        states.push(match outcome {
+        Ok(match outcome {
             StaticOutcome::Held(eq) => StateReport {
                 n_min: Some(eq.grip_force),
                 support_normal: Some(eq.support_normal_total()),
@@ -352,7 +409,42 @@ pub fn analyse_plan(
                 status: StateStatus::CannotHold,
                 ..base
             },
-        });
+        })
+    };
+
+    // The plan's own points first; then `substeps` states inside every interval where the worst
+    // can hide: next to a local maximum of N_min, or where the status or the number of support
+    // contacts changes between its ends (N_min is smooth in θ elsewhere). `refine_all` refines
+    // every interval.
+    let all = rot_states(rot, plan_index, settings.substeps)?;
+    let stride = settings.substeps + 1;
+    let mut at_points = Vec::new();
+    for s in all.iter().step_by(stride) {
+        at_points.push(solve(s)?);
+    }
+    let n = at_points.len();
+    let force = |i: usize| at_points[i].n_min.unwrap_or(f64::INFINITY);
+    let local_max =
+        |i: usize| (i == 0 || force(i) >= force(i - 1)) && (i + 1 == n || force(i) >= force(i + 1));
+    let refine = |k: usize| {
+        // interval k lies between points k and k + 1
+        let (a, b) = (&at_points[k], &at_points[k + 1]);
+        settings.refine_all
+            || a.status != b.status
+            || a.status != StateStatus::Held
+            || a.support_contacts != b.support_contacts
+            || local_max(k)
+            || local_max(k + 1)
+    };
+    let refined: Vec<bool> = (0..n.saturating_sub(1)).map(refine).collect();
+    let mut states = Vec::with_capacity(all.len());
+    for (k, report) in at_points.into_iter().enumerate() {
+        states.push(report);
+        if refined.get(k) == Some(&true) {
+            for s in &all[k * stride + 1..(k + 1) * stride] {
+                states.push(solve(s)?);
+            }
+        }
     }
 
     let severity = |s: &StateReport| match s.status {

@@ -9,12 +9,13 @@
 //! density = 700.0            # kg/m³, used when the scene gives no object.mass
 //! ```
 //!
-//! The table is read here, with `toml` directly, so the scene loader stays as it is (it reports
-//! `[physics]` as an unknown key and ignores it).
+//! The scene loader (`pregrasp_io::scene`) reads and range-checks the table (with `reject`, which
+//! tells the planner whether to drop a rotation that does not hold); here its values are applied
+//! on top of the defaults.
 
 use std::path::Path;
 
-use toml::{Table, Value};
+use pregrasp_io::scene::{check_physics_value, PhysicsParams, Scene};
 
 use crate::statics::ContactModel;
 
@@ -48,6 +49,10 @@ pub struct PhysicsSettings {
     /// States checked between two neighbouring points of `rot` (pose interpolated: translation
     /// linearly, rotation by slerp). 0: the plan's points only.
     pub substeps: usize,
+    /// Interpolate in every interval; by default only in those where the worst state can hide
+    /// (next to a local maximum of the grip force, or where the status or the support contacts
+    /// change).
+    pub refine_all: bool,
 }
 
 impl Default for PhysicsSettings {
@@ -59,6 +64,7 @@ impl Default for PhysicsSettings {
             pad_torsion_radius: 0.0,
             density: DEFAULT_DENSITY,
             substeps: 4,
+            refine_all: false,
         }
     }
 }
@@ -66,10 +72,9 @@ impl Default for PhysicsSettings {
 /// A bad `[physics]` table or setting.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum SettingsError {
-    #[error("{file}: cannot read: {error}")]
-    Read { file: String, error: String },
-    #[error("{file}: not TOML: {error}")]
-    Parse { file: String, error: String },
+    /// The scene file could not be used (its message names the file and key).
+    #[error("{0}")]
+    Scene(String),
     #[error("{key}: {problem}")]
     Value { key: String, problem: String },
 }
@@ -84,108 +89,43 @@ impl PhysicsSettings {
         }
     }
 
-    /// Checks every value's range.
+    /// Checks every value's range (the ranges of the scene's `[physics]` table,
+    /// [`pregrasp_io::scene::check_physics_value`]).
     pub fn validate(&self) -> Result<(), SettingsError> {
-        let bad = |key: &str, problem: String| {
-            Err(SettingsError::Value {
+        for (key, value) in [
+            ("mu_pad", self.mu_pad),
+            ("mu_support", self.mu_support),
+            ("safety_factor", self.safety_factor),
+            ("pad_torsion_radius", self.pad_torsion_radius),
+            ("density", self.density),
+        ] {
+            check_physics_value(key, value).map_err(|problem| SettingsError::Value {
                 key: key.into(),
                 problem,
-            })
-        };
-        let finite = |v: f64| v.is_finite();
-        if !(finite(self.mu_pad) && self.mu_pad > 0.0 && self.mu_pad <= 10.0) {
-            return bad(
-                "mu_pad",
-                format!("must be in (0, 10], found {}", self.mu_pad),
-            );
-        }
-        if !(finite(self.mu_support) && (0.0..=10.0).contains(&self.mu_support)) {
-            return bad(
-                "mu_support",
-                format!("must be in [0, 10], found {}", self.mu_support),
-            );
-        }
-        if !(finite(self.safety_factor) && self.safety_factor >= 1.0 && self.safety_factor <= 100.0)
-        {
-            return bad(
-                "safety_factor",
-                format!("must be in [1, 100], found {}", self.safety_factor),
-            );
-        }
-        if !(finite(self.pad_torsion_radius) && (0.0..=0.1).contains(&self.pad_torsion_radius)) {
-            return bad(
-                "pad_torsion_radius",
-                format!("must be in [0, 0.1] m, found {}", self.pad_torsion_radius),
-            );
-        }
-        if !(finite(self.density) && self.density > 0.0 && self.density <= 30_000.0) {
-            return bad(
-                "density",
-                format!("must be in (0, 30000] kg/m³, found {}", self.density),
-            );
+            })?;
         }
         Ok(())
     }
 
-    /// These settings with the scene's `[physics]` table (TOML text) applied on top. A scene
-    /// without the table changes nothing; an unknown key in it is an error.
-    pub fn with_scene_toml(mut self, text: &str, file: &str) -> Result<Self, SettingsError> {
-        let table: Table = text
-            .parse()
-            .map_err(|e: toml::de::Error| SettingsError::Parse {
-                file: file.into(),
-                error: e.message().to_string(),
-            })?;
-        let Some(physics) = table.get("physics") else {
-            return Ok(self);
-        };
-        let Value::Table(physics) = physics else {
-            return Err(SettingsError::Value {
-                key: "physics".into(),
-                problem: "must be a table".into(),
-            });
-        };
-        for (key, value) in physics {
-            let number = match value {
-                Value::Float(f) => *f,
-                Value::Integer(i) => *i as f64,
-                _ => {
-                    return Err(SettingsError::Value {
-                        key: format!("physics.{key}"),
-                        problem: "must be a number".into(),
-                    })
-                }
-            };
-            match key.as_str() {
-                "mu_pad" => self.mu_pad = number,
-                "mu_support" => self.mu_support = number,
-                "safety_factor" => self.safety_factor = number,
-                "pad_torsion_radius" => self.pad_torsion_radius = number,
-                "density" => self.density = number,
-                _ => {
-                    return Err(SettingsError::Value {
-                        key: format!("physics.{key}"),
-                        problem: "unknown key (mu_pad, mu_support, safety_factor, pad_torsion_radius, density)".into(),
-                    })
-                }
+    /// These settings with a scene's `[physics]` values applied on top (the scene loader has
+    /// checked their ranges).
+    pub fn with_scene(mut self, params: &PhysicsParams) -> Self {
+        let set = |field: &mut f64, value: Option<f64>| {
+            if let Some(v) = value {
+                *field = v;
             }
-        }
-        self.validate().map_err(|e| match e {
-            SettingsError::Value { key, problem } => SettingsError::Value {
-                key: format!("physics.{key}"),
-                problem,
-            },
-            other => other,
-        })?;
-        Ok(self)
+        };
+        set(&mut self.mu_pad, params.mu_pad);
+        set(&mut self.mu_support, params.mu_support);
+        set(&mut self.safety_factor, params.safety_factor);
+        set(&mut self.pad_torsion_radius, params.pad_torsion_radius);
+        set(&mut self.density, params.density);
+        self
     }
 
-    /// [`Self::with_scene_toml`] on a scene file.
+    /// These settings with the `[physics]` table of the scene file at `path` applied on top.
     pub fn with_scene_file(self, path: &Path) -> Result<Self, SettingsError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SettingsError::Read {
-            file: path.display().to_string(),
-            error: e.to_string(),
-        })?;
-        self.with_scene_toml(&text, &path.display().to_string())
+        let scene = Scene::load(path).map_err(|e| SettingsError::Scene(e.to_string()))?;
+        Ok(self.with_scene(&scene.physics))
     }
 }

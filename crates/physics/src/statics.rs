@@ -99,11 +99,15 @@ impl Equilibrium {
             .norm()
     }
 
-    /// Largest `|t|/(μ n)` over the support contacts (0 when the support carries nothing).
+    /// Largest `|t|/(μ n)` over the support contacts that carry load (0 when the support
+    /// carries nothing). A contact whose normal force is below 1e-6 of the support's total is
+    /// unloaded: there both forces are solver round-off and their ratio means nothing.
     pub fn support_friction_use(&self, mu_support: f64) -> f64 {
+        let total = self.support_normal_total();
         self.support_normal
             .iter()
             .zip(&self.support_tangential)
+            .filter(|(&n, _)| n > 1e-6 * total)
             .map(|(&n, t)| use_ratio(t.norm(), mu_support * n))
             .fold(0.0, f64::max)
     }

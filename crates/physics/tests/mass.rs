@@ -56,8 +56,22 @@ fn an_open_surface_is_refused() {
         ],
         vec![[0, 1, 2]],
     );
-    assert!(matches!(
+    assert_eq!(
         MassProperties::from_mesh(&flat),
+        Err(MassError::NotClosed { open: 3 })
+    );
+    // A box with one triangle missing: that triangle's three edges border one triangle only.
+    let mut open_box = common::box_mesh(0.6, 0.04, 0.02);
+    open_box.triangles.pop();
+    assert_eq!(
+        MassProperties::from_mesh(&open_box),
+        Err(MassError::NotClosed { open: 3 })
+    );
+    // Closed but flat (a triangle and its reverse): no volume.
+    let mut both_sides = flat.clone();
+    both_sides.triangles.push([0, 2, 1]);
+    assert!(matches!(
+        MassProperties::from_mesh(&both_sides),
         Err(MassError::NoVolume { .. })
     ));
 }

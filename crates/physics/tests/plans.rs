@@ -85,10 +85,26 @@ fn example_plans_hold() {
             .unwrap()
             .points
             .len();
+        // Interpolated states only where the worst can hide, and they find the same worst as
+        // interpolating everywhere.
+        let all = check(
+            &file,
+            &mesh,
+            &PhysicsSettings {
+                refine_all: true,
+                ..settings
+            },
+        );
         assert_eq!(
-            r.states.len(),
+            all.states.len(),
             rot_points + (rot_points - 1) * settings.substeps
         );
+        assert!(r.states.len() >= rot_points && r.states.len() < all.states.len());
+        assert_eq!(r.verdict, all.verdict, "{name}");
+        assert_eq!(r.n_max, all.n_max, "{name}");
+        assert_eq!(r.states[r.worst].t, all.states[all.worst].t, "{name}");
+        // The planner wrote the same numbers into the plan file.
+        assert_eq!(file.plans[0].physics, Some(r.to_json()), "{name}");
         assert!(r.states.iter().all(|s| s.support_contacts == 2), "{name}");
         assert_eq!(r.verdict, Verdict::Holds, "{name}");
         assert!(r.warnings.is_empty(), "{name}: {:?}", r.warnings);

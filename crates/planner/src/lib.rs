@@ -6,6 +6,7 @@
 //! - [`timing`], [`output`]: timed segments and the plan file;
 //! - [`plan_format`]: is a file a plan file (shape and ranges, before any motion is judged);
 //! - [`check`]: the plan-file validity rules, re-verified with our own models;
+//! - [`hold`]: will the pinch hold the part during `μ_rot` (quasi-static grip force check);
 //! - [`pipeline`]: all of it, candidates in parallel, deterministic for any thread count.
 //!
 //! [`context`] holds the read-only models every stage shares; [`timeline`] the semantics of a
@@ -14,6 +15,7 @@
 pub mod check;
 pub mod context;
 pub mod dummies;
+pub mod hold;
 pub mod output;
 pub mod paths;
 pub mod pipeline;

@@ -155,5 +155,6 @@ pub fn plan_json(
                 &path.sup2,
             ),
         ],
+        physics: None,
     }
 }

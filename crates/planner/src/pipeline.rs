@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
 use crate::check::PlanChecker;
 use crate::context::{ContextError, PlanningContext};
+use crate::hold::HoldCheck;
 use crate::output::{plan_file_header, plan_json};
 use crate::paths::{integrated_path, IntegratedPath};
 use crate::poses::{object_pose_for_power_grasp, PoseRejection, PowerGraspPose};
@@ -35,13 +36,15 @@ impl Default for PlanOptions {
 /// What became of one candidate.
 #[derive(Clone, Debug)]
 pub enum CandidateOutcome {
-    /// Algorithms 2 and 3 succeeded; `plan` is the plan-file entry, `check` the first rule it
-    /// failed when re-verified (`None`: valid).
+    /// Algorithms 2 and 3 succeeded; `plan` is the plan-file entry (with its `physics`
+    /// object), `check` the first rule it failed when re-verified (`None`: valid), `hold` why
+    /// the pinch cannot hold the part during `rot` (`None`: it holds, or not rejected).
     Planned {
         pose: PowerGraspPose,
         path: Box<IntegratedPath>,
         plan: Box<PlanJson>,
         check: Option<String>,
+        hold: Option<String>,
     },
     /// Algorithm 2 found no pose.
     NoPose(PoseRejection),
@@ -55,6 +58,8 @@ pub enum CandidateOutcome {
 /// The result of [`plan`]: the plan file plus per-candidate details for reports.
 pub struct PlanReport {
     pub file: PlanFile,
+    /// Why the plans carry no `physics` object (the mesh is not a closed solid), if so.
+    pub physics_note: Option<String>,
     pub candidates: Vec<RotationAxisCandidate>,
     pub outcomes: Vec<CandidateOutcome>,
 }
@@ -112,6 +117,7 @@ pub fn plan(
         h
     };
     let checker = PlanChecker::new(&header, mesh);
+    let hold_check = HoldCheck::new(scene, &header, mesh);
     let outcomes: Vec<CandidateOutcome> = candidates
         .par_iter()
         .zip(poses.into_par_iter())
@@ -120,16 +126,25 @@ pub fn plan(
                 Err(rejection) => CandidateOutcome::NoPose(rejection),
                 Ok(pose) => match integrated_path(&ctx, candidate, &pose) {
                     Ok(path) => {
-                        let plan = plan_json(&ctx, candidate.id, candidate.score, &pose, &path);
+                        let mut single = header.clone();
+                        single.plans =
+                            vec![plan_json(&ctx, candidate.id, candidate.score, &pose, &path)];
                         let check = match &checker {
-                            Ok(checker) => verify(checker, &header, &plan),
+                            Ok(checker) => verify(checker, &single),
                             Err(e) => Some(format!("rule 0 ({e})")),
                         };
+                        let held = hold_check.check(&single);
+                        let mut plan = single.plans.swap_remove(0);
+                        let hold = held.and_then(|h| {
+                            plan.physics = Some(h.json);
+                            h.rejection
+                        });
                         CandidateOutcome::Planned {
                             pose,
                             path: Box::new(path),
                             plan: Box::new(plan),
                             check,
+                            hold,
                         }
                     }
                     Err(reason) => CandidateOutcome::NoPath { pose, reason },
@@ -141,18 +156,27 @@ pub fn plan(
         .collect();
     let t_paths = t2.elapsed();
 
-    // Ranking: candidates are sorted best first by S_rot, so plans keep that order.
+    // Ranking: candidates are sorted best first by S_rot; among equal scores the plan that
+    // needs the smaller grip force comes first.
     let mut file = header;
     let mut kept = 0;
-    for (candidate, outcome) in candidates.iter().zip(&outcomes) {
+    let scores: Vec<f64> = candidates.iter().map(|c| c.score).collect();
+    for i in rank(&scores, |i| required_force(&outcomes[i])) {
+        let (candidate, outcome) = (&candidates[i], &outcomes[i]);
         let mut json = candidate.to_json();
         match outcome {
             CandidateOutcome::Planned {
-                pose, plan, check, ..
+                pose,
+                plan,
+                check,
+                hold,
+                ..
             } => {
                 json.theta_goal = Some(pose.theta_goal);
                 if let Some(rule) = check {
                     json.outcome = format!("rejected: failed the plan check: {rule}");
+                } else if let Some(reason) = hold {
+                    json.outcome = format!("rejected: {reason}");
                 } else if kept < options.max_plans {
                     json.outcome = "planned".to_string();
                     file.plans.push((**plan).clone());
@@ -186,16 +210,47 @@ pub fn plan(
     file.timing_ms.insert("total".into(), ms(t0.elapsed()));
     Ok(PlanReport {
         file,
+        physics_note: hold_check.unavailable().map(str::to_string),
         candidates,
         outcomes,
     })
 }
 
-/// Checks one plan alone (with the candidates known so far); the first failed rule, if any.
-fn verify(checker: &PlanChecker, header: &PlanFile, plan: &PlanJson) -> Option<String> {
-    let mut single = header.clone();
-    single.plans = vec![plan.clone()];
-    let report = checker.check(&single);
+/// Two scores closer than this are a tie, broken by the grip force the rotation needs.
+const SCORE_TIE: f64 = 1e-9;
+
+/// The order in which candidates are considered for the plan file: by S_rot (`scores`, sorted
+/// best first), and within a run of tied scores by the grip force the rotation requires
+/// (`force`, smaller first; infinite for a candidate without one), then by index.
+fn rank(scores: &[f64], force: impl Fn(usize) -> f64) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..scores.len()).collect();
+    let mut start = 0;
+    while start < order.len() {
+        let end = (start..scores.len())
+            .find(|&j| (scores[j] - scores[start]).abs() > SCORE_TIE)
+            .unwrap_or(scores.len());
+        order[start..end].sort_by(|&a, &b| force(a).total_cmp(&force(b)).then(a.cmp(&b)));
+        start = end;
+    }
+    order
+}
+
+/// The grip force (N) the plan of `outcome` requires, infinite when it has none.
+fn required_force(outcome: &CandidateOutcome) -> f64 {
+    match outcome {
+        CandidateOutcome::Planned { plan, .. } => plan
+            .physics
+            .as_ref()
+            .and_then(|p| p.grip_force_required)
+            .unwrap_or(f64::INFINITY),
+        _ => f64::INFINITY,
+    }
+}
+
+/// Checks the one plan of `single` (with the candidates known so far); the first failed rule,
+/// if any.
+fn verify(checker: &PlanChecker, single: &PlanFile) -> Option<String> {
+    let report = checker.check(single);
     report
         .rules
         .into_iter()
@@ -262,6 +317,20 @@ fn no_plan_reason(ctx: &PlanningContext, outcomes: &[CandidateOutcome]) -> Strin
             ),
         };
     }
+    let unheld = outcomes.iter().find_map(|o| match o {
+        CandidateOutcome::Planned {
+            check: None,
+            hold: Some(reason),
+            ..
+        } => Some(reason.as_str()),
+        _ => None,
+    });
+    if let Some(reason) = unheld {
+        return format!(
+            "no planned rotation holds the part (best candidate: {reason}); measure the mass and \
+             friction and set them in [physics], or set [physics] reject = false to keep such plans"
+        );
+    }
     let first = outcomes.iter().find_map(|o| match o {
         CandidateOutcome::NoPath { reason, .. } => Some(reason.as_str()),
         _ => None,
@@ -270,4 +339,20 @@ fn no_plan_reason(ctx: &PlanningContext, outcomes: &[CandidateOutcome]) -> Strin
         "Algorithm 3: no integrated path for any candidate (best candidate: {})",
         first.unwrap_or("-")
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::rank;
+
+    #[test]
+    fn ties_go_to_the_smaller_grip_force() {
+        let scores = [3.0, 2.0, 2.0 + 1e-12, 2.0, 1.0, 1.0];
+        let force = [50.0, 90.0, 20.0, f64::INFINITY, 5.0, 1.0];
+        assert_eq!(rank(&scores, |i| force[i]), vec![0, 2, 1, 3, 5, 4]);
+        // Distinct scores keep their order whatever the forces.
+        let scores = [3.0, 2.0, 1.0];
+        assert_eq!(rank(&scores, |i| [9.0, 5.0, 1.0][i]), vec![0, 1, 2]);
+        assert!(rank(&[], |_| 0.0).is_empty());
+    }
 }

@@ -3,7 +3,7 @@
 //! value can size a loop (a joint angle of 1e29 rad would otherwise be interpolated at the
 //! checker's resolution for ever).
 
-use pregrasp_io::plan_file::{PlanFile, PoseJson};
+use pregrasp_io::plan_file::{PhysicsJson, PlanFile, PoseJson};
 use pregrasp_robot::UrModel;
 
 /// Largest magnitude of a joint value (rad) a plan may hold: no UR joint turns beyond ±2π, so
@@ -105,6 +105,57 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
                     pose(&format!("{at}.points[{p}].object_pose"), o)?;
                 }
             }
+        }
+        if let Some(p) = &plan.physics {
+            physics(&format!("plans[{k}].physics"), p)?;
+        }
+    }
+    Ok(())
+}
+
+/// Largest force (N) a plan's `physics` object may name.
+const MAX_FORCE: f64 = 1.0e6;
+
+/// The `physics` extension: a known verdict, finite non-negative numbers in range.
+fn physics(path: &str, p: &PhysicsJson) -> Result<(), String> {
+    if !matches!(
+        p.verdict.as_str(),
+        "holds" | "cannot_hold" | "slides_at_support"
+    ) {
+        return Err(format!(
+            "{path}.verdict: {:?} is not \"holds\", \"cannot_hold\" or \"slides_at_support\"",
+            p.verdict
+        ));
+    }
+    let optional = [
+        ("grip_force_min", p.grip_force_min),
+        ("grip_force_required", p.grip_force_required),
+        ("grip_force_recommended", p.grip_force_recommended),
+        ("pad_friction_use", p.pad_friction_use),
+        ("support_friction_use", p.support_friction_use),
+        ("support_normal_max", p.support_normal_max),
+    ];
+    let given = [
+        ("mass", Some(p.mass)),
+        ("mu_pad", Some(p.mu_pad)),
+        ("mu_support", Some(p.mu_support)),
+        ("safety_factor", Some(p.safety_factor)),
+        ("worst_t", Some(p.worst_t)),
+    ];
+    for (key, value) in given.into_iter().chain(optional) {
+        if let Some(x) = value {
+            number(&format!("{path}.{key}"), x, MAX_FORCE)?;
+            if x < 0.0 {
+                return Err(format!("{path}.{key}: {x} is negative"));
+            }
+        }
+    }
+    number(&format!("{path}.worst_theta_deg"), p.worst_theta_deg, 360.0)?;
+    if let Some(f) = p.grip_force_recommended {
+        if !(20.0..=235.0).contains(&f) {
+            return Err(format!(
+                "{path}.grip_force_recommended: {f} N is outside the 2F-85's 20–235 N"
+            ));
         }
     }
     Ok(())

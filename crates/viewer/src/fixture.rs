@@ -426,6 +426,7 @@ fn build_plan(s: &Setup, cand: &CandidateJson, theta_goal: f64) -> Result<PlanJs
                 Some(approach_sup2),
             ),
         ],
+        physics: None,
     })
 }
 

@@ -52,9 +52,13 @@ pub struct Args {
     /// Robotiq speed register (SET SPE, 0..255).
     #[arg(long, default_value_t = 128)]
     pub grip_speed: u8,
-    /// Robotiq force register (SET FOR, 0..255).
+    /// Robotiq force register (SET FOR, 0..255) of the power grasps.
     #[arg(long, default_value_t = 255)]
     pub grip_force: u8,
+    /// Force register of the support grasp's fingertip pinch; default: from the plan's
+    /// physics.grip_force_recommended (20..235 N mapped to 0..255), else --grip-force.
+    #[arg(long, value_name = "REGISTER")]
+    pub support_grip_force: Option<u8>,
     /// A close is commanded this much (m) narrower than the plan's grip_width.
     #[arg(long, default_value_t = 0.01)]
     pub grip_squeeze: f64,
@@ -91,6 +95,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         movej_accel: args.movej_accel,
         grip_speed: args.grip_speed,
         grip_force: args.grip_force,
+        support_grip_force: args.support_grip_force,
         grip_squeeze: args.grip_squeeze,
         ros_prefix: args.ros_prefix.clone(),
     };

@@ -39,6 +39,11 @@ pub struct Args {
     /// The object mesh, when it is not at the path the plan file names.
     #[arg(long)]
     pub mesh: Option<PathBuf>,
+    /// Interpolate 4 states in every interval of `rot` (default: only in the intervals where
+    /// the worst state can lie — next to a local maximum of the grip force, or where the status
+    /// or the support contacts change).
+    #[arg(long)]
+    pub all_states: bool,
     /// Print the reports as JSON (one array, one object per plan, every state included).
     #[arg(long)]
     pub json: bool,
@@ -74,6 +79,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(v) = args.safety_factor {
         settings.safety_factor = v;
     }
+    settings.refine_all = args.all_states;
     settings.validate().context("bad argument")?;
     if let Some(m) = args.mass {
         anyhow::ensure!(m.is_finite() && m > 0.0, "--mass: must be > 0, found {m}");

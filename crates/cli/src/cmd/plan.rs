@@ -163,6 +163,20 @@ pub fn print_summary(report: &PlanReport, file: &PlanFile) {
                 "      master {}, supportive {}",
                 best.master, best.supportive
             );
+            if let Some(p) = &best.physics {
+                println!(
+                    "      grip: {} — needs {} N (× {} safety), set {} N; friction use pads {}, support {} (mass {:.2} kg, μ pad {}, support {})",
+                    p.verdict.replace('_', " "),
+                    opt(p.grip_force_min, 1),
+                    p.safety_factor,
+                    opt(p.grip_force_recommended, 0),
+                    opt(p.pad_friction_use, 2),
+                    opt(p.support_friction_use, 2),
+                    p.mass,
+                    p.mu_pad,
+                    p.mu_support
+                );
+            }
             for seg in &best.segments {
                 println!(
                     "      {:<5} {:<6} {:>4} points {:>6.2} s",
@@ -188,6 +202,9 @@ pub fn print_summary(report: &PlanReport, file: &PlanFile) {
             println!("no plan: {}", file.reason.as_deref().unwrap_or("-"));
         }
     }
+    if let Some(note) = &report.physics_note {
+        println!("{note}");
+    }
     let t = &file.timing_ms;
     let get = |k: &str| t.get(k).copied().unwrap_or(0.0);
     println!(
@@ -197,4 +214,8 @@ pub fn print_summary(report: &PlanReport, file: &PlanFile) {
         get("paths"),
         get("total")
     );
+}
+
+fn opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or_else(|| "-".to_string(), |x| format!("{x:.digits$}"))
 }

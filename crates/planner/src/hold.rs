@@ -1,0 +1,64 @@
+//! Will the pinch hold? The quasi-static check of `μ_rot` (crate `pregrasp-physics`, paper
+//! condition c5: the table carries the part's weight while the fingertip pinch turns it) applied
+//! to every plan the pipeline makes.
+//!
+//! Each plan gets the plan file's `physics` object (required and recommended grip force,
+//! friction use at the pads and the support). With `[physics] reject = true` (the default) a
+//! candidate whose rotation the 2F-85 cannot hold — more than 235 N with the safety factor, or
+//! no force at all — or that slides at the support is rejected with that reason. A part whose
+//! mesh is not a closed solid has no known centre of mass: its plans are not checked, and the
+//! report says so, rather than being judged on made-up numbers.
+
+use pregrasp_geometry::Mesh;
+use pregrasp_io::plan_file::{PhysicsJson, PlanFile};
+use pregrasp_io::scene::Scene;
+use pregrasp_physics::{analyse_plan, PartMass, PhysicsSettings};
+
+/// The settings and the part's mass properties, computed once per scene.
+pub struct HoldCheck {
+    part: Result<PartMass, String>,
+    settings: PhysicsSettings,
+    reject: bool,
+}
+
+/// The check of one plan.
+pub struct HoldResult {
+    /// The plan file's `physics` object.
+    pub json: PhysicsJson,
+    /// Why the candidate is rejected, when it does not hold and `[physics] reject` is on.
+    pub rejection: Option<String>,
+}
+
+impl HoldCheck {
+    /// `header`: the plan file being written (its `object.mass` and `object.mesh`).
+    pub fn new(scene: &Scene, header: &PlanFile, mesh: &Mesh) -> HoldCheck {
+        let settings = PhysicsSettings::default().with_scene(&scene.physics);
+        let part = PartMass::resolve(header, mesh, None, settings.density)
+            .map_err(|e| format!("physics: the rotation is not checked: {e}"));
+        HoldCheck {
+            part,
+            settings,
+            reject: scene.physics.reject,
+        }
+    }
+
+    /// Why no plan gets a `physics` object, if none does (the mesh has no mass properties).
+    pub fn unavailable(&self) -> Option<&str> {
+        self.part.as_ref().err().map(String::as_str)
+    }
+
+    /// Checks the only plan of `single`. `None` when the part's mass is unknown, or when the
+    /// analysis cannot run on the plan (which the plan checker would have refused).
+    pub fn check(&self, single: &PlanFile) -> Option<HoldResult> {
+        let part = self.part.as_ref().ok()?;
+        let report = analyse_plan(single, 0, part, &self.settings).ok()?;
+        Some(HoldResult {
+            json: report.to_json(),
+            rejection: if self.reject {
+                report.rejection()
+            } else {
+                None
+            },
+        })
+    }
+}

@@ -1,0 +1,109 @@
+//! Issue 15 in the planner: every plan carries the quasi-static check of its rotation, and a
+//! rotation the pinch cannot hold is rejected with that reason (unless `[physics] reject =
+//! false`).
+
+use std::path::Path;
+
+use pregrasp_io::scene::Scene;
+use pregrasp_planner::check::check_plan;
+use pregrasp_planner::pipeline::{plan, PlanOptions};
+
+/// The chair example's scene with its `object.mass` replaced and `physics` appended.
+fn chair(mass: Option<f64>, physics: &str) -> (Scene, pregrasp_geometry::Mesh) {
+    let ex = pregrasp_examples::by_name("chair_side").unwrap();
+    let mut text = ex.scene_toml.clone();
+    if let Some(m) = mass {
+        let line = text
+            .lines()
+            .find(|l| l.trim_start().starts_with("mass ="))
+            .expect("the example gives a mass")
+            .to_string();
+        text = text.replace(&line, &format!("mass = {m}"));
+    }
+    text.push_str(physics);
+    let scene = Scene::from_str(&text, Path::new("examples/chair_side.toml")).unwrap();
+    (scene, ex.mesh)
+}
+
+fn run(scene: &Scene, mesh: &pregrasp_geometry::Mesh) -> pregrasp_io::plan_file::PlanFile {
+    plan(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file
+}
+
+#[test]
+fn every_plan_carries_its_grip_force() {
+    let (scene, mesh) = chair(None, "");
+    let file = run(&scene, &mesh);
+    assert!(!file.plans.is_empty());
+    for p in &file.plans {
+        let phys = p.physics.as_ref().expect("physics object");
+        assert_eq!(phys.verdict, "holds");
+        let (min, req, rec) = (
+            phys.grip_force_min.unwrap(),
+            phys.grip_force_required.unwrap(),
+            phys.grip_force_recommended.unwrap(),
+        );
+        assert!(min > 0.0);
+        assert!((req - phys.safety_factor * min).abs() < 1e-9);
+        assert_eq!(rec, req.clamp(20.0, 235.0));
+        assert!(phys.pad_friction_use.unwrap() <= 1.0 / phys.safety_factor + 1e-6);
+        assert!(phys.support_friction_use.unwrap() <= 1.0 + 1e-6);
+    }
+}
+
+/// A part 100× heavier than the chair side needs far more than the 2F-85's 235 N: every
+/// candidate that planned is rejected for it, and the file says why.
+#[test]
+fn a_rotation_the_gripper_cannot_hold_is_rejected() {
+    let (light, mesh) = chair(None, "");
+    let light_file = run(&light, &mesh);
+    let (heavy, _) = chair(Some(153.0), "");
+    let file = run(&heavy, &mesh);
+    assert_eq!(file.status, "no_plan");
+    let reason = file.reason.as_deref().unwrap();
+    assert!(reason.contains("physics: cannot hold"), "{reason}");
+    // Exactly the candidates that planned before are the ones rejected for the grip now.
+    let physics_rejected: Vec<usize> = file
+        .candidates
+        .iter()
+        .filter(|c| c.outcome.starts_with("rejected: physics: cannot hold"))
+        .map(|c| c.id)
+        .collect();
+    let planned_before: Vec<usize> = light_file
+        .candidates
+        .iter()
+        .filter(|c| c.outcome == "planned" || c.outcome.contains("outranked"))
+        .map(|c| c.id)
+        .collect();
+    assert_eq!(physics_rejected, planned_before);
+
+    // With `reject = false` the same plans are kept, flagged.
+    let (kept, _) = chair(Some(153.0), "[physics]\nreject = false\n");
+    let file = run(&kept, &mesh);
+    assert_eq!(file.status, "planned");
+    for p in &file.plans {
+        let phys = p.physics.as_ref().unwrap();
+        assert_eq!(phys.verdict, "cannot_hold");
+        assert_eq!(phys.grip_force_recommended, None);
+        assert!(phys.grip_force_required.unwrap() > 235.0);
+    }
+    assert!(check_plan(&file, &mesh).is_valid());
+}
+
+/// The friction the scene gives is the friction the check uses: more pad friction, less grip.
+#[test]
+fn scene_friction_reaches_the_check() {
+    let (scene, mesh) = chair(None, "");
+    let base = run(&scene, &mesh);
+    let (grippy, _) = chair(None, "[physics]\nmu_pad = 1.6\nsafety_factor = 3\n");
+    let file = run(&grippy, &mesh);
+    let (a, b) = (
+        base.plans[0].physics.as_ref().unwrap(),
+        file.plans[0].physics.as_ref().unwrap(),
+    );
+    assert_eq!((b.mu_pad, b.safety_factor), (1.6, 3.0));
+    assert!(b.grip_force_min.unwrap() < a.grip_force_min.unwrap());
+    // The motions do not depend on the physics settings.
+    assert_eq!(base.plans[0].segments, file.plans[0].segments);
+}
