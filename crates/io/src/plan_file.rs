@@ -91,6 +91,14 @@ pub struct PlannerJson {
     /// Clearance of a grasping gripper from the support (m); absent in older plans (0.002).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub finger_support_clearance: Option<f64>,
+    /// (Extension) `[planner] robustness_samples` and its error level, when the ranking by
+    /// robustness was on.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub robustness_samples: Option<u32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub robustness_pos: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub robustness_yaw_deg: Option<f64>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -151,6 +159,32 @@ pub struct PlanJson {
     /// files written before it existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub physics: Option<PhysicsJson>,
+    /// (Extension) How this plan's rotation axis survives placement errors of the part
+    /// (`pregrasp robustness --write-plan`, or `[planner] robustness_samples`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub robustness: Option<RobustnessJson>,
+}
+
+/// A plan's `robustness` object: Monte-Carlo over placement errors, each sample re-planned.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RobustnessJson {
+    /// Samples per level and the seed they were drawn with.
+    pub samples: usize,
+    pub seed: u64,
+    pub levels: Vec<RobustnessLevelJson>,
+    /// `[pos (m), yaw (degrees)]`: the largest position error and the largest yaw error among
+    /// the tested levels at which the plan's axis planned again in every sample; `null` when
+    /// there is no such level.
+    pub tolerance: Option<[f64; 2]>,
+}
+
+/// One placement error level: offsets uniform in ±`pos` (m) along world x and y and ±`yaw_deg`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RobustnessLevelJson {
+    pub pos: f64,
+    pub yaw_deg: f64,
+    /// Share of the samples in which the plan's rotation axis planned again.
+    pub share: f64,
 }
 
 /// A plan's `physics` object: the quasi-static check of its rotation (`docs/physics.md`). Forces

@@ -141,6 +141,13 @@ pub struct PlannerParams {
     /// within the last 2 cm of an approach to a grasp or the first 2 cm of a retreat from one —
     /// where a fingertip pinch sits a few millimetres above the table.
     pub finger_support_clearance: f64,
+    /// (Extension) Rank plans by how often their rotation axis plans again when the part lies
+    /// up to `robustness_pos` / `robustness_yaw` off (this many samples per plan; 0: off).
+    pub robustness_samples: u32,
+    /// Largest placement error along world x and y for that ranking (m).
+    pub robustness_pos: f64,
+    /// Largest yaw error for that ranking (rad).
+    pub robustness_yaw: f64,
 }
 
 /// `[physics]`: what the quasi-static check of `μ_rot` (crate `pregrasp-physics`) needs beyond
@@ -229,6 +236,9 @@ impl Default for PlannerParams {
             seed: 0,
             link_clearance: DEFAULT_LINK_CLEARANCE,
             finger_support_clearance: DEFAULT_FINGER_SUPPORT_CLEARANCE,
+            robustness_samples: 0,
+            robustness_pos: 0.005,
+            robustness_yaw: 2.0f64.to_radians(),
         }
     }
 }
@@ -251,6 +261,9 @@ impl PlannerParams {
             seed: self.seed,
             link_clearance: Some(self.link_clearance),
             finger_support_clearance: Some(self.finger_support_clearance),
+            robustness_samples: (self.robustness_samples > 0).then_some(self.robustness_samples),
+            robustness_pos: (self.robustness_samples > 0).then_some(self.robustness_pos),
+            robustness_yaw_deg: (self.robustness_samples > 0).then(|| deg(self.robustness_yaw)),
         }
     }
 }
@@ -805,6 +818,10 @@ impl Cx {
                 "seed",
                 "link_clearance",
                 "finger_support_clearance",
+                "robustness_samples",
+                "robustness_pos",
+                "robustness_yaw",
+                "robustness_yaw_deg",
             ],
         );
         let d = PlannerParams::default();
@@ -892,6 +909,36 @@ impl Cx {
                 "finger_support_clearance",
                 d.finger_support_clearance,
             )?,
+            robustness_samples: match integer(self, "robustness_samples")? {
+                None => d.robustness_samples,
+                Some(i) if i <= 10_000 => i as u32,
+                Some(i) => {
+                    return Err(self.err(
+                        "planner.robustness_samples",
+                        format!("must be at most 10000, found {i}"),
+                    ))
+                }
+            },
+            robustness_pos: {
+                let x = non_negative(self, "robustness_pos", d.robustness_pos)?;
+                if x > 0.5 {
+                    return Err(self.err(
+                        "planner.robustness_pos",
+                        format!("must be at most 0.5 m, found {x}"),
+                    ));
+                }
+                x
+            },
+            robustness_yaw: match self.angle(t, P, "robustness_yaw")? {
+                None => d.robustness_yaw,
+                Some(x) if (0.0..=PI).contains(&x) => x,
+                Some(x) => {
+                    return Err(self.err(
+                        "planner.robustness_yaw",
+                        format!("must be in [0°, 180°], found {}°", x.to_degrees()),
+                    ))
+                }
+            },
         })
     }
 

@@ -19,7 +19,10 @@ fn planned(name: &str) -> (PlanFile, Mesh) {
     let file = plan(
         &scene,
         &ex.mesh,
-        &PlanOptions { max_plans: 1 },
+        &PlanOptions {
+            max_plans: 1,
+            ..PlanOptions::default()
+        },
         &|_| {},
         &|| {},
     )

@@ -7,7 +7,9 @@
 //! - [`plan_format`]: is a file a plan file (shape and ranges, before any motion is judged);
 //! - [`check`]: the plan-file validity rules, re-verified with our own models;
 //! - [`hold`]: will the pinch hold the part during `μ_rot` (quasi-static grip force check);
-//! - [`pipeline`]: all of it, candidates in parallel, deterministic for any thread count.
+//! - [`pipeline`]: all of it, candidates in parallel, deterministic for any thread count;
+//! - [`replan`]: the same plan for a part measured at another pose (issue 16);
+//! - [`robustness`]: Monte-Carlo over placement errors, re-planning each sample.
 //!
 //! [`context`] holds the read-only models every stage shares; [`timeline`] the semantics of a
 //! plan's instants (who moves, which gripper is closed, where contact is allowed).
@@ -22,6 +24,8 @@ pub mod pipeline;
 pub mod plan_format;
 pub mod poses;
 pub mod reach;
+pub mod replan;
+pub mod robustness;
 pub mod rotate;
 pub mod timeline;
 pub mod timing;

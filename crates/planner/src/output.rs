@@ -156,5 +156,6 @@ pub fn plan_json(
             ),
         ],
         physics: None,
+        robustness: None,
     }
 }

@@ -25,11 +25,17 @@ use crate::timeline::Moment;
 pub struct PlanOptions {
     /// Keep at most this many plans (best first).
     pub max_plans: usize,
+    /// Plan only these candidates (ids of Algorithm 1's list); the others are reported as
+    /// skipped. `None`: every candidate. Re-planning uses it to keep a plan's candidate.
+    pub only: Option<Vec<usize>>,
 }
 
 impl Default for PlanOptions {
     fn default() -> Self {
-        PlanOptions { max_plans: 3 }
+        PlanOptions {
+            max_plans: 3,
+            only: None,
+        }
     }
 }
 
@@ -53,6 +59,8 @@ pub enum CandidateOutcome {
         pose: PowerGraspPose,
         reason: String,
     },
+    /// Not planned: [`PlanOptions::only`] leaves it out.
+    Skipped,
 }
 
 /// The result of [`plan`]: the plan file plus per-candidate details for reports.
@@ -97,12 +105,18 @@ pub fn plan(
             c.a, c.b
         )
     });
-    let poses: Vec<Result<PowerGraspPose, PoseRejection>> = if start_problem.is_some() {
+    let wanted = |c: &RotationAxisCandidate| {
+        options
+            .only
+            .as_ref()
+            .is_none_or(|only| only.contains(&c.id))
+    };
+    let poses: Vec<Option<Result<PowerGraspPose, PoseRejection>>> = if start_problem.is_some() {
         Vec::new()
     } else {
         candidates
             .par_iter()
-            .map(|c| object_pose_for_power_grasp(&ctx, c))
+            .map(|c| wanted(c).then(|| object_pose_for_power_grasp(&ctx, c)))
             .collect()
     };
     let t_poses = t1.elapsed();
@@ -123,8 +137,9 @@ pub fn plan(
         .zip(poses.into_par_iter())
         .map(|(candidate, pose)| {
             let outcome = match pose {
-                Err(rejection) => CandidateOutcome::NoPose(rejection),
-                Ok(pose) => match integrated_path(&ctx, candidate, &pose) {
+                None => CandidateOutcome::Skipped,
+                Some(Err(rejection)) => CandidateOutcome::NoPose(rejection),
+                Some(Ok(pose)) => match integrated_path(&ctx, candidate, &pose) {
                     Ok(path) => {
                         let mut single = header.clone();
                         single.plans =
@@ -196,6 +211,10 @@ pub fn plan(
                 json.theta_goal = Some(pose.theta_goal);
                 json.outcome = format!("rejected: {reason}");
             }
+            CandidateOutcome::Skipped => {
+                json.theta_goal = None;
+                json.outcome = "skipped: not re-planned (the plan keeps another candidate)".into();
+            }
         }
         file.candidates[candidate.id] = json;
     }
@@ -259,8 +278,12 @@ fn verify(checker: &PlanChecker, single: &PlanFile) -> Option<String> {
 }
 
 /// Names the stage at which every candidate failed.
-fn no_plan_reason(ctx: &PlanningContext, outcomes: &[CandidateOutcome]) -> String {
-    if outcomes.is_empty() {
+fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) -> String {
+    let outcomes: Vec<&CandidateOutcome> = all
+        .iter()
+        .filter(|o| !matches!(o, CandidateOutcome::Skipped))
+        .collect();
+    if all.is_empty() {
         return "Algorithm 1: no rotation-axis candidate (no convex-hull edge within Δd_s of the \
                 support and longer than Δl)"
             .to_string();

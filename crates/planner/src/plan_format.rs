@@ -109,6 +109,16 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
         if let Some(p) = &plan.physics {
             physics(&format!("plans[{k}].physics"), p)?;
         }
+        if let Some(r) = &plan.robustness {
+            for (l, level) in r.levels.iter().enumerate() {
+                let at = format!("plans[{k}].robustness.levels[{l}]");
+                number(&format!("{at}.pos"), level.pos, MAX_COORDINATE)?;
+                number(&format!("{at}.yaw_deg"), level.yaw_deg, 360.0)?;
+                if !(0.0..=1.0).contains(&level.share) {
+                    return Err(format!("{at}.share: {} is not in [0, 1]", level.share));
+                }
+            }
+        }
     }
     Ok(())
 }

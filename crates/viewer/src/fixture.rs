@@ -139,6 +139,9 @@ fn base_file(mesh_path: &str) -> PlanFile {
             seed: 0,
             link_clearance: None,
             finger_support_clearance: None,
+            robustness_samples: None,
+            robustness_pos: None,
+            robustness_yaw_deg: None,
         },
         object: ObjectJson {
             mesh: mesh_path.into(),
@@ -427,6 +430,7 @@ fn build_plan(s: &Setup, cand: &CandidateJson, theta_goal: f64) -> Result<PlanJs
             ),
         ],
         physics: None,
+        robustness: None,
     })
 }
 

@@ -10,6 +10,8 @@ pub mod export;
 pub mod kin;
 pub mod physics;
 pub mod plan;
+pub mod replan;
+pub mod robustness;
 pub mod schema;
 pub mod view;
 

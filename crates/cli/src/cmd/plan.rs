@@ -10,7 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
-use pregrasp_planner::pipeline::{plan, CandidateOutcome, PlanOptions, PlanReport};
+use pregrasp_planner::pipeline::{CandidateOutcome, PlanOptions, PlanReport};
+use pregrasp_planner::robustness::plan_ranked_by_robustness;
 
 use super::{EXIT_NO_PLAN, EXIT_OK};
 
@@ -43,6 +44,7 @@ pub struct Args {
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let options = PlanOptions {
         max_plans: args.max_plans.max(1),
+        ..PlanOptions::default()
     };
     plan_scene_file(
         &args.scene,
@@ -90,7 +92,7 @@ pub fn plan_scene_file(
         bar
     };
     let report = pool.install(|| {
-        plan(
+        plan_ranked_by_robustness(
             &scene,
             &loaded.mesh,
             options,

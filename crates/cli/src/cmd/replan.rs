@@ -1,0 +1,136 @@
+//! `pregrasp replan PLAN.json --object-pose "x y z qx qy qz qw"`: the part was measured at
+//! another pose; keep the plan's rotation axis where it still works (else the full pipeline),
+//! recompute θ_goal, μ_rot and the reaches, re-check, write a new plan.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::Context;
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
+use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::plan_file::PlanFile;
+use pregrasp_io::scene::Scene;
+use pregrasp_planner::pipeline::PlanOptions;
+use pregrasp_planner::replan::replan;
+
+use super::{EXIT_NO_PLAN, EXIT_OK};
+
+#[derive(clap::Args)]
+#[command(
+    after_help = "The scene is the one the plan names (scene.file, found as written or beside the plan file) unless --scene is given; only the object's pose changes.\n\nExit status: 0 planned, 2 no plan at the measured pose (the file says why), 1 bad input (nothing written)."
+)]
+pub struct Args {
+    /// The nominal plan file.
+    pub plan: PathBuf,
+    /// The measured object pose in world: "x y z qx qy qz qw" (metres; quaternion x, y, z, w).
+    #[arg(long, value_name = "POSE")]
+    pub object_pose: String,
+    /// Follow this plan of the file (index into `plans`, 0 = best).
+    #[arg(long = "plan", value_name = "K", default_value_t = 0)]
+    pub plan_index: usize,
+    /// The scene file, when it is not where the plan file says.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Where to write the new plan file.
+    #[arg(short, long, default_value = "replanned.json")]
+    pub output: PathBuf,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// Parses "x y z qx qy qz qw" (spaces or commas) into a pose.
+pub fn parse_pose(text: &str, what: &str) -> anyhow::Result<Isometry3<f64>> {
+    let v: Vec<f64> = text
+        .split(|c: char| c.is_whitespace() || c == ',')
+        .filter(|s| !s.is_empty())
+        .map(|s| {
+            s.parse::<f64>()
+                .map_err(|_| anyhow::anyhow!("{what}: {s:?} is not a number"))
+        })
+        .collect::<anyhow::Result<_>>()?;
+    anyhow::ensure!(
+        v.len() == 7,
+        "{what}: expected 7 numbers \"x y z qx qy qz qw\", found {}",
+        v.len()
+    );
+    anyhow::ensure!(
+        v.iter().all(|x| x.is_finite()),
+        "{what}: every number must be finite"
+    );
+    anyhow::ensure!(
+        v[..3]
+            .iter()
+            .all(|x| x.abs() <= pregrasp_io::scene::MAX_COORDINATE),
+        "{what}: a coordinate is more than {} m from the origin (lengths are in metres)",
+        pregrasp_io::scene::MAX_COORDINATE
+    );
+    let q = Quaternion::new(v[6], v[3], v[4], v[5]);
+    anyhow::ensure!(q.norm() > 1e-9, "{what}: the quaternion is zero");
+    Ok(Isometry3::from_parts(
+        Translation3::new(v[0], v[1], v[2]),
+        UnitQuaternion::from_quaternion(q),
+    ))
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let pose = parse_pose(&args.object_pose, "--object-pose")?;
+    let nominal = PlanFile::read(&args.plan)?;
+    anyhow::ensure!(
+        args.plan_index < nominal.plans.len(),
+        "--plan {}: {} has {} plan(s)",
+        args.plan_index,
+        args.plan.display(),
+        nominal.plans.len()
+    );
+    let scene_path = args
+        .scene
+        .clone()
+        .unwrap_or_else(|| super::check::resolve_mesh(&args.plan, &nominal.scene.file));
+    let scene = Scene::load(&scene_path)?;
+    let mesh = load_mesh(&scene.object.mesh_path, scene.object.scale)
+        .with_context(|| format!("{}: object.mesh", scene_path.display()))?
+        .mesh;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()?;
+    let started = Instant::now();
+    let result = pool.install(|| {
+        replan(
+            &scene,
+            &mesh,
+            &nominal,
+            args.plan_index,
+            pose,
+            &PlanOptions::default(),
+        )
+    })?;
+    let ms = started.elapsed().as_secs_f64() * 1e3;
+    let mut file = result.report.file;
+    file.timing_ms.insert("replan".into(), ms);
+    file.write_atomic(&args.output)?;
+    match file.plans.first() {
+        Some(best) => println!(
+            "{}: candidate {} (θ_goal {:.1}°), {:.1} ms",
+            result.route.describe(),
+            best.candidate,
+            file.candidates[best.candidate]
+                .theta_goal
+                .unwrap_or(0.0)
+                .to_degrees(),
+            ms
+        ),
+        None => println!(
+            "no plan at the measured pose: {} ({:.1} ms)",
+            file.reason.as_deref().unwrap_or("-"),
+            ms
+        ),
+    }
+    println!("wrote {}", args.output.display());
+    Ok(ExitCode::from(if file.plans.is_empty() {
+        EXIT_NO_PLAN
+    } else {
+        EXIT_OK
+    }))
+}

@@ -1,0 +1,98 @@
+//! `pregrasp replan` and `pregrasp robustness` from the command line.
+
+mod common;
+
+use common::{examples_dir, plan_chair_side, pregrasp};
+
+#[test]
+fn replan_writes_a_plan_that_passes_check() {
+    let dir = tempfile::tempdir().unwrap();
+    plan_chair_side(dir.path());
+    let plan: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("plan.json")).unwrap()).unwrap();
+    let p = &plan["object"]["initial_pose"];
+    let (xyz, q) = (&p["xyz"], &p["quat_xyzw"]);
+    let pose = format!(
+        "{} {} 0 {} {} {} {}",
+        xyz[0].as_f64().unwrap() + 0.004,
+        xyz[1].as_f64().unwrap() - 0.002,
+        q[0],
+        q[1],
+        q[2],
+        q[3]
+    );
+    let out = pregrasp(
+        dir.path(),
+        &[
+            "replan",
+            "plan.json",
+            "--object-pose",
+            &pose,
+            "-o",
+            "new.json",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("kept the plan's rotation axis"));
+    let check = pregrasp(dir.path(), &["check", "new.json"]);
+    assert_eq!(check.status.code(), Some(0), "{check:?}");
+}
+
+#[test]
+fn a_bad_pose_is_bad_input_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    plan_chair_side(dir.path());
+    for pose in [
+        "1 2 3",
+        "0 0 0 0 0 0 0",
+        "0 0 0 0 0 0 nan",
+        "1e9 0 0 0 0 0 1",
+        "a b c d e f g",
+    ] {
+        let out = pregrasp(
+            dir.path(),
+            &[
+                "replan",
+                "plan.json",
+                "--object-pose",
+                pose,
+                "-o",
+                "new.json",
+            ],
+        );
+        assert_eq!(out.status.code(), Some(1), "{pose}: {out:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("--object-pose"),
+            "{pose}"
+        );
+        assert!(!dir.path().join("new.json").exists(), "{pose}");
+    }
+}
+
+#[test]
+fn robustness_options_are_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = examples_dir().join("chair_side.toml");
+    let scene = scene.to_str().unwrap();
+    let out = pregrasp(dir.path(), &["robustness", scene, "--samples", "0"]);
+    assert_eq!(out.status.code(), Some(64), "{out:?}");
+    let out = pregrasp(dir.path(), &["robustness", scene, "--pos-mm=-1"]);
+    assert_eq!(out.status.code(), Some(1), "{out:?}");
+    let out = pregrasp(
+        dir.path(),
+        &[
+            "robustness",
+            scene,
+            "--samples",
+            "2",
+            "--pos-mm",
+            "3",
+            "--json",
+            "r.json",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("r.json")).unwrap()).unwrap();
+    assert_eq!(report["samples"].as_array().unwrap().len(), 2);
+}

@@ -1,0 +1,170 @@
+//! Issue 16: re-planning from a measured pose keeps the plan's rotation axis, changes only what
+//! the pose demands, and passes the checker; the robustness report is the same for any number
+//! of threads.
+
+use std::path::Path;
+
+use nalgebra::{Isometry3, Point3, Vector3};
+use pregrasp_io::plan_file::PlanFile;
+use pregrasp_io::scene::Scene;
+use pregrasp_planner::check::check_plan;
+use pregrasp_planner::pipeline::{plan, PlanOptions};
+use pregrasp_planner::replan::{replan, ReplanRoute};
+use pregrasp_planner::robustness::{plan_ranked_by_robustness, robustness, PlacementError};
+
+fn example(name: &str) -> (Scene, pregrasp_geometry::Mesh, PlanFile) {
+    let ex = pregrasp_examples::by_name(name).unwrap();
+    let scene =
+        Scene::from_str(&ex.scene_toml, Path::new(&format!("examples/{name}.toml"))).unwrap();
+    let file = plan(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file;
+    assert_eq!(file.status, "planned", "{name}");
+    (scene, ex.mesh, file)
+}
+
+fn theta_goal(file: &PlanFile) -> f64 {
+    file.candidates[file.plans[0].candidate].theta_goal.unwrap()
+}
+
+#[test]
+fn replan_at_the_nominal_pose_gives_the_nominal_plan() {
+    let (scene, mesh, nominal) = example("chair_side");
+    let r = replan(
+        &scene,
+        &mesh,
+        &nominal,
+        0,
+        scene.object.pose,
+        &PlanOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(r.route, ReplanRoute::KeptCandidate);
+    assert_eq!(r.report.file.plans.len(), 1);
+    assert_eq!(r.report.file.plans[0], nominal.plans[0]);
+}
+
+/// Moving the part 5 mm along the table moves the rotation with it: the same axis (in the
+/// object frame), roles, grasps and θ_goal, P_obj translated by exactly the offset; only the
+/// arms' motions are new — and they pass the checker.
+#[test]
+fn a_shifted_part_keeps_its_axis_and_rotation() {
+    for name in ["chair_side", "shelf_side"] {
+        let (scene, mesh, nominal) = example(name);
+        let shift = Isometry3::translation(0.005, -0.003, 0.0);
+        let moved = shift * scene.object.pose;
+        let r = replan(&scene, &mesh, &nominal, 0, moved, &PlanOptions::default()).unwrap();
+        assert_eq!(r.route, ReplanRoute::KeptCandidate, "{name}");
+        let file = &r.report.file;
+        let (a, b) = (&nominal.plans[0], &file.plans[0]);
+        assert_eq!(
+            (&a.master, &a.supportive),
+            (&b.master, &b.supportive),
+            "{name}"
+        );
+        assert_eq!(file.grasps, nominal.grasps, "{name}");
+        assert!(
+            (theta_goal(file) - theta_goal(&nominal)).abs() < 1e-9,
+            "{name}"
+        );
+        let goal_a = shift * a.object_goal_pose.to_isometry();
+        let goal_b = b.object_goal_pose.to_isometry();
+        assert!((goal_a.translation.vector - goal_b.translation.vector).norm() < 1e-9);
+        assert!(goal_a.rotation.angle_to(&goal_b.rotation) < 1e-9);
+        assert_ne!(
+            a.segments, b.segments,
+            "{name}: the arms must move differently"
+        );
+        let report = check_plan(file, &mesh);
+        assert!(report.is_valid(), "{name}: {:?}", report.rules);
+    }
+}
+
+/// A yawed part: the same hull edge, found again by its object-frame endpoints.
+#[test]
+fn a_turned_part_keeps_its_axis_and_passes_the_check() {
+    let (scene, mesh, nominal) = example("stool_side");
+    let centre = scene.object.pose * Point3::new(0.2, 0.2, 0.0);
+    let turn = Isometry3::rotation_wrt_point(
+        nalgebra::UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 2f64.to_radians()),
+        centre,
+    );
+    let r = replan(
+        &scene,
+        &mesh,
+        &nominal,
+        0,
+        turn * scene.object.pose,
+        &PlanOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(r.route, ReplanRoute::KeptCandidate);
+    assert!(check_plan(&r.report.file, &mesh).is_valid());
+}
+
+#[test]
+fn the_robustness_report_is_the_same_for_one_and_two_threads() {
+    let (scene, mesh, nominal) = example("chair_side");
+    let levels = [PlacementError {
+        pos: 0.01,
+        yaw: 3f64.to_radians(),
+    }];
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| robustness(&scene, &mesh, &nominal, &levels, 3, 7, &|| {}).unwrap())
+    };
+    let (one, two) = (run(1), run(2));
+    assert_eq!(one, two);
+    assert_eq!(one.samples.len(), 3);
+    // The samples differ from each other (the generator is seeded per sample).
+    assert_ne!(one.samples[0].dx, one.samples[1].dx);
+    assert!(one
+        .samples
+        .iter()
+        .all(|s| s.dx.abs() <= 0.01 && s.dyaw.abs() <= 3f64.to_radians()));
+}
+
+/// `[planner] robustness_samples`: every kept plan carries its share, plans are ordered by it,
+/// and the option is echoed; off, the plan file is exactly the plain pipeline's.
+#[test]
+fn robustness_samples_rank_the_plans() {
+    let ex = pregrasp_examples::by_name("shelf_side").unwrap();
+    let text = ex.scene_toml.replace(
+        "[planner]",
+        "[planner]\nrobustness_samples = 4\nrobustness_pos = 0.01\nrobustness_yaw_deg = 3",
+    );
+    assert_ne!(text, ex.scene_toml, "the example has a [planner] table");
+    let scene = Scene::from_str(&text, Path::new("examples/shelf_side.toml")).unwrap();
+    let file =
+        plan_ranked_by_robustness(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {})
+            .unwrap()
+            .file;
+    assert_eq!(file.planner.robustness_samples, Some(4));
+    assert!(!file.plans.is_empty());
+    let shares: Vec<f64> = file
+        .plans
+        .iter()
+        .map(|p| p.robustness.as_ref().unwrap().levels[0].share)
+        .collect();
+    assert!(shares.windows(2).all(|w| w[0] >= w[1]), "{shares:?}");
+    assert!(pregrasp_planner::plan_format::validate(&file).is_ok());
+
+    let (plain_scene, mesh, plain) = example("shelf_side");
+    let off = plan_ranked_by_robustness(
+        &plain_scene,
+        &mesh,
+        &PlanOptions::default(),
+        &|_| {},
+        &|| {},
+    )
+    .unwrap()
+    .file;
+    let strip = |mut f: PlanFile| {
+        f.timing_ms.clear();
+        f
+    };
+    assert_eq!(strip(off), strip(plain));
+}
