@@ -36,6 +36,30 @@ fn replan_writes_a_plan_that_passes_check() {
     assert!(String::from_utf8_lossy(&out.stdout).contains("kept the plan's rotation axis"));
     let check = pregrasp(dir.path(), &["check", "new.json"]);
     assert_eq!(check.status.code(), Some(0), "{check:?}");
+
+    // sup1 has run: keep it, plan the rest from where the arms stand.
+    let out = pregrasp(
+        dir.path(),
+        &[
+            "replan",
+            "plan.json",
+            "--object-pose",
+            &pose,
+            "--from",
+            "rot",
+            "-o",
+            "rest.json",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let rest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("rest.json")).unwrap()).unwrap();
+    assert_eq!(
+        rest["plans"][0]["segments"][0],
+        plan["plans"][0]["segments"][0]
+    );
+    let check = pregrasp(dir.path(), &["check", "rest.json"]);
+    assert_eq!(check.status.code(), Some(0), "{check:?}");
 }
 
 #[test]

@@ -68,7 +68,13 @@ pub struct PlanningContext<'a> {
     pub names: [String; 2],
     /// The widths the grippers close on.
     pub grips: GripWidths,
+    /// When `sup1` has already run (re-planning `--from rot`): the supportive arm's joints,
+    /// which μ_rot must start from (within [`FIXED_START_TOLERANCE`]).
+    pub fixed_rot_start: Option<(usize, Joints)>,
 }
+
+/// Largest joint difference (rad) between μ_rot's first point and a fixed start.
+pub const FIXED_START_TOLERANCE: f64 = 1e-6;
 
 impl<'a> PlanningContext<'a> {
     pub fn new(scene: &'a Scene, mesh: &'a Mesh) -> Result<Self, ContextError> {
@@ -97,6 +103,7 @@ impl<'a> PlanningContext<'a> {
             spaces,
             names: [scene.robots[0].name.clone(), scene.robots[1].name.clone()],
             grips,
+            fixed_rot_start: None,
         })
     }
 

@@ -7,7 +7,7 @@
 //! the candidate's integrated path (an element of the paper's set Z).
 
 use crate::axes::RotationAxisCandidate;
-use crate::context::PlanningContext;
+use crate::context::{PlanningContext, FIXED_START_TOLERANCE};
 use crate::poses::PowerGraspPose;
 use crate::reach::{reach_lines, reach_transit, ReachMotion, ReachQuery};
 use crate::rotate::{rotation_path, RotationPath};
@@ -75,13 +75,29 @@ pub fn integrated_path(
     };
 
     'support: for c_ik_s in pose.support_ik.iter().take(MAX_IK_TRIES) {
-        let rot = match rotation_path(ctx, candidate, pose, c_ik_s) {
+        let mut rot = match rotation_path(ctx, candidate, pose, c_ik_s) {
             Ok(rot) => rot,
             Err(f) => {
                 failure.note(1, f.describe());
                 continue;
             }
         };
+        if let Some((arm, q)) = ctx.fixed_rot_start {
+            let off = rot.q[0]
+                .iter()
+                .zip(&q)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            if arm != sup || off > FIXED_START_TOLERANCE {
+                failure.note(
+                    1,
+                    "μ_rot: does not start where the supportive arm stands after sup1".into(),
+                );
+                continue;
+            }
+            // The same configuration up to IK round-off: start exactly where the arm stands.
+            rot.q[0] = q;
+        }
         let last = *rot.q.last().expect("μ_rot has points");
 
         // μ_sup1: supportive arm from start to μ_rot,first; master at start, part at P_init.

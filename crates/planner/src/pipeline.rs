@@ -28,6 +28,9 @@ pub struct PlanOptions {
     /// Plan only these candidates (ids of Algorithm 1's list); the others are reported as
     /// skipped. `None`: every candidate. Re-planning uses it to keep a plan's candidate.
     pub only: Option<Vec<usize>>,
+    /// `sup1` has already run: (supportive arm, its joints now). μ_rot must start there and
+    /// that arm must be the supportive one ([`crate::replan`] `--from rot`).
+    pub fixed_rot_start: Option<(usize, pregrasp_robot::Joints)>,
 }
 
 impl Default for PlanOptions {
@@ -35,6 +38,7 @@ impl Default for PlanOptions {
         PlanOptions {
             max_plans: 3,
             only: None,
+            fixed_rot_start: None,
         }
     }
 }
@@ -93,7 +97,9 @@ pub fn plan(
     );
     let t_axes = t0.elapsed();
 
-    let ctx = PlanningContext::new(scene, mesh)?;
+    let mut ctx = PlanningContext::new(scene, mesh)?;
+    ctx.fixed_rot_start = options.fixed_rot_start;
+    let ctx = ctx;
     let candidates = axes.candidates;
     on_candidates(candidates.len());
 

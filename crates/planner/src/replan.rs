@@ -8,6 +8,11 @@
 //! Algorithms 2 and 3 again (θ_goal, roles, μ_rot and the reach paths are all recomputed for
 //! the new pose, then re-checked). If the edge is no longer a candidate or no longer plans,
 //! the full pipeline runs on the new pose.
+//!
+//! [`replan_from_rot`] is the same after `sup1` has run: the supportive gripper already holds
+//! the part, so `sup1` is kept as it ran, the grasp it really holds is `G_s' = P_init'⁻¹ ·
+//! T_flange(q) · T_precision` (P_init' from the measured pose, q the arm's joints now), and
+//! μ_rot must start at q; `rot`, `mas1` and `sup2` are planned again.
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use pregrasp_geometry::Mesh;
@@ -15,7 +20,8 @@ use pregrasp_io::plan_file::{CandidateJson, PlanFile};
 use pregrasp_io::scene::Scene;
 
 use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
-use crate::context::ContextError;
+use crate::check::check_plan;
+use crate::context::{arm_models, ContextError};
 use crate::pipeline::{plan, PlanOptions, PlanReport};
 
 /// Two axis endpoints, in the object frame, closer than this (m) are the same hull vertex.
@@ -132,6 +138,7 @@ pub fn replan(
         &PlanOptions {
             max_plans: 1,
             only: Some(vec![id]),
+            fixed_rot_start: None,
         },
         &|_| {},
         &|| {},
@@ -144,4 +151,121 @@ pub fn replan(
     } else {
         full(ReplanRoute::CandidateFailed)
     }
+}
+
+/// Why [`replan_from_rot`] cannot start.
+#[derive(Debug, thiserror::Error)]
+pub enum ResumeError {
+    #[error("plans[{0}]: no such plan")]
+    NoPlan(usize),
+    #[error("plans[{plan}]: {problem}")]
+    Plan { plan: usize, problem: String },
+    #[error(transparent)]
+    Context(#[from] ContextError),
+}
+
+/// Re-plans `rot`, `mas1` and `sup2` of plan `plan_index` of `nominal` after its `sup1` has
+/// run, with the part measured at `object_pose` (where it lies with the supportive gripper
+/// closed on it). Only the plan's own rotation axis is tried (the gripper holds the part where
+/// it holds it); the result has the nominal `sup1`, the grasp `G_s'` the gripper really holds,
+/// and is re-checked. `route` is [`ReplanRoute::KeptCandidate`] when it planned,
+/// [`ReplanRoute::CandidateFailed`] / [`ReplanRoute::CandidateGone`] (and no plan) when not.
+pub fn replan_from_rot(
+    scene: &Scene,
+    mesh: &Mesh,
+    nominal: &PlanFile,
+    plan_index: usize,
+    object_pose: Isometry3<f64>,
+) -> Result<Replanned, ResumeError> {
+    let plan_json = nominal
+        .plans
+        .get(plan_index)
+        .ok_or(ResumeError::NoPlan(plan_index))?;
+    let bad = |problem: String| ResumeError::Plan {
+        plan: plan_index,
+        problem,
+    };
+    let sup1 = plan_json
+        .segments
+        .iter()
+        .find(|s| s.name == "sup1")
+        .ok_or_else(|| bad("no sup1 segment".into()))?;
+    let q_sup = sup1
+        .points
+        .last()
+        .ok_or_else(|| bad("sup1 has no points".into()))?
+        .q;
+    let sup = scene
+        .robots
+        .iter()
+        .position(|r| r.name == plan_json.supportive)
+        .ok_or_else(|| {
+            bad(format!(
+                "the supportive arm {:?} is not in the scene",
+                plan_json.supportive
+            ))
+        })?;
+    let mut moved = scene.clone();
+    moved.object.pose = object_pose;
+    let arms = arm_models(&moved)?;
+    moved.grasps.support = moved.initial_object_pose().inverse()
+        * arms[sup].flange_world(&q_sup)
+        * arms[sup].gripper.precision_point();
+
+    let axes = rotation_axis_candidates(
+        mesh,
+        &moved.object.pose,
+        moved.support_height,
+        &moved.planner,
+    );
+    let matched = nominal
+        .candidates
+        .iter()
+        .find(|c| c.id == plan_json.candidate)
+        .and_then(|c| {
+            matching_candidate(
+                c,
+                &nominal.object.initial_pose.to_isometry(),
+                &axes.candidates,
+                &axes.p_init,
+            )
+        });
+    let options = PlanOptions {
+        max_plans: 1,
+        only: Some(matched.into_iter().collect()),
+        fixed_rot_start: Some((sup, q_sup)),
+    };
+    let mut report = plan(&moved, mesh, &options, &|_| {}, &|| {})?;
+    let route = match (matched, report.file.plans.is_empty()) {
+        (None, _) => ReplanRoute::CandidateGone,
+        (Some(_), true) => ReplanRoute::CandidateFailed,
+        (Some(_), false) => ReplanRoute::KeptCandidate,
+    };
+    if let Some(p) = report.file.plans.first_mut() {
+        // The executed sup1 replaces the one planned to reach the same configuration.
+        if let Some(seg) = p.segments.iter_mut().find(|s| s.name == "sup1") {
+            *seg = sup1.clone();
+        }
+        let verdict = check_plan(&report.file, mesh);
+        if let Some(rule) = verdict.rules.iter().find(|r| r.ok == Some(false)) {
+            report.file.plans.clear();
+            report.file.status = "no_plan".into();
+            report.file.reason = Some(format!(
+                "replan --from rot: with the executed sup1 the plan fails rule {} ({})",
+                rule.rule, rule.detail
+            ));
+            return Ok(Replanned {
+                report,
+                route: ReplanRoute::CandidateFailed,
+            });
+        }
+    }
+    if route == ReplanRoute::CandidateGone {
+        report.file.status = "no_plan".into();
+        report.file.reason = Some(
+            "replan --from rot: the plan's rotation axis is not a candidate at the measured pose"
+                .into(),
+        );
+    }
+    Ok(Replanned { report, route })
 }

@@ -193,7 +193,7 @@ pub fn robustness(
                 .collect();
             let options = PlanOptions {
                 max_plans: usize::MAX,
-                only: None,
+                ..PlanOptions::default()
             };
             let file = plan(&moved, mesh, &options, &|_| {}, &|| {})?.file;
             let plans_again: Vec<usize> = (0..matched.len())

@@ -168,3 +168,54 @@ fn robustness_samples_rank_the_plans() {
     };
     assert_eq!(strip(off), strip(plain));
 }
+
+/// `--from rot`: sup1 has run and the gripper holds the part; the part turns out to lie 1 mm
+/// further along the pad's width (tool y) than planned. The executed sup1 is kept, μ_rot starts
+/// exactly where the arm stands, the grasp the fingers really hold is recorded, and the plan
+/// passes the checker.
+#[test]
+fn replan_from_rot_keeps_the_executed_sup1() {
+    use pregrasp_planner::replan::replan_from_rot;
+    let (scene, mesh, nominal) = example("chair_side");
+    // Unchanged pose: the rest of the plan is the nominal one.
+    let same = replan_from_rot(&scene, &mesh, &nominal, 0, scene.object.pose).unwrap();
+    assert_eq!(same.route, ReplanRoute::KeptCandidate);
+    let (a, b) = (&nominal.plans[0], &same.report.file.plans[0]);
+    for (sa, sb) in a.segments.iter().zip(&b.segments) {
+        assert_eq!(sa.points.len(), sb.points.len(), "{}", sa.name);
+        for (pa, pb) in sa.points.iter().zip(&sb.points) {
+            let d =
+                pa.q.iter()
+                    .zip(&pb.q)
+                    .map(|(x, y)| (x - y).abs())
+                    .fold(0.0, f64::max);
+            assert!(d < 1e-6, "{}: {d}", sa.name);
+        }
+    }
+
+    let g_s = scene.initial_object_pose() * scene.grasps.support;
+    let along = g_s.rotation * Vector3::y() * 0.001;
+    let moved = Isometry3::translation(along.x, along.y, 0.0) * scene.object.pose;
+    let r = replan_from_rot(&scene, &mesh, &nominal, 0, moved).unwrap();
+    assert_eq!(
+        r.route,
+        ReplanRoute::KeptCandidate,
+        "{:?}",
+        r.report.file.reason
+    );
+    let file = &r.report.file;
+    let p = &file.plans[0];
+    assert_eq!(
+        p.segments[0], nominal.plans[0].segments[0],
+        "sup1 as executed"
+    );
+    assert_eq!(
+        p.segments[1].points[0].q,
+        nominal.plans[0].segments[0].points.last().unwrap().q
+    );
+    assert_ne!(
+        file.grasps.support, nominal.grasps.support,
+        "the grasp really held"
+    );
+    assert!(check_plan(file, &mesh).is_valid());
+}

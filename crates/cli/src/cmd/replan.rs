@@ -1,6 +1,7 @@
 //! `pregrasp replan PLAN.json --object-pose "x y z qx qy qz qw"`: the part was measured at
 //! another pose; keep the plan's rotation axis where it still works (else the full pipeline),
-//! recompute θ_goal, μ_rot and the reaches, re-check, write a new plan.
+//! recompute θ_goal, μ_rot and the reaches, re-check, write a new plan. `--from rot`: sup1 has
+//! run, keep it and plan the rest from where the arms stand.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -12,7 +13,7 @@ use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::pipeline::PlanOptions;
-use pregrasp_planner::replan::replan;
+use pregrasp_planner::replan::{replan, replan_from_rot};
 
 use super::{EXIT_NO_PLAN, EXIT_OK};
 
@@ -38,6 +39,18 @@ pub struct Args {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// The first segment to plan again: `sup1` (everything) or `rot` (sup1 has run: it is kept
+    /// as executed, the gripper holds the part at the measured pose, and rot, mas1 and sup2
+    /// start from the arms' joints now).
+    #[arg(long, value_enum, default_value_t = From::Sup1)]
+    pub from: From,
+}
+
+/// Where re-planning starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum From {
+    Sup1,
+    Rot,
 }
 
 /// Parses "x y z qx qy qz qw" (spaces or commas) into a pose.
@@ -96,15 +109,18 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .num_threads(args.threads.unwrap_or(0))
         .build()?;
     let started = Instant::now();
-    let result = pool.install(|| {
-        replan(
-            &scene,
-            &mesh,
-            &nominal,
-            args.plan_index,
-            pose,
-            &PlanOptions::default(),
-        )
+    let result = pool.install(|| -> anyhow::Result<_> {
+        Ok(match args.from {
+            From::Sup1 => replan(
+                &scene,
+                &mesh,
+                &nominal,
+                args.plan_index,
+                pose,
+                &PlanOptions::default(),
+            )?,
+            From::Rot => replan_from_rot(&scene, &mesh, &nominal, args.plan_index, pose)?,
+        })
     })?;
     let ms = started.elapsed().as_secs_f64() * 1e3;
     let mut file = result.report.file;
