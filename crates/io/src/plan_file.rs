@@ -129,6 +129,28 @@ pub struct RobotJson {
 pub struct GraspsJson {
     pub power: [PoseJson; 2],
     pub support: PoseJson,
+    /// (Extension) How the grasps were found when the scene asked for `mode = "auto"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub auto: Option<AutoGraspsJson>,
+}
+
+/// The grasp search of an auto scene (`[grasps] mode = "auto"`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AutoGraspsJson {
+    /// Graspable bar sites found on the mesh.
+    pub sites: usize,
+    /// Grasp sets built from them (per rotation axis), how many went through the pipeline
+    /// (best ranked first), and how many of those planned.
+    pub sets: usize,
+    pub tried: usize,
+    pub planned: usize,
+    /// Index of the chosen set among the tried ones (best plan score), if any planned.
+    pub chosen: Option<usize>,
+    /// Bar widths (m) across the chosen grasps: support, power[0], power[1].
+    pub widths: [f64; 3],
+    /// Which grasps the scene pinned.
+    pub support_pinned: bool,
+    pub power_pinned: bool,
 }
 
 /// One (axis, direction) pair of Algorithm 1, with what became of it.
@@ -289,13 +311,18 @@ impl PlanFile {
             path: shown.clone(),
             error,
         })?;
-        let plan: PlanFile = serde_json::from_str(&text).map_err(|error| PlanFileError::Parse {
-            path: shown.clone(),
+        PlanFile::from_json_str(&text, &shown)
+    }
+
+    /// Parses plan-file text (`shown` names it in errors), checking its `format`.
+    pub fn from_json_str(text: &str, shown: &str) -> Result<PlanFile, PlanFileError> {
+        let plan: PlanFile = serde_json::from_str(text).map_err(|error| PlanFileError::Parse {
+            path: shown.to_string(),
             error,
         })?;
         if plan.format != PLAN_FORMAT {
             return Err(PlanFileError::Format {
-                path: shown,
+                path: shown.to_string(),
                 found: plan.format,
             });
         }

@@ -86,6 +86,19 @@ pub struct Grasps {
     pub power: [Isometry3<f64>; 2],
     /// G_s, reached by whichever arm supports.
     pub support: Isometry3<f64>,
+    /// (Extension) `mode = "auto"`: the grasps not given are found from the mesh
+    /// (`pregrasp_planner::auto_grasps`); until then they are identity placeholders. `None`:
+    /// hand-placed grasps (the default).
+    pub auto: Option<AutoGrasps>,
+}
+
+/// Which grasps an auto scene pins (gives by hand).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AutoGrasps {
+    /// `support` was given.
+    pub support_pinned: bool,
+    /// `power` was given (both poses).
+    pub power_pinned: bool,
 }
 
 /// One `[[robot]]`.
@@ -598,7 +611,50 @@ impl Cx {
 
     fn grasps(&mut self, root: &Table) -> Result<Grasps, SceneError> {
         let t = self.table(root, "", "grasps")?;
-        self.unknown(t, "grasps", &["power", "support"]);
+        self.unknown(t, "grasps", &["power", "support", "mode"]);
+        let auto = match t.get("mode") {
+            None => false,
+            Some(Value::String(m)) if m == "manual" => false,
+            Some(Value::String(m)) if m == "auto" => true,
+            Some(v) => {
+                return Err(self.err(
+                    "grasps.mode",
+                    format!("expected \"manual\" or \"auto\", found {v}"),
+                ))
+            }
+        };
+        if auto {
+            let support = match t.get("support") {
+                Some(v) => Some(self.pose(v, "grasps.support")?),
+                None => None,
+            };
+            let power = match t.get("power") {
+                Some(_) => Some(self.power_pair(t)?),
+                None => None,
+            };
+            return Ok(Grasps {
+                power: power.unwrap_or([Isometry3::identity(); 2]),
+                support: support.unwrap_or_else(Isometry3::identity),
+                auto: Some(AutoGrasps {
+                    support_pinned: support.is_some(),
+                    power_pinned: power.is_some(),
+                }),
+            });
+        }
+        let [p0, p1] = self.power_pair(t)?;
+        let sv = t
+            .get("support")
+            .ok_or_else(|| self.err("grasps.support", "missing key"))?;
+        let support = self.pose(sv, "grasps.support")?;
+        Ok(Grasps {
+            power: [p0, p1],
+            support,
+            auto: None,
+        })
+    }
+
+    /// `grasps.power`: exactly two poses.
+    fn power_pair(&mut self, t: &Table) -> Result<[Isometry3<f64>; 2], SceneError> {
         let pv = t
             .get("power")
             .ok_or_else(|| self.err("grasps.power", "missing key"))?;
@@ -616,14 +672,7 @@ impl Cx {
         }
         let p0 = self.pose(&pa[0], "grasps.power[0]")?;
         let p1 = self.pose(&pa[1], "grasps.power[1]")?;
-        let sv = t
-            .get("support")
-            .ok_or_else(|| self.err("grasps.support", "missing key"))?;
-        let support = self.pose(sv, "grasps.support")?;
-        Ok(Grasps {
-            power: [p0, p1],
-            support,
-        })
+        Ok([p0, p1])
     }
 
     fn robots(&mut self, root: &Table) -> Result<[RobotSpec; 2], SceneError> {

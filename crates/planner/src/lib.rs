@@ -9,7 +9,8 @@
 //! - [`hold`]: will the pinch hold the part during `μ_rot` (quasi-static grip force check);
 //! - [`pipeline`]: all of it, candidates in parallel, deterministic for any thread count;
 //! - [`replan`]: the same plan for a part measured at another pose (issue 16);
-//! - [`robustness`]: Monte-Carlo over placement errors, re-planning each sample.
+//! - [`robustness`]: Monte-Carlo over placement errors, re-planning each sample;
+//! - [`auto_grasps`]: `[grasps] mode = "auto"`, grasps found from the mesh.
 //!
 //! [`context`] holds the read-only models every stage shares; [`timeline`] the semantics of a
 //! plan's instants (who moves, which gripper is closed, where contact is allowed).
@@ -30,5 +31,6 @@ pub mod rotate;
 pub mod timeline;
 pub mod timing;
 
+pub mod auto_grasps;
 pub mod axes;
 pub use axes::{rotation_axis_candidates, AxesResult, Direction, RotationAxisCandidate};

@@ -56,6 +56,7 @@ pub fn plan_file_header(scene: &Scene, status: &str, reason: Option<String>) -> 
                 PoseJson::from(&scene.grasps.power[1]),
             ],
             support: PoseJson::from(&scene.grasps.support),
+            auto: None,
         },
         candidates: Vec::new(),
         plans: Vec::new(),

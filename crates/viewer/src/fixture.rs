@@ -153,6 +153,7 @@ fn base_file(mesh_path: &str) -> PlanFile {
         grasps: GraspsJson {
             power: [PoseJson::from(&grasp(-0.2)), PoseJson::from(&grasp(0.2))],
             support: PoseJson::from(&grasp(0.1)),
+            auto: None,
         },
         candidates: candidates(),
         plans: Vec::new(),

@@ -10,6 +10,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
+use pregrasp_planner::auto_grasps::plan_auto;
 use pregrasp_planner::pipeline::{CandidateOutcome, PlanOptions, PlanReport};
 use pregrasp_planner::robustness::plan_ranked_by_robustness;
 
@@ -92,7 +93,12 @@ pub fn plan_scene_file(
         bar
     };
     let report = pool.install(|| {
-        plan_ranked_by_robustness(
+        let planner = if scene.grasps.auto.is_some() {
+            plan_auto
+        } else {
+            plan_ranked_by_robustness
+        };
+        planner(
             &scene,
             &loaded.mesh,
             options,
@@ -206,6 +212,19 @@ pub fn print_summary(report: &PlanReport, file: &PlanFile) {
     }
     if let Some(note) = &report.physics_note {
         println!("{note}");
+    }
+    if let Some(a) = &file.grasps.auto {
+        println!(
+            "grasps: auto — {} bar sites, {} grasp sets, {} tried, {} planned{}; bar widths support {:.0} mm, power {:.0} / {:.0} mm",
+            a.sites,
+            a.sets,
+            a.tried,
+            a.planned,
+            a.chosen.map_or(String::new(), |k| format!(", set {k} chosen")),
+            a.widths[0] * 1e3,
+            a.widths[1] * 1e3,
+            a.widths[2] * 1e3
+        );
     }
     let t = &file.timing_ms;
     let get = |k: &str| t.get(k).copied().unwrap_or(0.0);

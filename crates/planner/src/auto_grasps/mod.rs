@@ -1,0 +1,330 @@
+//! `[grasps] mode = "auto"`: the grasps found from the mesh (the paper's future work, §VII).
+//!
+//! 1. [`bars`]: where a 2F-85 can close across the part from above (bar sites).
+//! 2. Grasp sets, per rotation axis of Algorithm 1 (the best [`AXES_CONSIDERED`] by S_rot):
+//!    two power grasps from representative sites beyond Δd_a (+2 cm), at least
+//!    [`POWER_SPREAD`] apart, scored by their distances from the axis plus their spread (a
+//!    stable hold; both on the far side, so one rotation frees both); each arm takes the one
+//!    nearer its base, and the arm whose grasp is nearer the axis will support. The support
+//!    grasp G_s is a fingertip pinch across the site farthest from the axis (the far side,
+//!    where the pinch lifts the part with the most leverage) at least [`GRIPPER_SPACING`] from
+//!    the master's power grasp (both are held at once), with the fingertips
+//!    [`SUPPORT_TIP_HEIGHT`] above the support. Power grasps sit at mid-height, fingers across
+//!    the bar, from above.
+//! 3. Cheap ranking: sets whose three grasps all have IK solutions at P_init first, then by the
+//!    axis' S_rot plus the power grasps' distances from the axis.
+//! 4. The sets go through the whole pipeline in batches of [`SETS_PLANNED`] (in parallel,
+//!    results in set order) until a batch has a plan; the plan with the best score wins (ties:
+//!    the earlier set). Deterministic.
+
+pub mod bars;
+
+use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, UnitQuaternion};
+use pregrasp_geometry::Mesh;
+use pregrasp_io::plan_file::AutoGraspsJson;
+use pregrasp_io::scene::Scene;
+use rayon::prelude::*;
+
+use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
+use crate::context::{arm_models, distinct_ik, ContextError};
+use crate::output::plan_file_header;
+use crate::pipeline::{plan, PlanOptions, PlanReport};
+use bars::{bar_sites, BarSite, Slab};
+
+/// Rotation axes (best S_rot first) around which grasp sets are built.
+pub const AXES_CONSIDERED: usize = 4;
+/// Power-grasp pairs tried per axis.
+pub const PAIRS_PER_AXIS: usize = 6;
+/// Representative sites (far from the axis, at least [`REPRESENTATIVE_SPACING`] apart) from
+/// which power-grasp pairs are made.
+pub const MAX_REPRESENTATIVES: usize = 14;
+pub const REPRESENTATIVE_SPACING: f64 = 0.05;
+/// Smallest distance (m) between the two power grasps: the part is held at two places.
+pub const POWER_SPREAD: f64 = 0.20;
+/// Grasp sets planned in full at a time (in parallel); the next batch only when none planned.
+pub const SETS_PLANNED: usize = 6;
+/// Smallest distance (m) between the centres of two grasps held at the same time.
+pub const GRIPPER_SPACING: f64 = 0.16;
+/// Height (m) of the pinching fingertips above the support at G_s.
+pub const SUPPORT_TIP_HEIGHT: f64 = 0.003;
+
+/// One choice of the three grasps (object frame).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GraspSet {
+    pub support: Isometry3<f64>,
+    pub power: [Isometry3<f64>; 2],
+    /// Bar widths across support, power[0], power[1] (m; 0 for a pinned grasp).
+    pub widths: [f64; 3],
+    /// The Algorithm 1 candidate the set was built around.
+    pub axis: usize,
+    /// All three grasps have IK solutions at P_init.
+    pub reachable: bool,
+    /// S_rot of the axis + distances of the power grasps from it (m).
+    pub rank: f64,
+}
+
+/// The grasp frame of a site: `x` across the bar, `z` down along `−up`, origin at `height`
+/// above the part's bottom on the site's vertical.
+fn site_pose(site: &BarSite, slab: &Slab, height: f64) -> Isometry3<f64> {
+    let x = site.across.into_inner();
+    let z = -slab.up.into_inner();
+    let y = z.cross(&x);
+    let rot = Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[x, y, z]));
+    let mid = (slab.bottom + slab.top) / 2.0;
+    let origin = site.centre + slab.up.into_inner() * (slab.bottom + height - mid);
+    Isometry3::from_parts(
+        origin.coords.into(),
+        UnitQuaternion::from_rotation_matrix(&rot),
+    )
+}
+
+fn distance_to_line(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>) -> f64 {
+    let d = (b - a).normalize();
+    let v = p - a;
+    (v - d * v.dot(&d)).norm()
+}
+
+/// The grasp sets of `scene` (whose grasps may be placeholders) for the sites found.
+pub fn grasp_sets(
+    scene: &Scene,
+    slab: &Slab,
+    sites: &[BarSite],
+    axes: &[RotationAxisCandidate],
+    p_init: &Isometry3<f64>,
+) -> Result<Vec<GraspSet>, ContextError> {
+    let pins = scene.grasps.auto.expect("an auto scene");
+    let arms = arm_models(scene)?;
+    let fingers = pregrasp_robot::FingerKinematics::robotiq_2f85();
+    let precision_z = scene
+        .robots
+        .iter()
+        .map(|r| r.precision_point_z)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let support_height = |w: f64| {
+        // Rounded up to 0.1 mm: the tips never end lower than SUPPORT_TIP_HEIGHT.
+        ((SUPPORT_TIP_HEIGHT + fingers.at(w).tip_z - precision_z) * 1e4).ceil() / 1e4
+    };
+    let min_axis = scene.planner.min_grasp_axis_distance + 0.02;
+    let reachable = |arm: usize, grasp: &Isometry3<f64>, point: &Isometry3<f64>| {
+        let flange = arms[arm].base.inverse() * p_init * grasp * point.inverse();
+        !distinct_ik(&arms[arm].kin, &flange, &scene.robots[arm].start).is_empty()
+    };
+    let world = |s: &BarSite| p_init * s.centre;
+    let base = |arm: usize| Point3::from(arms[arm].base.translation.vector);
+    let mut sets = Vec::new();
+    for axis in axes.iter().take(AXES_CONSIDERED) {
+        let dist = |s: &BarSite| distance_to_line(&world(s), &axis.axis[0], &axis.axis[1]);
+        let mut order: Vec<usize> = (0..sites.len()).collect();
+        order.sort_by(|&a, &b| dist(&sites[b]).total_cmp(&dist(&sites[a])).then(a.cmp(&b)));
+        let apart = |a: usize, b: &Point3<f64>| (sites[a].centre - b).norm();
+        // Power grasps: pairs of representative sites (far from the axis, on different parts
+        // of the part), scored by their distances from the axis plus their spread.
+        let pairs: Vec<(usize, usize, f64)> = if pins.power_pinned {
+            vec![(usize::MAX, usize::MAX, 0.0)]
+        } else {
+            let mut reps: Vec<usize> = Vec::new();
+            for &i in order.iter().filter(|&&i| dist(&sites[i]) >= min_axis) {
+                if reps
+                    .iter()
+                    .all(|&r| apart(i, &sites[r].centre) >= REPRESENTATIVE_SPACING)
+                {
+                    reps.push(i);
+                }
+                if reps.len() == MAX_REPRESENTATIVES {
+                    break;
+                }
+            }
+            let mut pairs = Vec::new();
+            for (k, &a) in reps.iter().enumerate() {
+                for &b in &reps[k + 1..] {
+                    let spread = apart(a, &sites[b].centre);
+                    if spread >= POWER_SPREAD {
+                        let score = dist(&sites[a]) + dist(&sites[b]) + 0.5 * spread.min(0.5);
+                        pairs.push((a, b, score));
+                    }
+                }
+            }
+            pairs.sort_by(|x, y| y.2.total_cmp(&x.2).then((x.0, x.1).cmp(&(y.0, y.1))));
+            pairs.truncate(PAIRS_PER_AXIS);
+            pairs
+        };
+        for &(a, b, pair_score) in &pairs {
+            let (power, widths_p) = if pins.power_pinned {
+                (scene.grasps.power, [0.0, 0.0])
+            } else {
+                let pose = |i: usize| site_pose(&sites[i], slab, slab.height() / 2.0);
+                // Each arm takes the grasp nearer its base.
+                let d = |arm: usize, i: usize| (base(arm) - world(&sites[i])).norm();
+                if d(0, a) + d(1, b) <= d(0, b) + d(1, a) {
+                    ([pose(a), pose(b)], [sites[a].width, sites[b].width])
+                } else {
+                    ([pose(b), pose(a)], [sites[b].width, sites[a].width])
+                }
+            };
+            let power_dist = |g: &Isometry3<f64>| {
+                distance_to_line(
+                    &(p_init * Point3::from(g.translation.vector)),
+                    &axis.axis[0],
+                    &axis.axis[1],
+                )
+            };
+            // Roles as Algorithm 2 will give them: the supportive arm holds the nearer one.
+            let sup = usize::from(power_dist(&power[0]) >= power_dist(&power[1]));
+            let master_at = Point3::from(power[1 - sup].translation.vector);
+            // G_s: the site farthest from the axis that leaves room for the master's gripper.
+            let (support, support_w) = if pins.support_pinned {
+                (scene.grasps.support, 0.0)
+            } else {
+                let Some(&i) = order
+                    .iter()
+                    .find(|&&i| apart(i, &master_at) >= GRIPPER_SPACING)
+                else {
+                    continue;
+                };
+                (
+                    site_pose(&sites[i], slab, support_height(sites[i].width)),
+                    sites[i].width,
+                )
+            };
+            let ok = (0..2)
+                .all(|arm| reachable(arm, &power[arm], &arms[arm].gripper.power_point()))
+                && reachable(sup, &support, &arms[sup].gripper.precision_point());
+            let set = GraspSet {
+                support,
+                power,
+                widths: [support_w, widths_p[0], widths_p[1]],
+                axis: axis.id,
+                reachable: ok,
+                rank: axis.score + pair_score,
+            };
+            if !sets
+                .iter()
+                .any(|s: &GraspSet| s.support == set.support && s.power == set.power)
+            {
+                sets.push(set);
+            }
+        }
+    }
+    // Reachable first, then by rank; stable for equal keys.
+    sets.sort_by(|a, b| {
+        b.reachable
+            .cmp(&a.reachable)
+            .then(b.rank.total_cmp(&a.rank))
+    });
+    Ok(sets)
+}
+
+/// The pipeline on an auto scene: grasps found, the best few sets planned, the best plan kept.
+/// On a scene with hand-placed grasps it is [`plan`].
+pub fn plan_auto(
+    scene: &Scene,
+    mesh: &Mesh,
+    options: &PlanOptions,
+    on_candidates: &(dyn Fn(usize) + Sync),
+    progress: &(dyn Fn() + Sync),
+) -> Result<PlanReport, ContextError> {
+    let Some(pins) = scene.grasps.auto else {
+        return plan(scene, mesh, options, on_candidates, progress);
+    };
+    let t0 = std::time::Instant::now();
+    let (slab, sites) = bar_sites(mesh, &scene.object.pose);
+    let axes = rotation_axis_candidates(
+        mesh,
+        &scene.object.pose,
+        scene.support_height,
+        &scene.planner,
+    );
+    let sets = if sites.is_empty() && !(pins.power_pinned && pins.support_pinned) {
+        Vec::new()
+    } else {
+        grasp_sets(scene, &slab, &sites, &axes.candidates, &axes.p_init)?
+    };
+    let summary =
+        |tried: usize, planned: usize, chosen: Option<usize>, widths: [f64; 3]| AutoGraspsJson {
+            sites: sites.len(),
+            sets: sets.len(),
+            tried,
+            planned,
+            chosen,
+            widths,
+            support_pinned: pins.support_pinned,
+            power_pinned: pins.power_pinned,
+        };
+    if sets.is_empty() {
+        let reason = if sites.is_empty() {
+            format!(
+                "no graspable bar: nowhere on the part (height {:.0} mm) can a 2F-85 close across \
+                 {:.0}–{:.0} mm of material with room for the open fingers on both sides",
+                slab.height() * 1e3,
+                bars::MIN_BAR_WIDTH * 1e3,
+                bars::MAX_BAR_WIDTH * 1e3,
+            )
+        } else {
+            format!(
+                "no grasp set: {} bar sites, but no two power grasps {:.0} mm apart and farther \
+                 than Δd_a from any of the best {AXES_CONSIDERED} rotation axes",
+                sites.len(),
+                GRIPPER_SPACING * 1e3
+            )
+        };
+        let mut file = plan_file_header(scene, "no_plan", Some(reason));
+        file.candidates = axes
+            .candidates
+            .iter()
+            .map(RotationAxisCandidate::to_json)
+            .collect();
+        file.grasps.auto = Some(summary(0, 0, None, [0.0; 3]));
+        file.timing_ms
+            .insert("total".into(), t0.elapsed().as_secs_f64() * 1e3);
+        return Ok(PlanReport {
+            file,
+            physics_note: None,
+            candidates: axes.candidates,
+            outcomes: Vec::new(),
+        });
+    }
+    // Batches of SETS_PLANNED sets, in rank order, until a batch has a plan.
+    on_candidates(sets.len());
+    let mut reports: Vec<PlanReport> = Vec::new();
+    for batch in sets.chunks(SETS_PLANNED) {
+        let planned: Vec<Result<PlanReport, ContextError>> = batch
+            .par_iter()
+            .map(|set| {
+                let mut s = scene.clone();
+                s.grasps.support = set.support;
+                s.grasps.power = set.power;
+                let r = plan(&s, mesh, options, &|_| {}, &|| {});
+                progress();
+                r
+            })
+            .collect();
+        for r in planned {
+            reports.push(r?);
+        }
+        if reports.iter().any(|r| !r.file.plans.is_empty()) {
+            break;
+        }
+    }
+    let tried = &sets[..reports.len()];
+    let best = (0..reports.len())
+        .filter(|&k| !reports[k].file.plans.is_empty())
+        .max_by(|&a, &b| {
+            let score = |k: usize| reports[k].file.plans[0].score;
+            score(a).total_cmp(&score(b)).then(b.cmp(&a))
+        });
+    let planned = reports.iter().filter(|r| !r.file.plans.is_empty()).count();
+    let k = best.unwrap_or(0);
+    let mut report = reports.into_iter().nth(k).expect("at least one set");
+    let file = &mut report.file;
+    file.grasps.auto = Some(summary(tried.len(), planned, best, tried[k].widths));
+    if best.is_none() {
+        file.reason = Some(format!(
+            "auto grasps: none of the {} grasp sets tried planned (best set: {})",
+            tried.len(),
+            file.reason.clone().unwrap_or_default()
+        ));
+    }
+    file.timing_ms
+        .insert("total".into(), t0.elapsed().as_secs_f64() * 1e3);
+    Ok(report)
+}
