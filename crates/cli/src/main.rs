@@ -53,6 +53,8 @@ enum Command {
     Export(cmd::export::Args),
     /// Will the pinch hold? The minimum grip force along the rotation (quasi-static).
     Physics(cmd::physics::Args),
+    /// Plan every scene of a folder: plans, viewer pages, summary.csv/json and an HTML report.
+    Batch(cmd::batch::Args),
     /// Re-plan for the part measured at another pose, keeping the plan's rotation axis if it works.
     Replan(cmd::replan::Args),
     /// How far may the part lie from where the scene says? Placement errors, each re-planned.
@@ -87,6 +89,7 @@ fn main() -> ExitCode {
         Command::View(args) => cmd::view::run(args),
         Command::Export(args) => cmd::export::run(args),
         Command::Physics(args) => cmd::physics::run(args),
+        Command::Batch(args) => cmd::batch::run(args),
         Command::Replan(args) => cmd::replan::run(args),
         Command::Robustness(args) => cmd::robustness::run(args),
         Command::Schema(args) => cmd::schema::run(args),

@@ -414,8 +414,8 @@ pub fn analyse_plan(
 
     // The plan's own points first; then `substeps` states inside every interval where the worst
     // can hide: next to a local maximum of N_min, or where the status or the number of support
-    // contacts changes between its ends (N_min is smooth in θ elsewhere). `refine_all` refines
-    // every interval.
+    // contacts changes between its ends (N_min is smooth in θ elsewhere) — not between two
+    // states that fail the same way. `refine_all` refines every interval.
     let all = rot_states(rot, plan_index, settings.substeps)?;
     let stride = settings.substeps + 1;
     let mut at_points = Vec::new();
@@ -429,12 +429,12 @@ pub fn analyse_plan(
     let refine = |k: usize| {
         // interval k lies between points k and k + 1
         let (a, b) = (&at_points[k], &at_points[k + 1]);
+        // Between two states that both fail in the same way the verdict is known already.
+        let both_fail = a.status == b.status && a.status != StateStatus::Held;
         settings.refine_all
             || a.status != b.status
-            || a.status != StateStatus::Held
-            || a.support_contacts != b.support_contacts
-            || local_max(k)
-            || local_max(k + 1)
+            || (!both_fail
+                && (a.support_contacts != b.support_contacts || local_max(k) || local_max(k + 1)))
     };
     let refined: Vec<bool> = (0..n.saturating_sub(1)).map(refine).collect();
     let mut states = Vec::with_capacity(all.len());

@@ -2,6 +2,7 @@
 //! returns the process exit code; errors are printed by `main` with exit code 1.
 
 pub mod axes;
+pub mod batch;
 pub mod bench;
 pub mod check;
 pub mod demo;
