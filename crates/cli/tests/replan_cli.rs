@@ -120,3 +120,56 @@ fn robustness_options_are_checked() {
         serde_json::from_slice(&std::fs::read(dir.path().join("r.json")).unwrap()).unwrap();
     assert_eq!(report["samples"].as_array().unwrap().len(), 2);
 }
+
+/// An auto-grasp scene: `replan` and `robustness` follow the grasps its search chose.
+#[test]
+fn replan_follows_the_grasps_an_auto_scene_chose() {
+    let dir = tempfile::tempdir().unwrap();
+    let ex = pregrasp_examples::by_name("chair_side").unwrap();
+    pregrasp_examples::write_example(dir.path(), &ex).unwrap();
+    let text = ex.scene_toml.clone();
+    let start = text.find("[grasps]").unwrap();
+    let end = start + 1 + text[start + 1..].find("\n[").unwrap();
+    let auto = format!(
+        "{}[grasps]\nmode = \"auto\"\n{}",
+        &text[..start],
+        &text[end..]
+    );
+    std::fs::write(dir.path().join("chair_side.toml"), auto).unwrap();
+    let out = pregrasp(
+        dir.path(),
+        &["plan", "chair_side.toml", "-o", "plan.json", "--quiet"],
+    );
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let plan: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("plan.json")).unwrap()).unwrap();
+    let p = &plan["object"]["initial_pose"];
+    let (xyz, q) = (&p["xyz"], &p["quat_xyzw"]);
+    let pose = format!(
+        "{} {} 0 {} {} {} {}",
+        xyz[0].as_f64().unwrap() + 0.003,
+        xyz[1],
+        q[0],
+        q[1],
+        q[2],
+        q[3]
+    );
+    let out = pregrasp(
+        dir.path(),
+        &[
+            "replan",
+            "plan.json",
+            "--object-pose",
+            &pose,
+            "-o",
+            "new.json",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let new: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("new.json")).unwrap()).unwrap();
+    assert_eq!(new["grasps"]["support"], plan["grasps"]["support"]);
+    assert_eq!(new["grasps"]["power"], plan["grasps"]["power"]);
+    let check = pregrasp(dir.path(), &["check", "new.json"]);
+    assert_eq!(check.status.code(), Some(0), "{check:?}");
+}

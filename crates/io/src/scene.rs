@@ -381,6 +381,18 @@ impl Scene {
         })
     }
 
+    /// This scene with the grasps a plan file used (e.g. the ones an auto scene's search
+    /// chose), as hand-placed grasps: re-planning and robustness follow the plan's grasps.
+    pub fn with_grasps_of(&self, grasps: &crate::plan_file::GraspsJson) -> Scene {
+        let mut s = self.clone();
+        s.grasps = Grasps {
+            power: [grasps.power[0].to_isometry(), grasps.power[1].to_isometry()],
+            support: grasps.support.to_isometry(),
+            auto: None,
+        };
+        s
+    }
+
     /// P_init: the object pose raised by `planner.lift` along world `z`.
     pub fn initial_object_pose(&self) -> Isometry3<f64> {
         let mut p = self.object.pose;

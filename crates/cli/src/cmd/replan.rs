@@ -101,7 +101,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .scene
         .clone()
         .unwrap_or_else(|| super::check::resolve_mesh(&args.plan, &nominal.scene.file));
-    let scene = Scene::load(&scene_path)?;
+    // The plan's grasps (for an auto scene, the ones its search chose) are the ones followed.
+    let scene = Scene::load(&scene_path)?.with_grasps_of(&nominal.grasps);
     let mesh = load_mesh(&scene.object.mesh_path, scene.object.scale)
         .with_context(|| format!("{}: object.mesh", scene_path.display()))?
         .mesh;

@@ -9,7 +9,8 @@ use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::scene::Scene;
-use pregrasp_planner::pipeline::{plan, PlanOptions};
+use pregrasp_planner::auto_grasps::plan_auto;
+use pregrasp_planner::pipeline::PlanOptions;
 use pregrasp_planner::robustness::{default_levels, per_plan, robustness, PlacementError};
 
 use super::{EXIT_NO_PLAN, EXIT_OK};
@@ -72,7 +73,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()?;
-    let nominal = pool.install(|| plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}))?;
+    let nominal =
+        pool.install(|| plan_auto(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}))?;
+    // An auto scene's placements keep the grasps its search chose at the nominal pose.
+    let scene = scene.with_grasps_of(&nominal.file.grasps);
     if nominal.file.plans.is_empty() {
         println!(
             "no plan at the nominal pose: {}",
