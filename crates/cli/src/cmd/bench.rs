@@ -73,7 +73,8 @@ pub fn run(command: BenchCommand) -> anyhow::Result<ExitCode> {
 }
 
 fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
-    use pregrasp_planner::pipeline::{plan, PlanOptions};
+    use pregrasp_planner::auto_grasps::plan_auto;
+    use pregrasp_planner::pipeline::PlanOptions;
     let scene = pregrasp_io::scene::Scene::load(&args.scene)?;
     let mesh = pregrasp_io::mesh_io::load_mesh(&scene.object.mesh_path, scene.object.scale)
         .with_context(|| format!("{}: object.mesh", args.scene.display()))?
@@ -89,7 +90,7 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
     let mut status = String::new();
     for run in 0..=runs {
         let report =
-            pool.install(|| plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}))?;
+            pool.install(|| plan_auto(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}))?;
         status = report.file.status.clone();
         if run > 0 {
             for (k, stage) in stages.iter().enumerate() {

@@ -22,7 +22,7 @@ pub mod bars;
 use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, UnitQuaternion};
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::AutoGraspsJson;
-use pregrasp_io::scene::Scene;
+use pregrasp_io::scene::{AutoGrasps, Scene};
 use rayon::prelude::*;
 
 use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
@@ -92,7 +92,11 @@ pub fn grasp_sets(
     axes: &[RotationAxisCandidate],
     p_init: &Isometry3<f64>,
 ) -> Result<Vec<GraspSet>, ContextError> {
-    let pins = scene.grasps.auto.expect("an auto scene");
+    // A scene with hand-placed grasps pins none here: every grasp is searched.
+    let pins = scene.grasps.auto.unwrap_or(AutoGrasps {
+        support_pinned: false,
+        power_pinned: false,
+    });
     let arms = arm_models(scene)?;
     let fingers = pregrasp_robot::FingerKinematics::robotiq_2f85();
     let precision_z = scene
