@@ -113,12 +113,19 @@ fn robustness_options_are_checked() {
             "3",
             "--json",
             "r.json",
+            "--svg",
+            "r.svg",
         ],
     );
     assert_eq!(out.status.code(), Some(0), "{out:?}");
     let report: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.path().join("r.json")).unwrap()).unwrap();
     assert_eq!(report["samples"].as_array().unwrap().len(), 2);
+    let chart = std::fs::read_to_string(dir.path().join("r.svg")).unwrap();
+    assert!(
+        chart.starts_with("<svg") && chart.contains("±3 mm"),
+        "{chart}"
+    );
 }
 
 /// An auto-grasp scene: `replan` and `robustness` follow the grasps its search chose.

@@ -378,3 +378,82 @@ pub fn plan_ranked_by_robustness(
         .insert("total".into(), t0.elapsed().as_secs_f64() * 1e3);
     Ok(report)
 }
+
+/// An SVG bar chart of the report: per level, the share of placements that planned (light)
+/// and that planned with the nominal axis (dark), 0–100 %.
+pub fn svg(report: &RobustnessReport, title: &str) -> String {
+    use std::fmt::Write as _;
+    let n = report.levels.len().max(1);
+    let (w, h, left, top, bottom) = (80.0 + 70.0 * n as f64, 300.0, 50.0, 40.0, 70.0);
+    let plot_h = h - top - bottom;
+    let esc = |s: &str| {
+        s.replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;")
+    };
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" font-size="11">"#
+    );
+    let _ = writeln!(
+        out,
+        r#"<text x="{left}" y="20" font-size="14">{}</text>"#,
+        esc(title)
+    );
+    for pct in [0, 50, 100] {
+        let y = top + plot_h * (1.0 - pct as f64 / 100.0);
+        let _ = writeln!(
+            out,
+            r##"<line x1="{left}" x2="{}" y1="{y}" y2="{y}" stroke="#ccc"/><text x="8" y="{}">{pct} %</text>"##,
+            w - 10.0,
+            y + 4.0
+        );
+    }
+    for (k, l) in report.levels.iter().enumerate() {
+        let x = left + 10.0 + 70.0 * k as f64;
+        let share = |c: usize| c as f64 / l.samples.max(1) as f64;
+        for (dx, value, colour) in [
+            (0.0, share(l.planned), "#9ecae1"),
+            (26.0, share(l.same_axis), "#3182bd"),
+        ] {
+            let bh = plot_h * value;
+            let _ = writeln!(
+                out,
+                r#"<rect x="{}" y="{}" width="24" height="{bh}" fill="{colour}"/>"#,
+                x + dx,
+                top + plot_h - bh
+            );
+        }
+        let label = match (l.error.pos > 0.0, l.error.yaw > 0.0) {
+            (true, true) => format!(
+                "{:.0} mm {:.0}°",
+                l.error.pos * 1e3,
+                l.error.yaw.to_degrees()
+            ),
+            (true, false) => format!("{:.0} mm", l.error.pos * 1e3),
+            (false, true) => format!("{:.0}°", l.error.yaw.to_degrees()),
+            (false, false) => "0".into(),
+        };
+        let _ = writeln!(
+            out,
+            r#"<text x="{}" y="{}" text-anchor="middle">±{}</text>"#,
+            x + 25.0,
+            h - bottom + 16.0,
+            esc(&label)
+        );
+    }
+    let _ = writeln!(
+        out,
+        r##"<rect x="{left}" y="{}" width="12" height="12" fill="#9ecae1"/><text x="{}" y="{}">some plan</text><rect x="{}" y="{}" width="12" height="12" fill="#3182bd"/><text x="{}" y="{}">the plan's own rotation axis</text>"##,
+        h - 30.0,
+        left + 16.0,
+        h - 20.0,
+        left + 100.0,
+        h - 30.0,
+        left + 116.0,
+        h - 20.0
+    );
+    out.push_str("</svg>\n");
+    out
+}

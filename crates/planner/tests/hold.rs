@@ -107,3 +107,19 @@ fn scene_friction_reaches_the_check() {
     // The motions do not depend on the physics settings.
     assert_eq!(base.plans[0].segments, file.plans[0].segments);
 }
+
+/// A real CAD mesh is often not closed: then the part has no known centre of mass, the plans
+/// carry no `physics` object, nothing is rejected for it, and the report says why.
+#[test]
+fn an_open_mesh_plans_without_the_grip_check() {
+    let (scene, mut mesh) = chair(None, "");
+    let closed = run(&scene, &mesh);
+    mesh.triangles.pop();
+    let report = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}).unwrap();
+    let note = report.physics_note.as_deref().expect("the report says why");
+    assert!(note.contains("not a closed surface"), "{note}");
+    let file = report.file;
+    assert_eq!(file.status, "planned");
+    assert!(file.plans.iter().all(|p| p.physics.is_none()));
+    assert_eq!(file.plans.len(), closed.plans.len());
+}

@@ -11,7 +11,7 @@ use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::auto_grasps::plan_auto;
 use pregrasp_planner::pipeline::PlanOptions;
-use pregrasp_planner::robustness::{default_levels, per_plan, robustness, PlacementError};
+use pregrasp_planner::robustness::{default_levels, per_plan, robustness, svg, PlacementError};
 
 use super::{EXIT_NO_PLAN, EXIT_OK};
 
@@ -40,6 +40,9 @@ pub struct Args {
     /// Write the whole report (every sample) as JSON.
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
+    /// Write an SVG bar chart of the share planned per level.
+    #[arg(long, value_name = "FILE")]
+    pub svg: Option<PathBuf>,
     /// Write the nominal plan file with each plan's `robustness` object (the share of samples
     /// in which its rotation axis planned again, per level, and the largest level it always did).
     #[arg(long, value_name = "FILE")]
@@ -146,6 +149,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             level_name(e)
         ),
         None => println!("the plan's axis failed in some sample at every level"),
+    }
+    if let Some(path) = &args.svg {
+        let chart = svg(
+            &report,
+            &format!("{}: placement error vs planning", args.scene.display()),
+        );
+        pregrasp_io::plan_file::write_atomic(path, chart.as_bytes())?;
+        println!("wrote {}", path.display());
     }
     if let Some(path) = &args.write_plan {
         let mut file = nominal.file.clone();
