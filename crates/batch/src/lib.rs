@@ -14,13 +14,12 @@ pub mod report;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::mesh_io::{parse_mesh, read_mesh_bytes};
 use pregrasp_io::plan_file::{write_atomic, PlanFile};
 use pregrasp_io::scene::Scene;
-use pregrasp_planner::auto_grasps::plan_auto;
 use pregrasp_planner::check::check_plan;
 use pregrasp_planner::pipeline::PlanOptions;
-use pregrasp_planner::robustness::plan_ranked_by_robustness;
+use pregrasp_planner::plan_scene;
 use rayon::prelude::*;
 
 /// What became of one scene.
@@ -159,22 +158,13 @@ pub fn plan_one(dir: &Path, out: &Path, scene_path: &Path, options: &PlanOptions
         Ok(s) => s,
         Err(e) => return fail(record, e.to_string()),
     };
-    let (Ok(scene_text), Ok(mesh_bytes)) = (
-        std::fs::read(scene_path),
-        std::fs::read(&scene.object.mesh_path),
-    ) else {
-        return fail(
-            record,
-            format!(
-                "{}: object.mesh: cannot read {}",
-                scene_path.display(),
-                scene.object.mesh_path.display()
-            ),
-        );
-    };
-    let stamp = Stamp::of(&scene_text, &mesh_bytes);
-    let mesh = match load_mesh(&scene.object.mesh_path, scene.object.scale) {
-        Ok(m) => m.mesh,
+    // The mesh is read once (refused unless a regular file), for the stamp and to parse.
+    let mesh_path = &scene.object.mesh_path;
+    let loaded = read_mesh_bytes(mesh_path).and_then(|bytes| {
+        parse_mesh(&bytes, mesh_path, scene.object.scale).map(|m| (bytes, m.mesh))
+    });
+    let (mesh_bytes, mesh) = match loaded {
+        Ok(x) => x,
         Err(e) => {
             return fail(
                 record,
@@ -182,6 +172,11 @@ pub fn plan_one(dir: &Path, out: &Path, scene_path: &Path, options: &PlanOptions
             )
         }
     };
+    let scene_text = match std::fs::read(scene_path) {
+        Ok(t) => t,
+        Err(e) => return fail(record, format!("{}: {e}", scene_path.display())),
+    };
+    let stamp = Stamp::of(&scene_text, &mesh_bytes);
     let up_to_date = std::fs::read_to_string(&stamp_path).is_ok_and(|s| s.trim() == stamp.0)
         && view_path.is_file();
     let reused = if up_to_date {
@@ -192,12 +187,7 @@ pub fn plan_one(dir: &Path, out: &Path, scene_path: &Path, options: &PlanOptions
     let (file, reused) = match reused {
         Some(file) => (file, true),
         None => {
-            let planner = if scene.grasps.auto.is_some() {
-                plan_auto
-            } else {
-                plan_ranked_by_robustness
-            };
-            let report = match planner(&scene, &mesh, options, &|_| {}, &|| {}) {
+            let report = match plan_scene(&scene, &mesh, options, &|_| {}, &|| {}) {
                 Ok(r) => r,
                 Err(e) => return fail(record, format!("{}: {e}", scene_path.display())),
             };

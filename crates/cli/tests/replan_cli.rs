@@ -4,23 +4,28 @@ mod common;
 
 use common::{examples_dir, plan_chair_side, pregrasp};
 
+/// The plan's object pose moved by (`dx`, `dy`) on the table, as `--object-pose` takes it.
+fn shifted_pose(plan: &serde_json::Value, dx: f64, dy: f64) -> String {
+    let p = &plan["object"]["initial_pose"];
+    let (xyz, q) = (&p["xyz"], &p["quat_xyzw"]);
+    format!(
+        "{} {} 0 {} {} {} {}",
+        xyz[0].as_f64().unwrap() + dx,
+        xyz[1].as_f64().unwrap() + dy,
+        q[0],
+        q[1],
+        q[2],
+        q[3]
+    )
+}
+
 #[test]
 fn replan_writes_a_plan_that_passes_check() {
     let dir = tempfile::tempdir().unwrap();
     plan_chair_side(dir.path());
     let plan: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.path().join("plan.json")).unwrap()).unwrap();
-    let p = &plan["object"]["initial_pose"];
-    let (xyz, q) = (&p["xyz"], &p["quat_xyzw"]);
-    let pose = format!(
-        "{} {} 0 {} {} {} {}",
-        xyz[0].as_f64().unwrap() + 0.004,
-        xyz[1].as_f64().unwrap() - 0.002,
-        q[0],
-        q[1],
-        q[2],
-        q[3]
-    );
+    let pose = shifted_pose(&plan, 0.004, -0.002);
     let out = pregrasp(
         dir.path(),
         &[
@@ -150,17 +155,7 @@ fn replan_follows_the_grasps_an_auto_scene_chose() {
     assert_eq!(out.status.code(), Some(0), "{out:?}");
     let plan: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.path().join("plan.json")).unwrap()).unwrap();
-    let p = &plan["object"]["initial_pose"];
-    let (xyz, q) = (&p["xyz"], &p["quat_xyzw"]);
-    let pose = format!(
-        "{} {} 0 {} {} {} {}",
-        xyz[0].as_f64().unwrap() + 0.003,
-        xyz[1],
-        q[0],
-        q[1],
-        q[2],
-        q[3]
-    );
+    let pose = shifted_pose(&plan, 0.003, 0.0);
     let out = pregrasp(
         dir.path(),
         &[

@@ -64,22 +64,33 @@ pub fn load_mesh(path: &Path, scale: f64) -> Result<LoadedMesh, MeshError> {
     if !(scale.is_finite() && scale > 0.0) {
         return Err(MeshError::Scale { file, scale });
     }
-    // Only a regular file: a FIFO or device would block the read for ever.
+    parse_mesh(&read_mesh_bytes(path)?, path, scale)
+}
+
+/// The bytes of the mesh file at `path`, which must be a regular file: a FIFO or device would
+/// block the read for ever.
+pub fn read_mesh_bytes(path: &Path) -> Result<Vec<u8>, MeshError> {
+    let file = path.display().to_string();
     match std::fs::metadata(path) {
         Ok(meta) if !meta.is_file() => return Err(MeshError::NotAFile { file }),
         _ => {}
     }
-    let bytes = std::fs::read(path).map_err(|error| MeshError::Read {
-        file: file.clone(),
-        error,
-    })?;
+    std::fs::read(path).map_err(|error| MeshError::Read { file, error })
+}
+
+/// Parses mesh `bytes` read from `path` (format from its extension, as [`load_mesh`]).
+pub fn parse_mesh(bytes: &[u8], path: &Path, scale: f64) -> Result<LoadedMesh, MeshError> {
+    let file = path.display().to_string();
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(MeshError::Scale { file, scale });
+    }
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("stl") => parse_stl(&bytes, &file, scale),
-        Some("obj") => parse_obj(&bytes, &file, scale),
+        Some("stl") => parse_stl(bytes, &file, scale),
+        Some("obj") => parse_obj(bytes, &file, scale),
         _ => Err(MeshError::Format { file }),
     }
 }

@@ -34,3 +34,21 @@ pub mod timing;
 pub mod auto_grasps;
 pub mod axes;
 pub use axes::{rotation_axis_candidates, AxesResult, Direction, RotationAxisCandidate};
+
+/// A scene planned as `pregrasp plan` plans it: with its grasps found from the mesh when it
+/// asks for `[grasps] mode = "auto"` ([`auto_grasps::plan_auto`]), otherwise with its own grasps
+/// and plans ranked by robustness when `[planner] robustness_samples` > 0
+/// ([`robustness::plan_ranked_by_robustness`], which is the plain [`pipeline::plan`] when it is 0).
+pub fn plan_scene(
+    scene: &pregrasp_io::scene::Scene,
+    mesh: &pregrasp_geometry::Mesh,
+    options: &pipeline::PlanOptions,
+    on_candidates: &(dyn Fn(usize) + Sync),
+    progress: &(dyn Fn() + Sync),
+) -> Result<pipeline::PlanReport, context::ContextError> {
+    if scene.grasps.auto.is_some() {
+        auto_grasps::plan_auto(scene, mesh, options, on_candidates, progress)
+    } else {
+        robustness::plan_ranked_by_robustness(scene, mesh, options, on_candidates, progress)
+    }
+}

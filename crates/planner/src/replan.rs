@@ -95,6 +95,30 @@ pub fn matching_candidate(
         .map(|c| c.id)
 }
 
+/// The id, among Algorithm 1's candidates for `moved` (the scene at the measured pose), of the
+/// rotation axis of plan `plan_index` of `nominal`, if it is still a candidate.
+fn candidate_at(
+    moved: &Scene,
+    mesh: &Mesh,
+    nominal: &PlanFile,
+    plan_index: usize,
+) -> Option<usize> {
+    let plan = nominal.plans.get(plan_index)?;
+    let candidate = nominal.candidates.iter().find(|c| c.id == plan.candidate)?;
+    let axes = rotation_axis_candidates(
+        mesh,
+        &moved.object.pose,
+        moved.support_height,
+        &moved.planner,
+    );
+    matching_candidate(
+        candidate,
+        &nominal.object.initial_pose.to_isometry(),
+        &axes.candidates,
+        &axes.p_init,
+    )
+}
+
 /// Plans `scene` with the part at `object_pose`, keeping the rotation axis of plan
 /// `plan_index` of `nominal` when it still works.
 pub fn replan(
@@ -107,24 +131,7 @@ pub fn replan(
 ) -> Result<Replanned, ContextError> {
     let mut moved = scene.clone();
     moved.object.pose = object_pose;
-    let nominal_candidate = nominal
-        .plans
-        .get(plan_index)
-        .and_then(|p| nominal.candidates.iter().find(|c| c.id == p.candidate));
-    let axes = rotation_axis_candidates(
-        mesh,
-        &moved.object.pose,
-        moved.support_height,
-        &moved.planner,
-    );
-    let matched = nominal_candidate.and_then(|c| {
-        matching_candidate(
-            c,
-            &nominal.object.initial_pose.to_isometry(),
-            &axes.candidates,
-            &axes.p_init,
-        )
-    });
+    let matched = candidate_at(&moved, mesh, nominal, plan_index);
     let full = |route| -> Result<Replanned, ContextError> {
         let report = plan(&moved, mesh, options, &|_| {}, &|| {})?;
         Ok(Replanned { report, route })
@@ -212,24 +219,7 @@ pub fn replan_from_rot(
         * arms[sup].flange_world(&q_sup)
         * arms[sup].gripper.precision_point();
 
-    let axes = rotation_axis_candidates(
-        mesh,
-        &moved.object.pose,
-        moved.support_height,
-        &moved.planner,
-    );
-    let matched = nominal
-        .candidates
-        .iter()
-        .find(|c| c.id == plan_json.candidate)
-        .and_then(|c| {
-            matching_candidate(
-                c,
-                &nominal.object.initial_pose.to_isometry(),
-                &axes.candidates,
-                &axes.p_init,
-            )
-        });
+    let matched = candidate_at(&moved, mesh, nominal, plan_index);
     let options = PlanOptions {
         max_plans: 1,
         only: Some(matched.into_iter().collect()),

@@ -35,6 +35,18 @@ pub struct PlacementError {
     pub yaw: f64,
 }
 
+impl PlacementError {
+    /// `5 mm, 2°`, `5 mm`, `2°` or `none`.
+    pub fn label(&self) -> String {
+        match (self.pos > 0.0, self.yaw > 0.0) {
+            (true, true) => format!("{:.0} mm, {:.0}°", self.pos * 1e3, self.yaw.to_degrees()),
+            (true, false) => format!("{:.0} mm", self.pos * 1e3),
+            (false, true) => format!("{:.0}°", self.yaw.to_degrees()),
+            (false, false) => "none".into(),
+        }
+    }
+}
+
 /// The levels of the README's table: position alone (2–50 mm), yaw alone (1–20°), both.
 pub fn default_levels() -> Vec<PlacementError> {
     let mm = |x: f64| x * 1e-3;
@@ -425,16 +437,7 @@ pub fn svg(report: &RobustnessReport, title: &str) -> String {
                 top + plot_h - bh
             );
         }
-        let label = match (l.error.pos > 0.0, l.error.yaw > 0.0) {
-            (true, true) => format!(
-                "{:.0} mm {:.0}°",
-                l.error.pos * 1e3,
-                l.error.yaw.to_degrees()
-            ),
-            (true, false) => format!("{:.0} mm", l.error.pos * 1e3),
-            (false, true) => format!("{:.0}°", l.error.yaw.to_degrees()),
-            (false, false) => "0".into(),
-        };
+        let label = l.error.label();
         let _ = writeln!(
             out,
             r#"<text x="{}" y="{}" text-anchor="middle">±{}</text>"#,

@@ -10,9 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
-use pregrasp_planner::auto_grasps::plan_auto;
 use pregrasp_planner::pipeline::{CandidateOutcome, PlanOptions, PlanReport};
-use pregrasp_planner::robustness::plan_ranked_by_robustness;
+use pregrasp_planner::plan_scene;
 
 use super::{EXIT_NO_PLAN, EXIT_OK};
 
@@ -93,12 +92,7 @@ pub fn plan_scene_file(
         bar
     };
     let report = pool.install(|| {
-        let planner = if scene.grasps.auto.is_some() {
-            plan_auto
-        } else {
-            plan_ranked_by_robustness
-        };
-        planner(
+        plan_scene(
             &scene,
             &loaded.mesh,
             options,

@@ -135,7 +135,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let mm = |v: Option<f64>| v.map_or("-".into(), |x| format!("{:.1}", x * 1e3));
         println!(
             "{:<16} {:>9} {:>10}  {:<34} {} / {} mm",
-            level_name(&l.error),
+            l.error.label(),
             pct(l.planned),
             pct(l.same_axis),
             stages,
@@ -146,7 +146,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     match &report.axis_tolerance {
         Some(e) => println!(
             "the plan's axis planned again in every sample up to {}",
-            level_name(e)
+            e.label()
         ),
         None => println!("the plan's axis failed in some sample at every level"),
     }
@@ -176,13 +176,4 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         println!("wrote {}", path.display());
     }
     Ok(ExitCode::from(EXIT_OK))
-}
-
-fn level_name(e: &PlacementError) -> String {
-    match (e.pos > 0.0, e.yaw > 0.0) {
-        (true, true) => format!("{:.0} mm, {:.0}°", e.pos * 1e3, e.yaw.to_degrees()),
-        (true, false) => format!("{:.0} mm", e.pos * 1e3),
-        (false, true) => format!("{:.0}°", e.yaw.to_degrees()),
-        (false, false) => "none".into(),
-    }
 }

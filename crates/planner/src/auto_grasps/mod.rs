@@ -29,6 +29,7 @@ use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
 use crate::context::{arm_models, distinct_ik, ContextError};
 use crate::output::plan_file_header;
 use crate::pipeline::{plan, PlanOptions, PlanReport};
+use crate::poses::distance_to_line;
 use bars::{bar_sites, BarSite, Slab};
 
 /// Rotation axes (best S_rot first) around which grasp sets are built.
@@ -76,12 +77,6 @@ fn site_pose(site: &BarSite, slab: &Slab, height: f64) -> Isometry3<f64> {
         origin.coords.into(),
         UnitQuaternion::from_rotation_matrix(&rot),
     )
-}
-
-fn distance_to_line(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>) -> f64 {
-    let d = (b - a).normalize();
-    let v = p - a;
-    (v - d * v.dot(&d)).norm()
 }
 
 /// The grasp sets of `scene` (whose grasps may be placeholders) for the sites found.
