@@ -55,6 +55,14 @@ pub enum MeshError {
     },
     #[error("{file}: scale must be a finite number > 0, found {scale}")]
     Scale { file: String, scale: f64 },
+    /// A face of an in-memory mesh ([`mesh_from_arrays`]) names a vertex that is not there.
+    #[error("{file}: face {face} uses vertex {index}, but there are {vertices} vertices")]
+    BadIndex {
+        file: String,
+        face: usize,
+        index: i64,
+        vertices: usize,
+    },
 }
 
 /// Reads the mesh at `path` (format from the extension, `.stl` or `.obj`, any case) and
@@ -93,6 +101,56 @@ pub fn parse_mesh(bytes: &[u8], path: &Path, scale: f64) -> Result<LoadedMesh, M
         Some("obj") => parse_obj(bytes, &file, scale),
         _ => Err(MeshError::Format { file }),
     }
+}
+
+/// A mesh given as arrays (a part straight from perception, or from Python): `vertices` in
+/// mesh units (multiplied by `scale` to metres), `faces` as vertex indices. The same checks as
+/// a file's: finite coordinates, indices in range, degenerate faces dropped with a warning, a
+/// warning for open or non-manifold edges. `name` stands for the file in messages.
+pub fn mesh_from_arrays(
+    vertices: &[[f64; 3]],
+    faces: &[[i64; 3]],
+    name: &str,
+    scale: f64,
+) -> Result<LoadedMesh, MeshError> {
+    let file = name.to_string();
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(MeshError::Scale { file, scale });
+    }
+    if let Some((index, v)) = vertices
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !v.iter().all(|c| c.is_finite()))
+    {
+        return Err(MeshError::NonFinite {
+            file,
+            index,
+            value: *v,
+        });
+    }
+    let n = vertices.len();
+    let mut triangles = Vec::with_capacity(faces.len());
+    for (face, f) in faces.iter().enumerate() {
+        if let Some(&index) = f.iter().find(|&&i| i < 0 || i as u64 >= n as u64) {
+            return Err(MeshError::BadIndex {
+                file,
+                face,
+                index,
+                vertices: n,
+            });
+        }
+        triangles.push(f.map(|i| i as u32));
+    }
+    let points = vertices
+        .iter()
+        .map(|v| Point::new(v[0], v[1], v[2]) * scale)
+        .collect();
+    let mut loaded = LoadedMesh {
+        mesh: Mesh::new(points, triangles),
+        warnings: Vec::new(),
+    };
+    finish(&mut loaded, &file)?;
+    Ok(loaded)
 }
 
 /// Parses STL bytes (binary or ASCII); `file` names the source in messages.

@@ -5,7 +5,7 @@
 //! reproducible.
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use serde::{Deserialize, Serialize};
@@ -294,6 +294,20 @@ pub enum PlanFileError {
     Format { path: String, found: String },
     #[error("{path}: cannot write: {error}")]
     Write { path: String, error: std::io::Error },
+}
+
+/// A path a plan file names (`object.mesh`, `scene.file`): as written (relative to the current
+/// directory), else relative to the plan file's directory — how `check`, `view`, `export`,
+/// `physics`, `replan` and the Python package find a plan's mesh and scene.
+pub fn resolve_beside(plan_path: &Path, entry: &str) -> PathBuf {
+    let given = PathBuf::from(entry);
+    if given.is_absolute() || given.exists() {
+        return given;
+    }
+    match plan_path.parent() {
+        Some(dir) if dir.join(&given).exists() => dir.join(given),
+        _ => given,
+    }
 }
 
 impl PlanFile {

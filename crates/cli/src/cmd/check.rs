@@ -1,11 +1,11 @@
 //! `pregrasp check PLAN.json`: re-verifies a plan file against every validity rule.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context;
 use pregrasp_io::mesh_io::load_mesh;
-use pregrasp_io::plan_file::PlanFile;
+use pregrasp_io::plan_file::{resolve_beside, PlanFile};
 use pregrasp_planner::check::check_plan;
 
 use super::{EXIT_NO_PLAN, EXIT_OK};
@@ -29,7 +29,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mesh_path = args
         .mesh
         .clone()
-        .unwrap_or_else(|| resolve_mesh(&args.plan, &file.object.mesh));
+        .unwrap_or_else(|| resolve_beside(&args.plan, &file.object.mesh));
     let mesh = load_mesh(&mesh_path, file.object.scale)
         .with_context(|| format!("{}: object.mesh", args.plan.display()))?
         .mesh;
@@ -55,17 +55,4 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         if valid { "valid" } else { "INVALID" }
     );
     Ok(ExitCode::from(if valid { EXIT_OK } else { EXIT_NO_PLAN }))
-}
-
-/// The mesh a plan names: as written (relative to the current directory), else relative to the
-/// plan file's directory.
-pub fn resolve_mesh(plan: &Path, mesh: &str) -> PathBuf {
-    let direct = PathBuf::from(mesh);
-    if direct.exists() {
-        return direct;
-    }
-    match plan.parent() {
-        Some(dir) if dir.join(mesh).exists() => dir.join(mesh),
-        _ => direct,
-    }
 }

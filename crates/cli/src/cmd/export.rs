@@ -9,8 +9,8 @@ use pregrasp_export::{export, write_all, Format, Options};
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::plan_file::PlanFile;
 
-use super::check::resolve_mesh;
 use super::EXIT_OK;
+use pregrasp_io::plan_file::resolve_beside;
 
 #[derive(clap::Args)]
 #[command(
@@ -108,7 +108,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let path = args
             .mesh
             .clone()
-            .unwrap_or_else(|| resolve_mesh(&args.plan, &file.object.mesh));
+            .unwrap_or_else(|| resolve_beside(&args.plan, &file.object.mesh));
         let loaded =
             load_mesh(&path, file.object.scale).with_context(|| format!("{shown}: object.mesh"))?;
         for w in &loaded.warnings {

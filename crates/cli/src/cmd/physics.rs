@@ -55,13 +55,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mesh_path = args
         .mesh
         .clone()
-        .unwrap_or_else(|| super::check::resolve_mesh(&args.plan, &file.object.mesh));
+        .unwrap_or_else(|| pregrasp_io::plan_file::resolve_beside(&args.plan, &file.object.mesh));
     let mesh = load_mesh(&mesh_path, file.object.scale)
         .with_context(|| format!("{}: object.mesh", args.plan.display()))?
         .mesh;
 
     let mut settings = PhysicsSettings::default();
-    let scene_path = super::check::resolve_mesh(&args.plan, &file.scene.file);
+    let scene_path = pregrasp_io::plan_file::resolve_beside(&args.plan, &file.scene.file);
     let scene_note = if scene_path.is_file() {
         settings = settings
             .with_scene_file(&scene_path)

@@ -100,7 +100,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let scene_path = args
         .scene
         .clone()
-        .unwrap_or_else(|| super::check::resolve_mesh(&args.plan, &nominal.scene.file));
+        .unwrap_or_else(|| pregrasp_io::plan_file::resolve_beside(&args.plan, &nominal.scene.file));
     // The plan's grasps (for an auto scene, the ones its search chose) are the ones followed.
     let scene = Scene::load(&scene_path)?.with_grasps_of(&nominal.grasps);
     let mesh = load_mesh(&scene.object.mesh_path, scene.object.scale)

@@ -1,7 +1,7 @@
 //! `pregrasp view PLAN.json -o plan.html`: one self-contained HTML page with an interactive
 //! 3D view of the plan (drawn by its own WebGL code, no network needed; open it in any browser).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context;
@@ -49,7 +49,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     let mesh_path = match &args.mesh {
         Some(p) => p.clone(),
-        None => resolve_mesh(&plan.object.mesh, &args.plan),
+        None => pregrasp_io::plan_file::resolve_beside(&args.plan, &plan.object.mesh),
     };
     let loaded = load_mesh(&mesh_path, plan.object.scale)
         .with_context(|| format!("{}: object.mesh", args.plan.display()))?;
@@ -72,19 +72,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         html.len() / 1024
     );
     Ok(ExitCode::SUCCESS)
-}
-
-/// The plan's mesh path as written (relative to the current directory), or else relative to
-/// the plan file's directory.
-fn resolve_mesh(mesh: &str, plan_path: &Path) -> PathBuf {
-    let given = PathBuf::from(mesh);
-    if given.is_absolute() || given.exists() {
-        return given;
-    }
-    match plan_path.parent() {
-        Some(dir) if dir.join(&given).exists() => dir.join(given),
-        _ => given,
-    }
 }
 
 /// A playback speed the page offers: 0.25 … 8.
