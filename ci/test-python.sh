@@ -13,7 +13,9 @@ rm -rf "$venv"
 "$venv/bin/pip" install --quiet --upgrade pip
 "$venv/bin/pip" install --quiet pytest "ray>=2.9"
 "$venv/bin/pip" install --quiet ./python
-cargo build --quiet -p pregrasp
+# The binary `cargo test --workspace` built (a plain `cargo build -p pregrasp` would resolve other
+# features and rebuild the dependencies).
+[ -x "$target/debug/pregrasp" ] || cargo build --workspace --quiet
 export PREGRASP_BIN="$target/debug/pregrasp"
 # Ray: no usage-stats prompt or upload from CI, no dashboard.
 export RAY_USAGE_STATS_ENABLED=0
