@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Derive planner geometry from the UR and Robotiq ROS 2 descriptions.
 
-usage: derive.py <Universal_Robots_ROS2_Description repo> <ros2_robotiq_gripper repo> [--ur-only|--gripper-only]
+usage: derive.py <Universal_Robots_ROS2_Description repo> <ros2_robotiq_gripper repo>
+       derive.py <Universal_Robots_ROS2_Description repo> --ur-only
+       derive.py <ros2_robotiq_gripper repo> --gripper-only
 Repos may be bare git mirrors; files are read from HEAD with `git show`.
 """
 import json
@@ -37,6 +39,11 @@ def split_vertices(out):
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     flags = [a for a in sys.argv[1:] if a.startswith("--")]
+    # --ur-only needs only the UR repo, --gripper-only only the gripper repo
+    if len(args) == 1 and "--ur-only" in flags:
+        args = [args[0], None]
+    elif len(args) == 1 and "--gripper-only" in flags:
+        args = [None, args[0]]
     if len(args) != 2:
         sys.exit(__doc__)
     ur_repo, rq_repo = args

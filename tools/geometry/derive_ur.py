@@ -39,9 +39,17 @@ def load_visual(d, key):
 
 
 def rounded(shapes):
-    """JSON values: 6 decimals, radius rounded up (so rounding never uncovers a vertex)."""
-    return [{"name": s["name"], "kind": s["kind"], "a": r6(s["a"]), "b": r6(s["b"]),
-             "radius": r6(np.ceil(s["radius"] * 1e6 - 1e-6) / 1e6 + 1e-6)} for s in shapes]
+    """JSON values: 6 decimals, radius rounded up and border rounded down (both only enlarge the solid,
+    so rounding never uncovers a vertex); "border" is emitted on every cylinder (0.0 = flat ends)."""
+    out = []
+    for s in shapes:
+        o = {"name": s["name"], "kind": s["kind"], "a": r6(s["a"]), "b": r6(s["b"]),
+             "radius": r6(np.ceil(s["radius"] * 1e6 - 1e-6) / 1e6 + 1e-6)}
+        if s["kind"] == "cylinder":
+            e = float(s.get("border", 0.0))
+            o["border"] = r6(max(0.0, np.floor(e * 1e6 + 1e-6) / 1e6 - 1e-6)) if e > 0 else 0.0
+        out.append(o)
+    return out
 
 
 def hull_subset(link, shapes, V):
@@ -118,12 +126,20 @@ def run(repo):
                 vm.apply_transform(X[name] @ d.mesh_origin[name])
                 V = np.asarray(vm.vertices); F = np.asarray(vm.faces)
                 surf = ur_vis.Surface(V, F)
-                rows = []
+                rows, seen = [], {}
                 for oi, opt in enumerate(options(name)):
-                    sh = ur_vis.fit(model, name, V, surf.S, opt)
-                    ur_vis.check_cover(name, sh, V)
-                    e, _, _ = ur_vis.measure(sh, surf, step=0.003, exact=False)
-                    rows.append((len(sh), e, oi))
+                    flat = ur_vis.fit(model, name, V, surf.S, opt)
+                    fk = repr([(s["name"], r6(s["a"]), r6(s["b"]), r6(s["radius"])) for s in flat])
+                    if fk not in seen:  # several options often give the same flat fit
+                        # screening: coarse border search (2 mm grid, one pass); the picked variant is
+                        # refined below (1 mm grid + 0.25 mm around the best, two passes)
+                        sh = ur_vis.round_edges(name, flat, V, surf, de=0.002, passes=1, refine=False)
+                        ur_vis.check_cover(name, sh, V)
+                        # the border search ranks on an approximate distance field: never keep a
+                        # variant measured worse than its flat fit
+                        seen[fk] = (len(sh), min(ur_vis.measure(sh, surf, step=0.003, exact=False)[0],
+                                                 ur_vis.measure(flat, surf, step=0.003, exact=False)[0]))
+                    rows.append((seen[fk][0], seen[fk][1], oi))
                 cache[ck] = (V, F, surf, rows)
                 print(f"  {model} {name}: " + ", ".join(f"{k}:{e*1e3:.1f}" for k, e, _ in rows), flush=True)
             per.append((name, key, fi, ck))
@@ -132,11 +148,18 @@ def run(repo):
         for (name, key, fi, ck), oi in zip(per, picks):
             V, F, surf, _ = cache[ck]
             opt = options(name)[oi]
-            sh = ur_vis.fit(model, name, V, surf.S, opt)
+            flat = ur_vis.fit(model, name, V, surf.S, opt)
+            sh = ur_vis.round_edges(name, flat, V, surf)
             shr = rounded(sh)
             ur_vis.check_cover(name, sh, V)
             ur_vis.check_cover(name, shr, V)
             e, at, who = ur_vis.measure(shr, surf)
+            flr = rounded(flat)
+            ef = ur_vis.measure(flr, surf)
+            if ef[0] < e:  # keep the flat fit (all borders 0) if it measures better
+                sh, shr, (e, at, who) = flat, flr, ef
+                ur_vis.check_cover(name, sh, V)
+                ur_vis.check_cover(name, shr, V)
             hv, n_must, over = hull_subset(name, shr, V)
             ur_vis.check_cover(name, shr, hv)
             _, cm, cpath = coll[name]

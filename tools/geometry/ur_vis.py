@@ -1,21 +1,22 @@
 """Fit cylinder/capsule sets to the UR link VISUAL meshes (in DH frames), measure the excess.
 
-Every shape is either a stack of coaxial flat-ended cylinders on a joint axis (housings, base, flange)
+Every shape is a cylinder, flat-ended or round-edged ("border", see shapes.py), either in a stack of
+coaxial cylinders on a joint axis (housings, base, flange)
 or on the tube axis (upper-arm / forearm tubes, ends buried in the housings), or a small radial
 cylinder ("nub") for a local protrusion (CB3 base cable connector, wrist_3 bump).
 
 Stack fitting is a 1-D minimax partition (DP) of the axial range into <= k segments, each segment's
 radius = the largest radial distance of its points; the segment cost is the 2-D distance (axial,
 radial) from the segment's outer edge to the link's rotational envelope (max radius per axial bin),
-where cells already covered by a perpendicular housing count as inside.  The 3-D excess is then
-measured against the real visual mesh (`measure`).
+where cells already covered by a perpendicular housing count as inside.  Borders (rounded rims) are then
+chosen per cylinder by `round_edges`.  The 3-D excess is measured against the real visual mesh (`measure`).
 """
 import numpy as np
 import trimesh
 from scipy import ndimage
 from scipy.spatial import cKDTree
 
-from shapes import sample_surface, union_dist
+from shapes import dist_outside, radius_for_border, sample_surface, union_dist
 from ur_kin import DH
 
 BASE_CLEAR = 0.002   # base cylinder starts 2 mm above the mounting plane
@@ -290,6 +291,23 @@ class Surface:
         self.tree = cKDTree(self.S)
         self.spacing = spacing
 
+    def field(self, P, h=0.001, pad=0.04):
+        """Approximate distance to the surface samples (|error| <~ h): trilinear interpolation of a
+        Euclidean distance transform on an h-voxel grid (built on first use).  Used to rank fit
+        candidates only; the reported excess is measured with the k-d tree."""
+        if not hasattr(self, "_grid"):
+            lo = self.S.min(0) - pad
+            n = np.ceil((self.S.max(0) + pad - lo) / h).astype(int) + 1
+            occ = np.zeros(n, bool)
+            idx = np.round((self.S - lo) / h).astype(int)
+            occ[idx[:, 0], idx[:, 1], idx[:, 2]] = True
+            self._grid = (lo, h, ndimage.distance_transform_edt(~occ, sampling=h).astype(np.float32))
+        lo, h, G = self._grid
+        if len(P) == 0:
+            return np.zeros(0)
+        c = ((P - lo) / h).T
+        return ndimage.map_coordinates(G, c, order=1, mode="nearest")
+
     def max_dist(self, P, exact=True):
         if len(P) == 0:
             return 0.0, None
@@ -335,3 +353,121 @@ def check_cover(link, shapes, V, tol=1e-6):
     if d.max() > tol:
         raise SystemExit(f"COVERAGE FAILURE {link}: visual vertex {P[d.argmax()]} outside by {d.max():.3e} m")
     return float(d.max())
+
+
+def _cover_points(link, V):
+    P = V.copy()
+    if link == "base":  # the 2 mm clearance above the mounting plane is intentional
+        P[:, 2] = np.maximum(P[:, 2], BASE_CLEAR)
+    return P
+
+
+def _with(s, lo, hi, r, e):
+    a, b = np.asarray(s["a"], float), np.asarray(s["b"], float)
+    u = (b - a) / np.linalg.norm(b - a)
+    out = dict(s)
+    out.update(a=a + lo * u, b=a + hi * u, radius=float(r), border=float(e))
+    return out
+
+
+def round_edges(link, shapes, V, surf, step=0.003, de=0.001, passes=2, refine=True):
+    """Give every cylinder a border e (round-edged cylinder; e = 0 is the flat cylinder) by coordinate
+    descent over the shapes, deterministic:
+
+    for cylinder i, the vertices it must contain are those outside all other shapes (so containment
+    holds after every step); its axial range is kept or an end is pushed out by e; for each border e on a
+    grid (de steps, then de/4 around the best) its radius is the smallest containing them,
+    r(e) = max(rho + e - sqrt(e^2 - dt^2)) (dt = axial distance beyond the inner range [lo+e, hi-e]).
+    The variant with the smallest link excess is kept (union-boundary samples at `step`, distance from
+    `Surface.field`, an approximate distance field of the visual surface samples; ties: the cylinder's
+    own excess, smaller e, no push-out).  The base's lowest cylinder keeps its bottom at BASE_CLEAR."""
+    shapes = [dict(s, border=float(s.get("border", 0.0))) for s in shapes]
+    P = _cover_points(link, V)
+    n = len(shapes)
+    if n == 0:
+        return shapes
+    D = np.array([dist_outside(s, P) for s in shapes])
+
+    def samples(s):
+        S = sample_surface(s, step)
+        return S, surf.field(S)
+
+    smp = [samples(s) for s in shapes]
+    for _ in range(passes):
+        changed = False
+        for i, s in enumerate(shapes):
+            if s["kind"] != "cylinder":
+                continue
+            oth = [j for j in range(n) if j != i]
+            Do = D[oth].min(0) if oth else np.full(len(P), np.inf)
+            M = P[Do > 1e-9]
+            if len(M) == 0:
+                continue
+            a, b = np.asarray(s["a"], float), np.asarray(s["b"], float)
+            L = np.linalg.norm(b - a); u = (b - a) / L
+            t = (M - a) @ u
+            rho = np.linalg.norm(M - a - t[:, None] * u, axis=1)
+            if t.min() < -1e-7 or t.max() > L + 1e-7:
+                raise SystemExit(f"round_edges {link}: vertex outside the axial range of {s['name']}: {t.min()} {t.max()} {L}")
+            # other shapes' samples and their exposure without shape i
+            other = []
+            for j in oth:
+                Sj, dj = smp[j]
+                ex = np.ones(len(Sj), bool)
+                for k in oth:
+                    if k != j:
+                        ex &= dist_outside(shapes[k], Sj) > 1e-6
+                other.append((Sj[ex], dj[ex]))
+            others_s = [shapes[j] for j in oth]
+            # the axial range is kept (trimming it would open slits at stack junctions whose
+            # inner faces then count as excess); ends may only be pushed out (below)
+            lo, hi = 0.0, L
+            # the base's lowest cylinder keeps its bottom at BASE_CLEAR (no extension below it)
+            fixed_lo = link == "base" and abs(a[2] - BASE_CLEAR) < 1e-9 and abs(u[2]) > 0.999
+            ext_lo = (0.0,) if fixed_lo else (0.0, 1.0)
+
+            def evaluate(e, xl, xh):
+                # end(s) may be pushed out by e (an end buried in another shape can then be rounded
+                # without the rounding having to contain the vertices near that end)
+                l0, h0 = lo - xl * e, hi + xh * e
+                r = max(radius_for_border(t, rho, l0, h0, e), e, 1e-4)
+                c = _with(s, l0, h0, r, e)
+                S = sample_surface(c, step)
+                if others_s:
+                    S = S[union_dist(others_s, S) > 1e-6]
+                own = float(surf.field(S).max()) if len(S) else 0.0
+                worst = own
+                for (Sj, dj) in other:
+                    if len(Sj):
+                        m = dist_outside(c, Sj) > 1e-6
+                        if m.any():
+                            worst = max(worst, float(dj[m].max()))
+                return (round(worst, 6), round(own, 6), round(e, 7), xl + xh, xl), c
+
+            best = None
+            emax = min(0.5 * (hi - lo), float(rho.max()))
+            for xl in ext_lo:
+                for xh in (0.0, 1.0):
+                    grid = np.arange(0.0, emax + 1e-12, de) if xl + xh == 0 else \
+                        np.arange(de, min(float(rho.max()), emax * 2) + 1e-12, de)
+                    cands = [evaluate(float(e), xl, xh) for e in grid]
+                    if not cands:
+                        continue
+                    k0 = min(range(len(cands)), key=lambda k: cands[k][0])
+                    if refine and de > 0:
+                        e0 = float(grid[k0])
+                        fine = [e0 + f * de / 4 for f in (-3, -2, -1, 1, 2, 3)]
+                        cands += [evaluate(e, xl, xh) for e in fine if 0 <= e <= grid[-1]]
+                    for c in cands:
+                        if best is None or c[0] < best[0]:
+                            best = c
+            new = best[1]
+            if new["radius"] != s["radius"] or new["border"] != s["border"] or \
+                    not np.array_equal(new["a"], s["a"]) or not np.array_equal(new["b"], s["b"]):
+                changed = True
+            shapes[i] = new
+            D[i] = dist_outside(new, P)
+            smp[i] = samples(new)
+        if not changed:
+            break
+    return shapes

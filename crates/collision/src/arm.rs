@@ -344,11 +344,15 @@ fn place(t: &Isometry3<f64>, prim: &Primitive) -> Placed {
             b: t * c.b,
             radius: c.radius,
         },
-        Primitive::Cylinder(c) => Placed::Cylinder {
-            a: t * c.a,
-            b: t * c.b,
-            radius: c.radius,
-        },
+        Primitive::Cylinder(c) => {
+            let (a, b, radius) = c.inset();
+            Placed::Cylinder {
+                a: t * a,
+                b: t * b,
+                radius,
+                border: c.border,
+            }
+        }
         Primitive::Cuboid { pose, half_extents } => Placed::Cuboid {
             pose: t * pose,
             half: *half_extents,

@@ -103,10 +103,15 @@ impl ObjectGeometry {
                 let lb = pose.inverse_transform_point(&b);
                 self.capsule_hits(&la, &lb, radius + margin)
             }
-            Placed::Cylinder { a, b, radius } => {
+            Placed::Cylinder {
+                a,
+                b,
+                radius,
+                border,
+            } => {
                 let la = pose.inverse_transform_point(&a);
                 let lb = pose.inverse_transform_point(&b);
-                self.cylinder_hits(&la, &lb, radius, margin)
+                self.cylinder_hits(&la, &lb, radius, margin + border)
             }
             Placed::Cuboid { pose: bp, half } => {
                 self.cuboid_hits(&pose.inv_mul(&bp), &(half + Vector3::repeat(margin)))
@@ -194,9 +199,14 @@ impl ObjectGeometry {
                 let lb = pose.inverse_transform_point(&b);
                 self.segment_distance(&la, &lb) - radius
             }
-            Placed::Cylinder { a, b, radius } => {
+            Placed::Cylinder {
+                a,
+                b,
+                radius,
+                border,
+            } => {
                 let (cp, cyl) = crate::shape::parry_cylinder(&a, &b, radius);
-                query::distance(pose, &self.mesh, &cp, &cyl).unwrap_or(0.0)
+                query::distance(pose, &self.mesh, &cp, &cyl).unwrap_or(0.0) - border
             }
             Placed::Cuboid { pose: bp, half } => {
                 query::distance(pose, &self.mesh, &bp, &PCuboid::new(half)).unwrap_or(0.0)

@@ -25,8 +25,16 @@ type V = Vector3<f64>;
 pub enum Placed {
     /// Points within `radius` of the segment `[a, b]`.
     Capsule { a: P, b: P, radius: f64 },
-    /// A flat-ended cylinder: end-face centres `a`, `b`, radius `radius`.
-    Cylinder { a: P, b: P, radius: f64 },
+    /// A cylinder with rounded rims: the flat-ended cylinder with end-face centres `a`, `b`
+    /// and radius `radius`, inflated by `border` (its Minkowski sum with a ball of that
+    /// radius; `border = 0`: the sharp cylinder itself). Every test runs on the flat-ended
+    /// core with the margin grown by `border`, which is exact.
+    Cylinder {
+        a: P,
+        b: P,
+        radius: f64,
+        border: f64,
+    },
     /// The box `|x_i| ≤ half_i` in the frame `pose` (box frame → world).
     Cuboid { pose: Isometry3<f64>, half: V },
 }
@@ -70,9 +78,14 @@ impl Bounded {
             Placed::Capsule { a, b, radius } => {
                 (nalgebra::center(&a, &b), 0.5 * (b - a).norm() + radius)
             }
-            Placed::Cylinder { a, b, radius } => (
+            Placed::Cylinder {
+                a,
+                b,
+                radius,
+                border,
+            } => (
                 nalgebra::center(&a, &b),
-                (0.25 * (b - a).norm_squared() + radius * radius).sqrt(),
+                (0.25 * (b - a).norm_squared() + radius * radius).sqrt() + border,
             ),
             Placed::Cuboid { pose, half } => (P::from(pose.translation.vector), half.norm()),
         };
@@ -91,8 +104,13 @@ impl Bounded {
                 let r = V::repeat(radius);
                 (a.inf(&b) - r, a.sup(&b) + r)
             }
-            Placed::Cylinder { a, b, radius } => {
-                let r = cylinder_rim_extent(&a, &b, radius);
+            Placed::Cylinder {
+                a,
+                b,
+                radius,
+                border,
+            } => {
+                let r = cylinder_rim_extent(&a, &b, radius).add_scalar(border);
                 (a.inf(&b) - r, a.sup(&b) + r)
             }
             Placed::Cuboid { pose, half } => {
@@ -118,14 +136,17 @@ impl Bounded {
 /// Capsule: `min(a_z, b_z) − radius`. Cuboid: centre `z` minus its support extent
 /// `Σ_i |R_{z,i}| h_i` along world `z`.
 /// Cylinder: lowest end-face centre minus the rim's reach below it, `r·√(1 − d_z²)` for the
-/// unit axis `d`.
+/// unit axis `d`, minus the border.
 #[inline]
 pub fn plane_distance(shape: &Placed, height: f64) -> f64 {
     match shape {
         Placed::Capsule { a, b, radius } => a.z.min(b.z) - radius - height,
-        Placed::Cylinder { a, b, radius } => {
-            a.z.min(b.z) - cylinder_rim_extent(a, b, *radius).z - height
-        }
+        Placed::Cylinder {
+            a,
+            b,
+            radius,
+            border,
+        } => a.z.min(b.z) - cylinder_rim_extent(a, b, *radius).z - border - height,
         Placed::Cuboid { pose, half } => {
             let m = pose.rotation.to_rotation_matrix();
             let row = m.matrix().row(2);
@@ -187,9 +208,13 @@ pub(crate) fn cylinder_capsules(a: &P, b: &P, r: f64) -> (P, P, Option<(P, P)>) 
 #[inline]
 fn outer_capsule(s: &Placed) -> Option<(P, P, f64)> {
     match *s {
-        Placed::Capsule { a, b, radius } | Placed::Cylinder { a, b, radius } => {
-            Some((a, b, radius))
-        }
+        Placed::Capsule { a, b, radius } => Some((a, b, radius)),
+        Placed::Cylinder {
+            a,
+            b,
+            radius,
+            border,
+        } => Some((a, b, radius + border)),
         Placed::Cuboid { .. } => None,
     }
 }
@@ -199,9 +224,14 @@ fn outer_capsule(s: &Placed) -> Option<(P, P, f64)> {
 fn inner_capsule(s: &Placed) -> Option<(P, P, f64)> {
     match *s {
         Placed::Capsule { a, b, radius } => Some((a, b, radius)),
-        Placed::Cylinder { a, b, radius } => cylinder_capsules(&a, &b, radius)
+        Placed::Cylinder {
+            a,
+            b,
+            radius,
+            border,
+        } => cylinder_capsules(&a, &b, radius)
             .2
-            .map(|(a, b)| (a, b, radius)),
+            .map(|(a, b)| (a, b, radius + border)),
         Placed::Cuboid { .. } => None,
     }
 }
@@ -263,13 +293,14 @@ pub fn segment_cylinder_distance(p: &P, q: &P, a: &P, b: &P, r: f64, stop: f64) 
 fn gjk_distance(s1: &Placed, s2: &Placed) -> f64 {
     let id = Isometry3::identity();
     match (*s1, *s2) {
-        (Placed::Cylinder { a, b, radius }, other) | (other, Placed::Cylinder { a, b, radius }) => {
+        (Placed::Cylinder { a, b, radius, .. }, other)
+        | (other, Placed::Cylinder { a, b, radius, .. }) => {
             let (cp, cyl) = parry_cylinder(&a, &b, radius);
             let d = match other {
                 Placed::Capsule { a, b, radius } => {
                     query::distance(&cp, &cyl, &id, &PCapsule::new(a, b, radius))
                 }
-                Placed::Cylinder { a, b, radius } => {
+                Placed::Cylinder { a, b, radius, .. } => {
                     let (cp2, cyl2) = parry_cylinder(&a, &b, radius);
                     query::distance(&cp, &cyl, &cp2, &cyl2)
                 }
@@ -291,7 +322,7 @@ type SweptSegment = (P, P, f64);
 fn cylinder_and_capsule(s1: &Placed, s2: &Placed) -> Option<(SweptSegment, SweptSegment)> {
     match (*s1, *s2) {
         (
-            Placed::Cylinder { a, b, radius },
+            Placed::Cylinder { a, b, radius, .. },
             Placed::Capsule {
                 a: p,
                 b: q,
@@ -304,14 +335,42 @@ fn cylinder_and_capsule(s1: &Placed, s2: &Placed) -> Option<(SweptSegment, Swept
                 b: q,
                 radius: r,
             },
-            Placed::Cylinder { a, b, radius },
+            Placed::Cylinder { a, b, radius, .. },
         ) => Some(((a, b, radius), (p, q, r))),
         _ => None,
     }
 }
 
-/// Distance between two primitives (signed for capsule pairs, `0` in contact otherwise).
+/// A primitive's flat-ended core and its border: a rounded cylinder as its sharp core and the
+/// rim radius; anything else as itself and 0.
+#[inline]
+fn core(s: &Placed) -> (Placed, f64) {
+    match *s {
+        Placed::Cylinder {
+            a,
+            b,
+            radius,
+            border,
+        } if border > 0.0 => (
+            Placed::Cylinder {
+                a,
+                b,
+                radius,
+                border: 0.0,
+            },
+            border,
+        ),
+        other => (other, 0.0),
+    }
+}
+
+/// Distance between two primitives (signed for capsule pairs, `0` in contact otherwise; a
+/// rounded cylinder's border is subtracted from its core's distance).
 pub fn pair_distance(s1: &Placed, s2: &Placed) -> f64 {
+    let ((c1, e1), (c2, e2)) = (core(s1), core(s2));
+    if e1 + e2 > 0.0 {
+        return pair_distance(&c1, &c2) - e1 - e2;
+    }
     if let Some(((a, b, radius), (p, q, rc))) = cylinder_and_capsule(s1, s2) {
         return segment_cylinder_distance(&p, &q, &a, &b, radius, 0.0) - rc;
     }
@@ -352,8 +411,13 @@ pub fn pair_distance(s1: &Placed, s2: &Placed) -> f64 {
 ///
 /// Pairs with a cylinder: bounded first by the cylinder's enclosing capsule (no contact there,
 /// none at all) and inscribed capsule (contact there, contact), then parry's GJK distance.
+/// A rounded cylinder is its core with the margin grown by its border (exact).
 #[inline]
 pub fn pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
+    let ((c1, e1), (c2, e2)) = (core(s1), core(s2));
+    if e1 + e2 > 0.0 {
+        return pair_intersects(&c1, &c2, margin + e1 + e2);
+    }
     if matches!(s1, Placed::Cylinder { .. }) || matches!(s2, Placed::Cylinder { .. }) {
         return cylinder_pair_intersects(s1, s2, margin);
     }
@@ -422,11 +486,13 @@ fn cylinder_pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
             a: a1,
             b: b1,
             radius: r1,
+            ..
         },
         Placed::Cylinder {
             a: a2,
             b: b2,
             radius: r2,
+            ..
         },
     ) = (*s1, *s2)
     {
@@ -578,6 +644,7 @@ mod tests {
             a: P::from(a),
             b: P::from(b),
             radius: r,
+            border: 0.0,
         }
     }
 
@@ -621,11 +688,38 @@ mod tests {
                 rng.random_range(-0.2..0.2),
             )
         };
-        for i in 0..400 {
+        // The reference: parry's GJK on its own shapes, rounded cylinders as `RoundCylinder`.
+        let parry = |s: &Placed| -> (Isometry3<f64>, Box<dyn parry3d_f64::shape::Shape>) {
+            match *s {
+                Placed::Cylinder {
+                    a,
+                    b,
+                    radius,
+                    border,
+                } => {
+                    let (pose, c) = parry_cylinder(&a, &b, radius);
+                    let round = parry3d_f64::shape::RoundCylinder {
+                        inner_shape: c,
+                        border_radius: border,
+                    };
+                    (pose, Box::new(round))
+                }
+                Placed::Capsule { a, b, radius } => {
+                    (Isometry3::identity(), Box::new(PCapsule::new(a, b, radius)))
+                }
+                Placed::Cuboid { pose, half } => (pose, Box::new(PCuboid::new(half))),
+            }
+        };
+        for i in 0..600 {
             let c = Placed::Cylinder {
                 a: pt(&mut rng),
                 b: pt(&mut rng),
                 radius: rng.random_range(0.01..0.08),
+                border: if i % 2 == 0 {
+                    0.0
+                } else {
+                    rng.random_range(0.0..0.02)
+                },
             };
             let other = match i % 3 {
                 0 => Placed::Capsule {
@@ -637,6 +731,11 @@ mod tests {
                     a: pt(&mut rng),
                     b: pt(&mut rng),
                     radius: rng.random_range(0.01..0.05),
+                    border: if i % 4 == 1 {
+                        0.0
+                    } else {
+                        rng.random_range(0.0..0.01)
+                    },
                 },
                 _ => Placed::Cuboid {
                     pose: Isometry3::from_parts(
@@ -646,7 +745,8 @@ mod tests {
                     half: V::new(0.03, 0.05, 0.02),
                 },
             };
-            let reference = gjk_distance(&c, &other).max(0.0);
+            let ((p1, g1), (p2, g2)) = (parry(&c), parry(&other));
+            let reference = query::distance(&p1, &*g1, &p2, &*g2).unwrap().max(0.0);
             let d = pair_distance(&c, &other).max(0.0);
             assert!((d - reference).abs() < 1e-5, "case {i}: {d} vs {reference}");
             for margin in [0.0, 0.01] {

@@ -30,9 +30,14 @@ fn capsule_of(arm: &ArmModel, q: &Joints, name: &str) -> (Point3<f64>, Point3<f6
     arm.placed_shapes(q, GripperState::Open)
         .into_iter()
         .find_map(|(n, s)| match s {
-            Placed::Capsule { a, b, radius } | Placed::Cylinder { a, b, radius } if n == name => {
-                Some((a, b, radius))
-            }
+            Placed::Capsule { a, b, radius } if n == name => Some((a, b, radius)),
+            // A rounded cylinder reaches its core's radius plus the border at mid-length.
+            Placed::Cylinder {
+                a,
+                b,
+                radius,
+                border,
+            } if n == name => Some((a, b, radius + border)),
             _ => None,
         })
         .unwrap_or_else(|| panic!("no capsule or cylinder named {name}"))

@@ -18,10 +18,11 @@ pub fn lowest_point(shapes: &[LinkShape], frame_pose: &Isometry3<f64>) -> f64 {
                 a.z.min(b.z) - c.radius
             }
             Primitive::Cylinder(c) => {
-                let a = frame_pose * c.a;
-                let b = frame_pose * c.b;
+                // The inset core's lowest rim point, lowered by the rounded rim's radius.
+                let (a, b, radius) = c.inset();
+                let (a, b) = (frame_pose * a, frame_pose * b);
                 let d = (b - a).normalize();
-                a.z.min(b.z) - c.radius * (1.0 - d.z * d.z).max(0.0).sqrt()
+                a.z.min(b.z) - radius * (1.0 - d.z * d.z).max(0.0).sqrt() - c.border
             }
             Primitive::Cuboid { pose, half_extents } => {
                 let world = frame_pose * pose;

@@ -3,9 +3,9 @@
 //! Source: `data/ur_links.json`, fitted by `tools/geometry/derive.py` to the visual meshes of
 //! Universal Robots' ROS 2 description (UR3e, UR5e, UR10e, UR16e and the CB3 UR5, each from its
 //! own meshes; provenance and per-link numbers in `data/PROVENANCE.md`). Every link is a few
-//! flat-ended [`Cylinder`]s: coaxial stacks on the joint axes for the housings, the base and the
-//! flange, and cylinders from joint axis to joint axis for the tubes, so no round cap sticks out
-//! along an axis. Every mesh vertex lies inside its link's shapes (tested); the shapes carry no
+//! [`Cylinder`]s, flat-ended or with rounded rims where the housings are rounded: coaxial stacks
+//! on the joint axes for the housings, the base and the flange, and cylinders from joint axis to
+//! joint axis for the tubes, so no round cap sticks out along an axis. Every mesh vertex lies inside its link's shapes (tested); the shapes carry no
 //! margin — the clearance the arms keep is a planner setting (`[planner] link_clearance`).
 //!
 //! DH frames at q = 0 (UR5e, base coordinates): frames 1–3 have x = X, y = Z, z = −Y;
@@ -48,9 +48,13 @@ impl Capsule {
     }
 }
 
-/// A solid circular cylinder with flat ends: the points within `radius` of the segment `a`–`b`
-/// whose projection onto the line `ab` falls between `a` and `b`. `a` and `b` are the centres of
-/// the end faces.
+/// A solid circular cylinder with flat ends and, optionally, rounded rims: end-face centres
+/// `a`, `b` and radius `radius` span its envelope (the points within `radius` of the segment
+/// `a`–`b` whose projection onto the line `ab` falls between `a` and `b`), and a `border`
+/// `e > 0` rounds both rims with radius `e`. With the unit axis `u`, the solid is the
+/// Minkowski sum of the cylinder with end-face centres `a + e·u`, `b − e·u` and radius
+/// `radius − e` with a ball of radius `e` (parry's `RoundCylinder`). `border = 0` is the sharp
+/// cylinder; `0 ≤ border ≤ min(radius, |b − a| / 2)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cylinder {
     /// Centre of the first end face, in the owning frame (m).
@@ -59,20 +63,58 @@ pub struct Cylinder {
     pub b: Point3<f64>,
     /// Radius (m).
     pub radius: f64,
+    /// Radius of the rounded rims (m), 0 for sharp rims.
+    pub border: f64,
 }
 
 impl Cylinder {
-    /// True when `p` lies inside (or on) the cylinder, within `tol`.
-    pub fn contains(&self, p: &Point3<f64>, tol: f64) -> bool {
+    /// A cylinder with sharp rims.
+    pub fn sharp(a: Point3<f64>, b: Point3<f64>, radius: f64) -> Cylinder {
+        Cylinder {
+            a,
+            b,
+            radius,
+            border: 0.0,
+        }
+    }
+
+    /// The inner cylinder `(a + e·u, b − e·u, radius − e)` whose Minkowski sum with a ball of
+    /// radius `e = border` is this solid.
+    pub fn inset(&self) -> (Point3<f64>, Point3<f64>, f64) {
         let ab = self.b - self.a;
         let len = ab.norm();
-        if len == 0.0 {
+        if self.border == 0.0 || len == 0.0 {
+            return (self.a, self.b, self.radius);
+        }
+        let step = ab * (self.border / len);
+        (self.a + step, self.b - step, self.radius - self.border)
+    }
+
+    /// How far `p` lies outside the solid (m; 0 inside or on it).
+    pub fn outside_distance(&self, p: &Point3<f64>) -> f64 {
+        let (a, b, r) = self.inset();
+        let ab = b - a;
+        let len = ab.norm();
+        let d = if len == 0.0 {
+            let radial = (p - a).norm();
+            (radial - r).max(0.0)
+        } else {
+            let axis = ab / len;
+            let t = (p - a).dot(&axis);
+            let radial = ((p - a) - axis * t).norm();
+            let dz = (-t).max(t - len).max(0.0);
+            let dr = (radial - r).max(0.0);
+            (dz * dz + dr * dr).sqrt()
+        };
+        (d - self.border).max(0.0)
+    }
+
+    /// True when `p` lies inside (or on) the solid, within `tol`.
+    pub fn contains(&self, p: &Point3<f64>, tol: f64) -> bool {
+        if self.a == self.b {
             return false;
         }
-        let axis = ab / len;
-        let t = (p - self.a).dot(&axis);
-        let radial = ((p - self.a) - axis * t).norm();
-        t >= -tol && t <= len + tol && radial <= self.radius + tol
+        self.outside_distance(p) <= tol
     }
 }
 
@@ -81,7 +123,7 @@ impl Cylinder {
 pub enum Primitive {
     /// A capsule (a sphere when both ends coincide).
     Capsule(Capsule),
-    /// A flat-ended cylinder (joint housings, the base).
+    /// A cylinder, flat-ended or with rounded rims (joint housings, tubes, the base).
     Cylinder(Cylinder),
     /// A box with its centre and axes at `pose` in the owning frame.
     Cuboid {
@@ -163,6 +205,9 @@ struct FittedShapeJson {
     a: [f64; 3],
     b: [f64; 3],
     radius: f64,
+    /// Rounded-rim radius of a cylinder (m); absent or 0: sharp rims.
+    #[serde(default)]
+    border: f64,
 }
 
 #[derive(serde::Deserialize)]
@@ -222,11 +267,23 @@ fn fitted_models() -> &'static std::collections::BTreeMap<String, FittedModel> {
                     for s in l.shapes {
                         let (a, b) = (Point3::from(s.a), Point3::from(s.b));
                         let primitive = match s.kind.as_str() {
-                            "cylinder" => Primitive::Cylinder(Cylinder {
-                                a,
-                                b,
-                                radius: s.radius,
-                            }),
+                            "cylinder" => {
+                                let length = (b - a).norm();
+                                assert!(
+                                    s.border >= 0.0
+                                        && s.border <= s.radius
+                                        && 2.0 * s.border < length,
+                                    "ur_links.json: {name} {}: border {} outside [0, min(radius, length / 2))",
+                                    s.name,
+                                    s.border
+                                );
+                                Primitive::Cylinder(Cylinder {
+                                    a,
+                                    b,
+                                    radius: s.radius,
+                                    border: s.border,
+                                })
+                            }
                             "capsule" => Primitive::Capsule(Capsule {
                                 a,
                                 b,

@@ -148,15 +148,8 @@ const BASE_MOUNT_GAP: f64 = 0.002;
 fn outside_distance(prim: &Primitive, p: &Point3<f64>) -> f64 {
     match prim {
         Primitive::Capsule(c) => c.segment_distance(p) - c.radius,
-        Primitive::Cylinder(c) => {
-            let ab = c.b - c.a;
-            let len = ab.norm();
-            let axis = ab / len;
-            let t = (p - c.a).dot(&axis);
-            let radial = ((p - c.a) - axis * t).norm() - c.radius;
-            let along = (-t).max(t - len);
-            radial.max(along)
-        }
+        // Rounded rims included (0 inside or on it).
+        Primitive::Cylinder(c) => c.outside_distance(p),
         Primitive::Cuboid { pose, half_extents } => {
             let l = pose.inverse_transform_point(p);
             (0..3)

@@ -32,7 +32,9 @@ pub fn assert_solutions_exact(kin: &UrKinematics, sols: &[Joints], target: &Isom
 }
 
 use parry3d_f64::query::intersection_test;
-use parry3d_f64::shape::{Capsule as PCapsule, Cuboid, Cylinder as PCylinder, Shape};
+use parry3d_f64::shape::{
+    Capsule as PCapsule, Cuboid, Cylinder as PCylinder, RoundCylinder, Shape,
+};
 use pregrasp_robot::{LinkShape, Primitive};
 
 /// A link shape placed in the base frame by its frame pose, as a parry shape.
@@ -43,7 +45,9 @@ pub fn placed(shape: &LinkShape, frame_pose: &Isometry3<f64>) -> (Isometry3<f64>
             Box::new(PCapsule::new(frame_pose * c.a, frame_pose * c.b, c.radius)),
         ),
         Primitive::Cylinder(c) => {
-            let (a, b) = (frame_pose * c.a, frame_pose * c.b);
+            // The rounded cylinder as parry's `RoundCylinder`: the inset core plus the border.
+            let (a, b, radius) = c.inset();
+            let (a, b) = (frame_pose * a, frame_pose * b);
             let d = b - a;
             let rot = nalgebra::UnitQuaternion::rotation_between(&nalgebra::Vector3::y(), &d)
                 .unwrap_or_else(|| {
@@ -54,7 +58,10 @@ pub fn placed(shape: &LinkShape, frame_pose: &Isometry3<f64>) -> (Isometry3<f64>
                 });
             (
                 Isometry3::from_parts(nalgebra::center(&a, &b).coords.into(), rot),
-                Box::new(PCylinder::new(0.5 * d.norm(), c.radius)),
+                Box::new(RoundCylinder {
+                    inner_shape: PCylinder::new(0.5 * d.norm(), radius),
+                    border_radius: c.border,
+                }),
             )
         }
         Primitive::Cuboid { pose, half_extents } => {
