@@ -249,7 +249,13 @@ fn scene_from_spec(
     let table = match to_toml(spec.as_any(), "") {
         Ok(toml::Value::Table(t)) => t,
         Ok(_) => unreachable!("a dict converts to a table"),
-        Err(e) => return Err(SceneError::new_err(format!("{name}: {e}"))),
+        // The message alone, without the Python exception class in front of it.
+        Err(e) => {
+            return Err(SceneError::new_err(format!(
+                "{name}: {}",
+                e.value(spec.py())
+            )))
+        }
     };
     let mut table = table;
     let object = table
