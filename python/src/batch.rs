@@ -63,11 +63,8 @@ pub fn batch_run(
     threads: Option<usize>,
 ) -> PyResult<String> {
     let records = py.detach(|| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads.unwrap_or(0))
-            .build()
-            .map_err(|e| e.to_string())?;
-        pool.install(|| pregrasp_batch::run(&dir, &out, &scenes, &options(max_plans), &|_| {}))
+        crate::plan::thread_pool(threads)?
+            .install(|| pregrasp_batch::run(&dir, &out, &scenes, &options(max_plans), &|_| {}))
             .map_err(|e| e.to_string())
     });
     let records = records.map_err(PregraspError::new_err)?;

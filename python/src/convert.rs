@@ -2,7 +2,8 @@
 //! numbers, 4×4 pose matrices) to TOML, poses to 4×4 numpy arrays, serde values to Python.
 
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion};
-use numpy::PyArray2;
+use numpy::ndarray::Array2;
+use numpy::{Element, PyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
@@ -118,13 +119,43 @@ fn pose_table(m: &[[f64; 4]; 4], key: &str) -> PyResult<toml::Value> {
     Ok(toml::Value::Table(table))
 }
 
+/// Rows of `K` values as an (N, K) numpy array (shape (0, K) when there are none).
+pub fn rows_array<'py, T: Element, const K: usize>(
+    py: Python<'py>,
+    rows: impl IntoIterator<Item = [T; K]>,
+) -> Bound<'py, PyArray2<T>> {
+    let flat: Vec<T> = rows.into_iter().flatten().collect();
+    let n = flat.len() / K;
+    let array = Array2::from_shape_vec((n, K), flat).expect("whole rows of K values");
+    PyArray2::from_owned_array(py, array)
+}
+
 /// An isometry as a 4×4 numpy array.
 pub fn matrix_array<'py>(py: Python<'py>, pose: &Isometry3<f64>) -> Bound<'py, PyArray2<f64>> {
     let h = pose.to_homogeneous();
-    let rows: Vec<Vec<f64>> = (0..4)
-        .map(|i| (0..4).map(|j| h[(i, j)]).collect())
-        .collect();
-    PyArray2::from_vec2(py, &rows).expect("4×4 rows")
+    rows_array(
+        py,
+        (0..4).map(|i| std::array::from_fn::<f64, 4, _>(|j| h[(i, j)])),
+    )
+}
+
+/// The grasps `G_p1`, `G_p2` and `G_s` (object frame) as a dict of 4×4 matrices:
+/// `{"power": [G_p1, G_p2], "support": G_s}`.
+pub fn grasps_dict<'py>(
+    py: Python<'py>,
+    power: &[Isometry3<f64>; 2],
+    support: &Isometry3<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item(
+        "power",
+        power
+            .iter()
+            .map(|p| matrix_array(py, p))
+            .collect::<Vec<_>>(),
+    )?;
+    d.set_item("support", matrix_array(py, support))?;
+    Ok(d)
 }
 
 /// A serde value as the Python object `json.loads` makes of it.

@@ -6,7 +6,7 @@ use pregrasp_robot::{Joints, UrKinematics, UrModel};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::convert::{isometry_from_matrix, matrix_array};
+use crate::convert::{isometry_from_matrix, matrix_array, rows_array};
 
 fn model_of(name: &str) -> PyResult<UrModel> {
     UrModel::from_name(name).ok_or_else(|| {
@@ -58,9 +58,5 @@ pub fn ik<'py>(
         Some(s) => joints(&s, "seed")?,
         None => [0.0; 6],
     };
-    let rows: Vec<Vec<f64>> = kin.ik(&flange, &seed).iter().map(|q| q.to_vec()).collect();
-    if rows.is_empty() {
-        return Ok(PyArray2::zeros(py, [0, 6], false));
-    }
-    PyArray2::from_vec2(py, &rows).map_err(|e| PyValueError::new_err(e.to_string()))
+    Ok(rows_array(py, kin.ik(&flange, &seed)))
 }

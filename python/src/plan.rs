@@ -13,11 +13,11 @@ use pregrasp_io::plan_file::{
     resolve_beside, write_atomic, CandidateJson, PlanFile, PlanJson, SegmentJson,
 };
 use pregrasp_planner::pipeline::PlanOptions;
-use pyo3::exceptions::{PyKeyError, PyValueError};
+use pyo3::exceptions::PyKeyError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{matrix_array, to_python};
+use crate::convert::{grasps_dict, matrix_array, rows_array, to_python};
 use crate::scene::Scene;
 use crate::{PlanFileError, PregraspError, SceneError};
 
@@ -88,15 +88,8 @@ impl Plan {
     #[getter]
     fn grasps<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let g = &self.file.grasps;
-        let d = PyDict::new(py);
-        d.set_item(
-            "power",
-            g.power
-                .iter()
-                .map(|p| matrix_array(py, &p.to_isometry()))
-                .collect::<Vec<_>>(),
-        )?;
-        d.set_item("support", matrix_array(py, &g.support.to_isometry()))?;
+        let power = [g.power[0].to_isometry(), g.power[1].to_isometry()];
+        let d = grasps_dict(py, &power, &g.support.to_isometry())?;
         d.set_item("auto", to_python(py, &g.auto)?)?;
         Ok(d)
     }
@@ -285,12 +278,8 @@ impl Segment {
 
     /// Joint angles (rad), shape (N, 6).
     #[getter]
-    fn q<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let rows: Vec<Vec<f64>> = self.seg().points.iter().map(|p| p.q.to_vec()).collect();
-        if rows.is_empty() {
-            return Ok(PyArray2::zeros(py, [0, 6], false));
-        }
-        PyArray2::from_vec2(py, &rows).map_err(|e| PyValueError::new_err(e.to_string()))
+    fn q<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows_array(py, self.seg().points.iter().map(|p| p.q))
     }
 
     /// The part's pose at every point of `rot` (shape (N, 4, 4)), `None` for other segments.
@@ -413,6 +402,14 @@ pub fn plan_scene(
     })
 }
 
+/// A rayon pool of `threads` workers (default: one per core).
+pub(crate) fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, String> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .map_err(|e| e.to_string())
+}
+
 /// The planning itself, run without the GIL.
 fn plan_detached(
     spec: &pregrasp_io::scene::Scene,
@@ -420,11 +417,7 @@ fn plan_detached(
     options: &PlanOptions,
     threads: Option<usize>,
 ) -> Result<PlanFile, String> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.unwrap_or(0))
-        .build()
-        .map_err(|e| e.to_string())?;
-    let report = pool
+    let report = thread_pool(threads)?
         .install(|| pregrasp_planner::plan_scene(spec, mesh, options, &|_| {}, &|| {}))
         .map_err(|e| e.to_string())?;
     Ok(report.file)

@@ -5,12 +5,12 @@ use std::sync::Arc;
 
 use numpy::{PyArray2, PyReadonlyArray2};
 use pregrasp_geometry::Mesh;
-use pregrasp_io::mesh_io::{load_mesh, mesh_from_arrays};
+use pregrasp_io::mesh_io::{load_mesh, mesh_from_arrays, LoadedMesh};
 use pregrasp_io::scene::Scene as SceneSpec;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::convert::{matrix_array, to_toml};
+use crate::convert::{grasps_dict, matrix_array, rows_array, to_toml};
 use crate::SceneError;
 
 /// A planning problem: the scene (support, part pose, grasps, two arms, planner settings) and
@@ -27,18 +27,23 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene and its loaded mesh, their warnings together.
+    fn from_parts(spec: SceneSpec, loaded: LoadedMesh) -> Scene {
+        let mut warnings = spec.warnings.clone();
+        warnings.extend(loaded.warnings);
+        Scene {
+            spec: Arc::new(spec),
+            mesh: Arc::new(loaded.mesh),
+            warnings,
+        }
+    }
+
     /// Loads a scene file and its mesh, with the CLI's error messages.
     pub fn load_path(path: &Path) -> PyResult<Scene> {
         let spec = SceneSpec::load(path).map_err(|e| SceneError::new_err(e.to_string()))?;
         let loaded = load_mesh(&spec.object.mesh_path, spec.object.scale)
             .map_err(|e| SceneError::new_err(format!("{}: object.mesh: {e}", path.display())))?;
-        let mut warnings = spec.warnings.clone();
-        warnings.extend(loaded.warnings);
-        Ok(Scene {
-            spec: Arc::new(spec),
-            mesh: Arc::new(loaded.mesh),
-            warnings,
-        })
+        Ok(Scene::from_parts(spec, loaded))
     }
 }
 
@@ -160,25 +165,13 @@ impl Scene {
     /// Mesh vertices in the object frame (m), shape (N, 3).
     #[getter]
     fn vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        let rows: Vec<Vec<f64>> = self
-            .mesh
-            .vertices
-            .iter()
-            .map(|v| vec![v.x, v.y, v.z])
-            .collect();
-        PyArray2::from_vec2(py, &rows).unwrap_or_else(|_| PyArray2::zeros(py, [0, 3], false))
+        rows_array(py, self.mesh.vertices.iter().map(|v| [v.x, v.y, v.z]))
     }
 
     /// Mesh triangles as vertex indices, shape (M, 3).
     #[getter]
     fn faces<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
-        let rows: Vec<Vec<i64>> = self
-            .mesh
-            .triangles
-            .iter()
-            .map(|t| t.iter().map(|&i| i64::from(i)).collect())
-            .collect();
-        PyArray2::from_vec2(py, &rows).unwrap_or_else(|_| PyArray2::zeros(py, [0, 3], false))
+        rows_array(py, self.mesh.triangles.iter().map(|t| t.map(i64::from)))
     }
 
     /// P_init as given (`object.pose`), a 4×4 homogeneous matrix (object frame in world).
@@ -192,12 +185,7 @@ impl Scene {
     #[getter]
     fn grasps<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let g = &self.spec.grasps;
-        let d = PyDict::new(py);
-        d.set_item(
-            "power",
-            PyList::new(py, g.power.iter().map(|p| matrix_array(py, p)))?,
-        )?;
-        d.set_item("support", matrix_array(py, &g.support))?;
+        let d = grasps_dict(py, &g.power, &g.support)?;
         d.set_item("mode", if g.auto.is_some() { "auto" } else { "manual" })?;
         Ok(d)
     }
@@ -285,13 +273,7 @@ fn scene_from_spec(
     let tris: Vec<[i64; 3]> = f.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
     let loaded = mesh_from_arrays(&verts, &tris, mesh_name, spec.object.scale)
         .map_err(|e| SceneError::new_err(format!("{name}: object.mesh: {e}")))?;
-    let mut warnings = spec.warnings.clone();
-    warnings.extend(loaded.warnings);
-    Ok(Scene {
-        spec: Arc::new(spec),
-        mesh: Arc::new(loaded.mesh),
-        warnings,
-    })
+    Ok(Scene::from_parts(spec, loaded))
 }
 
 /// The two arms of the built-in examples (two UR5e, 0.9 m apart along y, facing +x), in the
