@@ -236,24 +236,9 @@ fn inner_capsule(s: &Placed) -> Option<(P, P, f64)> {
     }
 }
 
-/// Distance from point `p` to the solid cylinder with end-face centres `a`, `b` and radius `r`
-/// (`0` inside): the axial and radial excesses combined.
-#[inline]
-pub fn point_cylinder_distance(p: &P, a: &P, b: &P, r: f64) -> f64 {
-    let ab = b - a;
-    let len = ab.norm();
-    let c = nalgebra::center(a, b);
-    let v = p - c;
-    if len == 0.0 {
-        return (v.norm() - r).max(0.0);
-    }
-    let u = ab / len;
-    let t = v.dot(&u);
-    let radial = (v - u * t).norm();
-    let dz = (t.abs() - 0.5 * len).max(0.0);
-    let dr = (radial - r).max(0.0);
-    (dz * dz + dr * dr).sqrt()
-}
+/// Distance from a point to a solid flat-ended cylinder (the robot crate's, one definition for
+/// the link shapes and the collision tests).
+pub use pregrasp_robot::point_cylinder_distance;
 
 /// Distance from the segment `[p, q]` to the solid cylinder (`0` when they meet), stopping as
 /// soon as it is known to be at most `stop`. The distance from a point moving along a segment

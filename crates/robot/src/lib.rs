@@ -20,7 +20,7 @@ pub use fk::UrKinematics;
 pub use gripper::{Gripper2F85, GripperState, GRIPPER_FRAME};
 pub use ik::{joint_distance, IkSolutions, IK_RESIDUAL_TOL};
 pub use links::{
-    arm_geometry, fitted_links_of, joint_sweep_radii, ArmGeometry, Capsule, Cylinder, FittedLink,
-    LinkShape, Primitive,
+    arm_geometry, fitted_links_of, joint_sweep_radii, point_cylinder_distance, ArmGeometry,
+    Capsule, Cylinder, FittedLink, LinkShape, Primitive,
 };
 pub use model::{DhParams, Joints, UnknownModel, UrModel, DEFAULT_JOINT_ACCEL, JOINT_NAMES};

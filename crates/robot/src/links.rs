@@ -90,23 +90,11 @@ impl Cylinder {
         (self.a + step, self.b - step, self.radius - self.border)
     }
 
-    /// How far `p` lies outside the solid (m; 0 inside or on it).
+    /// How far `p` lies outside the solid (m; 0 inside or on it): the distance to the inset
+    /// core less the border.
     pub fn outside_distance(&self, p: &Point3<f64>) -> f64 {
         let (a, b, r) = self.inset();
-        let ab = b - a;
-        let len = ab.norm();
-        let d = if len == 0.0 {
-            let radial = (p - a).norm();
-            (radial - r).max(0.0)
-        } else {
-            let axis = ab / len;
-            let t = (p - a).dot(&axis);
-            let radial = ((p - a) - axis * t).norm();
-            let dz = (-t).max(t - len).max(0.0);
-            let dr = (radial - r).max(0.0);
-            (dz * dz + dr * dr).sqrt()
-        };
-        (d - self.border).max(0.0)
+        (point_cylinder_distance(p, &a, &b, r) - self.border).max(0.0)
     }
 
     /// True when `p` lies inside (or on) the solid, within `tol`.
@@ -116,6 +104,25 @@ impl Cylinder {
         }
         self.outside_distance(p) <= tol
     }
+}
+
+/// Distance from point `p` to the solid flat-ended cylinder with end-face centres `a`, `b` and
+/// radius `r` (`0` inside): the axial and radial excesses combined.
+#[inline]
+pub fn point_cylinder_distance(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>, r: f64) -> f64 {
+    let ab = b - a;
+    let len = ab.norm();
+    let c = nalgebra::center(a, b);
+    let v = p - c;
+    if len == 0.0 {
+        return (v.norm() - r).max(0.0);
+    }
+    let u = ab / len;
+    let t = v.dot(&u);
+    let radial = (v - u * t).norm();
+    let dz = (t.abs() - 0.5 * len).max(0.0);
+    let dr = (radial - r).max(0.0);
+    (dz * dz + dr * dr).sqrt()
 }
 
 /// A collision primitive in the frame of the link that carries it.
