@@ -1,6 +1,9 @@
 //! One arm of the world: kinematics, base placement, gripper, and its collision primitives
 //! cached in their DH link frames, ready to be posed at a configuration.
 
+use std::collections::BTreeMap;
+use std::sync::{Arc, Mutex, OnceLock};
+
 use nalgebra::Isometry3;
 use pregrasp_robot::{
     arm_geometry, Gripper2F85, GripperState, Joints, LinkShape, Primitive, UrKinematics, UrModel,
@@ -8,6 +11,7 @@ use pregrasp_robot::{
 
 use crate::error::CollisionError;
 use crate::shape::{Bounded, Placed};
+use crate::tight::{Lookup, Part, Tight};
 
 /// Most primitives (arm links + gripper parts) one arm may have; the posed arm lives in a
 /// fixed-size buffer so that a collision check never touches the heap.
@@ -22,6 +26,8 @@ pub(crate) type PairGroup = ((u8, u8), Vec<(u8, u8)>);
 pub(crate) struct ShapeSet {
     /// `(DH frame index 0..=6, primitive in that frame)` of the arm links.
     pub parts: Vec<(usize, Primitive)>,
+    /// Per arm link (same order as `parts`), its exact pieces where it has them.
+    pub tight: TightSet,
     /// The gripper's primitives (flange frame) when open.
     pub open_gripper: Vec<Primitive>,
     /// The gripper's primitives closed at the gaps it is known to hold (see
@@ -126,6 +132,7 @@ impl ArmModel {
                 .iter()
                 .map(|l| (l.frame, l.primitive))
                 .collect(),
+            tight: tight_pieces(model, &geometry.links),
             open_gripper: grip.iter().map(|l| l.primitive).collect(),
             closed_grippers: Vec::new(),
             names,
@@ -209,13 +216,22 @@ impl ArmModel {
         posed.len = set.names.len();
         posed.links = n_links;
         posed.flange = frames[6];
+        posed.frames = frames;
         posed.gripper = Bounded::sphere(frames[6] * gc, gr);
         for (f, slot) in posed.frame_spheres.iter_mut().enumerate() {
             let (c, r) = set.frame_spheres[f];
             *slot = Bounded::sphere(frames[f] * c, r);
         }
-        for (slot, (frame, prim)) in posed.shapes.iter_mut().zip(set.parts.iter()) {
+        for ((slot, (frame, prim)), tight) in posed
+            .shapes
+            .iter_mut()
+            .zip(set.parts.iter())
+            .zip(set.tight.iter())
+        {
             *slot = Bounded::new(place(&frames[*frame], prim));
+            // The sphere holds the pieces too, which reach up to `slack` outside the shape.
+            slot.slack = tight.as_ref().map_or(0.0, Tight::slack);
+            slot.radius += slot.slack;
         }
         let flange = frames[6];
         let slots = &mut posed.shapes[n_links..];
@@ -314,7 +330,11 @@ fn frame_spheres(links: &[LinkShape]) -> [(nalgebra::Point3<f64>, f64); 7] {
         let spheres: Vec<Bounded> = links
             .iter()
             .filter(|l| l.frame == f)
-            .map(|l| Bounded::new(place(&Isometry3::identity(), &l.primitive)))
+            .map(|l| {
+                let mut b = Bounded::new(place(&Isometry3::identity(), &l.primitive));
+                b.radius += l.pieces.map_or(0.0, |p| p.slack);
+                b
+            })
             .collect();
         if spheres.is_empty() {
             return (nalgebra::Point3::origin(), 0.0);
@@ -333,6 +353,30 @@ fn frame_spheres(links: &[LinkShape]) -> [(nalgebra::Point3<f64>, f64); 7] {
             .fold(0.0, f64::max);
         (c, radius)
     })
+}
+
+/// Per link shape of an arm, its exact pieces where it has them.
+type TightSet = Arc<Vec<Option<Tight>>>;
+
+/// The exact pieces of `model`'s link shapes, built once per process and model, then shared by
+/// every arm of that model.
+fn tight_pieces(model: UrModel, links: &[LinkShape]) -> TightSet {
+    static CACHE: OnceLock<Mutex<BTreeMap<&'static str, TightSet>>> = OnceLock::new();
+    let mut cache = CACHE
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    cache
+        .entry(model.name())
+        .or_insert_with(|| {
+            Arc::new(
+                links
+                    .iter()
+                    .map(|l| l.pieces.and_then(Tight::new))
+                    .collect(),
+            )
+        })
+        .clone()
 }
 
 /// A primitive of frame `t` placed in the world.
@@ -369,6 +413,8 @@ pub(crate) struct PosedArm {
     links: usize,
     /// Per DH frame, a sphere holding its link shapes.
     frame_spheres: [Bounded; 7],
+    /// The DH frames 0..=6 in the world.
+    frames: [Isometry3<f64>; 7],
     flange: Isometry3<f64>,
     /// A sphere holding the whole gripper.
     gripper: Bounded,
@@ -381,18 +427,38 @@ impl PosedArm {
         len: 0,
         links: 0,
         frame_spheres: [Bounded::EMPTY; 7],
-        flange: Isometry3 {
-            rotation: nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(
-                1.0, 0.0, 0.0, 0.0,
-            )),
-            translation: nalgebra::Translation3::new(0.0, 0.0, 0.0),
-        },
+        frames: [IDENTITY; 7],
+        flange: IDENTITY,
         gripper: Bounded::EMPTY,
     };
+}
 
+const IDENTITY: Isometry3<f64> = Isometry3 {
+    rotation: nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(
+        1.0, 0.0, 0.0, 0.0,
+    )),
+    translation: nalgebra::Translation3::new(0.0, 0.0, 0.0),
+};
+
+impl PosedArm {
     #[inline]
     pub fn shapes(&self) -> &[Bounded] {
         &self.shapes[..self.len]
+    }
+
+    /// Shape `k` as a solid for the pair tests: its primitive and, for an arm link that has
+    /// them, the way to its exact pieces (looked up only when a test needs them).
+    #[inline]
+    pub(crate) fn part<'a>(&'a self, set: &'a ShapeSet, k: usize) -> Part<'a> {
+        Part {
+            bounded: &self.shapes[k],
+            lookup: Some(Lookup {
+                tight: &set.tight,
+                parts: &set.parts,
+                frames: &self.frames,
+                k,
+            }),
+        }
     }
 
     /// Index range of the gripper's shapes in [`shapes`](Self::shapes).

@@ -4,6 +4,7 @@
 //!
 //! - [`distance`]: closed-form segment/triangle/box distances (the narrow phase).
 //! - [`shape`]: primitives placed in the world ([`Placed`]) and their pair tests.
+//! - [`tight`]: the exact tier of the arm links, convex pieces inside their cylinders.
 //! - [`object`]: the part as a parry `TriMesh` with its BVH ([`ObjectGeometry`]).
 //! - [`grip`]: the width a gripper closes on at a grasp, from the part's mesh.
 //! - [`arm`]: [`ArmModel`], an arm's kinematics, base and cached link/gripper primitives.
@@ -25,6 +26,7 @@ pub mod grip;
 pub mod object;
 pub mod reach;
 pub mod shape;
+pub mod tight;
 pub mod validity;
 pub mod world;
 

@@ -119,6 +119,51 @@ impl ObjectGeometry {
         }
     }
 
+    /// Whether the exact pieces `t` of a link come within `margin` of the part at `pose`: per
+    /// piece, BVH descent with its box grown by the margin, GJK with early exit at the leaves.
+    pub(crate) fn pieces_intersect(
+        &self,
+        pose: &Isometry3<f64>,
+        t: &crate::tight::Posed,
+        margin: f64,
+    ) -> bool {
+        let grow = Vector3::repeat(margin);
+        crate::tight::any_piece_in(t, pose, |rel, poly, (lo, hi)| {
+            self.any_triangle(&(lo - grow), &(hi + grow), |ta, tb, tc| {
+                let tri = parry3d_f64::shape::Triangle::new(*ta, *tb, *tc);
+                crate::tight::piece_near_triangle(rel, poly, &tri, margin)
+            })
+        })
+    }
+
+    /// Distance from the exact pieces `t` of a link to the part at `pose` (`0` in contact):
+    /// BVH descent pruning every node whose box is farther from the piece's box than the best
+    /// distance so far, GJK distance at the leaves.
+    pub(crate) fn pieces_distance(&self, pose: &Isometry3<f64>, t: &crate::tight::Posed) -> f64 {
+        let verts = self.mesh.vertices();
+        let idx = self.mesh.indices();
+        let mut best = f64::INFINITY;
+        crate::tight::any_piece_in(t, pose, |rel, poly, (lo, hi)| {
+            self.mesh.bvh().traverse(|node| {
+                if aabb_aabb_sq(&lo, &hi, &node.mins(), &node.maxs()) >= best * best {
+                    return TraversalAction::Prune;
+                }
+                if let Some(leaf) = node.leaf_data() {
+                    let [i, j, k] = idx[leaf as usize];
+                    let tri = parry3d_f64::shape::Triangle::new(
+                        verts[i as usize],
+                        verts[j as usize],
+                        verts[k as usize],
+                    );
+                    best = best.min(crate::tight::piece_triangle_distance(rel, poly, &tri));
+                }
+                TraversalAction::Continue
+            });
+            false
+        });
+        best
+    }
+
     /// Whether the box `half` at `box_pose` (box → object frame) touches the part's surface.
     pub fn box_touches(&self, box_pose: &Isometry3<f64>, half: &Vector3<f64>) -> bool {
         self.cuboid_hits(box_pose, half)

@@ -39,12 +39,15 @@ pub enum Placed {
     Cuboid { pose: Isometry3<f64>, half: V },
 }
 
-/// A placed primitive with its bounding sphere (centre, radius) cached.
+/// A placed primitive with its bounding sphere (centre, radius) cached, and how far the exact
+/// solid it bounds may reach outside it (`slack`: an arm link's pieces, see [`crate::tight`];
+/// 0 when the primitive is the solid). The sphere holds the exact solid too.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Bounded {
     pub shape: Placed,
     pub center: P,
     pub radius: f64,
+    pub slack: f64,
 }
 
 impl Bounded {
@@ -56,6 +59,7 @@ impl Bounded {
         },
         center: P::new(0.0, 0.0, 0.0),
         radius: 0.0,
+        slack: 0.0,
     };
 
     /// A sphere of `radius` about `center`.
@@ -69,6 +73,7 @@ impl Bounded {
             },
             center,
             radius,
+            slack: 0.0,
         }
     }
 
@@ -93,6 +98,7 @@ impl Bounded {
             shape,
             center,
             radius,
+            slack: 0.0,
         }
     }
 

@@ -25,6 +25,7 @@ use crate::distance::aabb_aabb_sq;
 use crate::error::CollisionError;
 use crate::object::ObjectGeometry;
 use crate::shape::{pair_distance, pair_intersects, plane_distance, Bounded, Placed};
+use crate::tight::{self, Part};
 
 /// Where the part is.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -425,14 +426,14 @@ impl CollisionWorld {
             // 1. Support. A gripper that grasps (holds, closes on or releases the part) keeps
             //    its own clearance from the support.
             if let Some(h) = self.support {
-                for (k, s) in shapes.iter().enumerate() {
+                for k in 0..shapes.len() {
                     if !arm.is_base_part(k) {
                         let margin = if state.grasping[i] && set.is_gripper[k] {
                             self.grasp_support_margin
                         } else {
                             self.margin
                         };
-                        sink.plane(&s.shape, h, margin, (Id::Arm(i, k), Id::Support))?;
+                        sink.plane(pi.part(set, k), h, margin, (Id::Arm(i, k), Id::Support))?;
                     }
                 }
             }
@@ -443,9 +444,9 @@ impl CollisionWorld {
                 }
                 for &(a, b) in pairs {
                     let (a, b) = (a as usize, b as usize);
-                    let (sa, sb) = (&shapes[a], &shapes[b]);
-                    if !sink.skip_spheres(sa, sb) {
-                        sink.pair(&sa.shape, &sb.shape, (Id::Arm(i, a), Id::Arm(i, b)))?;
+                    if !sink.skip_spheres(&shapes[a], &shapes[b]) {
+                        let (sa, sb) = (pi.part(set, a), pi.part(set, b));
+                        sink.pair(sa, sb, (Id::Arm(i, a), Id::Arm(i, b)))?;
                     }
                 }
             }
@@ -457,9 +458,9 @@ impl CollisionWorld {
                     continue;
                 }
                 for g in pi.gripper_range() {
-                    let sg = &shapes[g];
-                    if !sink.skip_spheres(sl, sg) {
-                        sink.pair(&sl.shape, &sg.shape, (Id::Arm(i, l), Id::Arm(i, g)))?;
+                    if !sink.skip_spheres(sl, &shapes[g]) {
+                        let (pl, pg) = (pi.part(set, l), pi.part(set, g));
+                        sink.pair(pl, pg, (Id::Arm(i, l), Id::Arm(i, g)))?;
                     }
                 }
             }
@@ -473,7 +474,7 @@ impl CollisionWorld {
                         let (k, s) = (k as usize, &shapes[k as usize]);
                         if !arm.is_base_part(k) && !sink.skip_spheres(s, &obs.shape) {
                             let ids = (Id::Arm(i, k), Id::Obstacle(o));
-                            sink.pair(&s.shape, &obs.shape.shape, ids)?;
+                            sink.pair(pi.part(set, k), Part::plain(&obs.shape), ids)?;
                         }
                     }
                 }
@@ -503,8 +504,8 @@ impl CollisionWorld {
                         continue;
                     }
                     for &k in members {
-                        let (k, s) = (k as usize, &shapes[k as usize]);
-                        sink.object(obj, pose, s, (Id::Arm(i, k), Id::Object))?;
+                        let k = k as usize;
+                        sink.object(obj, pose, pi.part(set, k), (Id::Arm(i, k), Id::Object))?;
                     }
                 }
             }
@@ -513,17 +514,18 @@ impl CollisionWorld {
         if let (Some(a), Some((obj, pose))) = (attached_to, &object) {
             if only.is_none_or(|o| o == a) {
                 for (o, obs) in self.obstacles.iter().enumerate() {
-                    sink.object(obj, pose, &obs.shape, (Id::Object, Id::Obstacle(o)))?;
+                    let part = Part::plain(&obs.shape);
+                    sink.object(obj, pose, part, (Id::Object, Id::Obstacle(o)))?;
                 }
                 let j = 1 - a;
                 if only.is_some() && self.active[j] {
                     if let Some(pj) = posed[j] {
                         let set = self.arms[j].set();
-                        for (k, s) in pj.shapes().iter().enumerate() {
+                        for k in 0..pj.shapes().len() {
                             if state.grasping[j] && set.is_gripper[k] {
                                 continue;
                             }
-                            sink.object(obj, pose, s, (Id::Arm(j, k), Id::Object))?;
+                            sink.object(obj, pose, pj.part(set, k), (Id::Arm(j, k), Id::Object))?;
                         }
                     }
                 }
@@ -606,9 +608,9 @@ impl CollisionWorld {
                         if base_k && self.arms[j].is_base_part(l) {
                             continue;
                         }
-                        let b = &pj.shapes()[l];
-                        if !sink.skip_spheres(a, b) {
-                            sink.pair(&a.shape, &b.shape, (Id::Arm(i, k), Id::Arm(j, l)))?;
+                        if !sink.skip_spheres(a, &pj.shapes()[l]) {
+                            let (pa, pb) = (pi.part(set_i, k), pj.part(set_j, l));
+                            sink.pair(pa, pb, (Id::Arm(i, k), Id::Arm(j, l)))?;
                         }
                     }
                 }
@@ -624,14 +626,16 @@ trait Sink {
     fn skip_spheres(&self, s1: &Bounded, s2: &Bounded) -> bool;
     /// Whether a group whose boxes are `sqrt(gap_sq)` apart cannot matter.
     fn skip_gap_sq(&self, gap_sq: f64) -> bool;
-    /// A part vs the support plane; `margin` is the clearance this pair must keep.
-    fn plane(&mut self, s: &Placed, height: f64, margin: f64, ids: (Id, Id)) -> ControlFlow<()>;
-    fn pair(&mut self, s1: &Placed, s2: &Placed, ids: (Id, Id)) -> ControlFlow<()>;
+    /// A solid vs the support plane; `margin` is the clearance this pair must keep.
+    fn plane(&mut self, s: Part, height: f64, margin: f64, ids: (Id, Id)) -> ControlFlow<()>;
+    /// Two solids.
+    fn pair(&mut self, s1: Part, s2: Part, ids: (Id, Id)) -> ControlFlow<()>;
+    /// A solid vs the part at `pose`.
     fn object(
         &mut self,
         obj: &ObjectGeometry,
         pose: &Isometry3<f64>,
-        s: &Bounded,
+        s: Part,
         ids: (Id, Id),
     ) -> ControlFlow<()>;
 }
@@ -662,23 +666,36 @@ impl Sink for FirstContact {
     fn skip_gap_sq(&self, gap_sq: f64) -> bool {
         gap_sq > self.margin * self.margin
     }
+    /// The primitive first, with the margin grown by the pieces' slack; the pieces only
+    /// where that finds contact (every `FirstContact` test below has this shape).
     #[inline]
-    fn plane(&mut self, s: &Placed, height: f64, margin: f64, ids: (Id, Id)) -> ControlFlow<()> {
-        self.hit(plane_distance(s, height) <= margin, ids)
+    fn plane(&mut self, s: Part, height: f64, margin: f64, ids: (Id, Id)) -> ControlFlow<()> {
+        let near = plane_distance(s.shape(), height) <= margin + s.slack();
+        let hit = near && s.plane_distance(height).is_none_or(|d| d <= margin);
+        self.hit(hit, ids)
     }
     #[inline]
-    fn pair(&mut self, s1: &Placed, s2: &Placed, ids: (Id, Id)) -> ControlFlow<()> {
-        self.hit(pair_intersects(s1, s2, self.margin), ids)
+    fn pair(&mut self, s1: Part, s2: Part, ids: (Id, Id)) -> ControlFlow<()> {
+        let margin = self.margin;
+        let near = pair_intersects(s1.shape(), s2.shape(), margin + s1.slack() + s2.slack());
+        let hit = near
+            && (s1.tight().is_none() && s2.tight().is_none() || tight::within(&s1, &s2, margin));
+        self.hit(hit, ids)
     }
     #[inline]
     fn object(
         &mut self,
         obj: &ObjectGeometry,
         pose: &Isometry3<f64>,
-        s: &Bounded,
+        s: Part,
         ids: (Id, Id),
     ) -> ControlFlow<()> {
-        self.hit(obj.intersects(pose, s, self.margin), ids)
+        let margin = self.margin;
+        let near = obj.intersects(pose, s.bounded, margin + s.slack());
+        let hit = near
+            && s.tight()
+                .is_none_or(|t| obj.pieces_intersect(pose, &t, margin));
+        self.hit(hit, ids)
     }
 }
 
@@ -704,23 +721,46 @@ impl Sink for MinDistance {
     fn skip_gap_sq(&self, gap_sq: f64) -> bool {
         gap_sq.sqrt() >= self.best
     }
-    fn plane(&mut self, s: &Placed, height: f64, _margin: f64, ids: (Id, Id)) -> ControlFlow<()> {
-        self.offer(plane_distance(s, height), ids)
+    /// Distances of the exact solids; the primitive's distance less the slack (a lower bound)
+    /// skips the pieces when it cannot beat the best so far.
+    fn plane(&mut self, s: Part, height: f64, _margin: f64, ids: (Id, Id)) -> ControlFlow<()> {
+        let bound = plane_distance(s.shape(), height);
+        if bound - s.slack() >= self.best && self.ids.is_some() {
+            return ControlFlow::Continue(());
+        }
+        self.offer(s.plane_distance(height).unwrap_or(bound), ids)
     }
-    fn pair(&mut self, s1: &Placed, s2: &Placed, ids: (Id, Id)) -> ControlFlow<()> {
-        self.offer(pair_distance(s1, s2), ids)
+    fn pair(&mut self, s1: Part, s2: Part, ids: (Id, Id)) -> ControlFlow<()> {
+        let bound = pair_distance(s1.shape(), s2.shape());
+        if s1.tight().is_none() && s2.tight().is_none() {
+            return self.offer(bound, ids);
+        }
+        if bound - s1.slack() - s2.slack() >= self.best && self.ids.is_some() {
+            return ControlFlow::Continue(());
+        }
+        self.offer(tight::distance(&s1, &s2), ids)
     }
     fn object(
         &mut self,
         obj: &ObjectGeometry,
         pose: &Isometry3<f64>,
-        s: &Bounded,
+        s: Part,
         ids: (Id, Id),
     ) -> ControlFlow<()> {
         let (c, r) = obj.world_sphere(pose);
-        if (c - s.center).norm() - r - s.radius >= self.best {
+        let b = s.bounded;
+        if (c - b.center).norm() - r - b.radius - s.slack() >= self.best {
             return ControlFlow::Continue(());
         }
-        self.offer(obj.distance(pose, s), ids)
+        match s.tight() {
+            None => self.offer(obj.distance(pose, b), ids),
+            Some(t) => {
+                let bound = obj.distance(pose, b);
+                if bound - s.slack() >= self.best && self.ids.is_some() {
+                    return ControlFlow::Continue(());
+                }
+                self.offer(obj.pieces_distance(pose, &t), ids)
+            }
+        }
     }
 }

@@ -1,7 +1,9 @@
 //! The shipped problem set `data/reach-ur5-table-boxes.json` and its generator.
 //!
 //! Regenerate with
-//! `cargo test -p pregrasp-collision --test problem_set -- --ignored regenerate`.
+//! `cargo test -p pregrasp-collision --test problem_set -- --ignored regenerate` (this changes
+//! the benchmark: the shipped set predates the exact link pieces and is kept for comparable
+//! `bench reach` numbers).
 
 use std::path::PathBuf;
 
@@ -50,12 +52,23 @@ fn shipped_set_loads_with_valid_queries() {
     }
 }
 
+/// The generator is deterministic and builds the shipped scene. The shipped queries were drawn
+/// with the link cylinders alone (before the exact pieces, issue 20) and are kept as they are,
+/// so that `bench reach` numbers stay comparable across versions; the generator now draws with
+/// the pieces, whose wider free space lets it accept other samples, so its queries need not
+/// equal the shipped ones (`shipped_set_loads_with_valid_queries` checks those are valid).
 #[test]
-fn generator_reproduces_the_shipped_set() {
+fn generator_is_deterministic_and_builds_the_shipped_scene() {
     let shipped = ReachProblemSet::load(&shipped_path()).unwrap();
     let head = generate_table_boxes(UrModel::Ur5e, GENERATOR_SEED, 4, CHECK_ITERATIONS);
+    let again = generate_table_boxes(UrModel::Ur5e, GENERATOR_SEED, 4, CHECK_ITERATIONS);
     assert_eq!(head.obstacles, shipped.obstacles);
-    assert_eq!(head.queries[..], shipped.queries[..4]);
+    assert_eq!(head.queries, again.queries);
+    let planner = ReachPlanner::new(&head, ReachSettings::default());
+    assert!(head
+        .queries
+        .iter()
+        .all(|q| planner.is_valid(&q.start) && planner.is_valid(&q.goal)));
 }
 
 #[test]

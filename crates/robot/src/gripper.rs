@@ -198,6 +198,7 @@ impl Gripper2F85 {
                 name,
                 frame: GRIPPER_FRAME,
                 primitive,
+                pieces: None,
             })
         });
         shapes

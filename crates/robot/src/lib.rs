@@ -21,6 +21,6 @@ pub use gripper::{Gripper2F85, GripperState, GRIPPER_FRAME};
 pub use ik::{joint_distance, IkSolutions, IK_RESIDUAL_TOL};
 pub use links::{
     arm_geometry, fitted_links_of, joint_sweep_radii, point_cylinder_distance, ArmGeometry,
-    Capsule, Cylinder, FittedLink, LinkShape, Primitive,
+    Capsule, ConvexPieces, Cylinder, FittedLink, LinkShape, Primitive,
 };
 pub use model::{DhParams, Joints, UnknownModel, UrModel, DEFAULT_JOINT_ACCEL, JOINT_NAMES};

@@ -1,12 +1,17 @@
 //! Collision geometry of the arm links, in the DH frames they move with.
 //!
-//! Source: `data/ur_links.json`, fitted by `tools/geometry/derive.py` to the visual meshes of
-//! Universal Robots' ROS 2 description (UR3e, UR5e, UR10e, UR16e and the CB3 UR5, each from its
-//! own meshes; provenance and per-link numbers in `data/PROVENANCE.md`). Every link is a few
-//! [`Cylinder`]s, flat-ended or with rounded rims where the housings are rounded: coaxial stacks
-//! on the joint axes for the housings, the base and the flange, and cylinders from joint axis to
-//! joint axis for the tubes, so no round cap sticks out along an axis. Every mesh vertex lies inside its link's shapes (tested); the shapes carry no
-//! margin — the clearance the arms keep is a planner setting (`[planner] link_clearance`).
+//! Source: `data/ur_links.json` and `data/ur_pieces_<model>.json`, fitted by
+//! `tools/geometry/derive.py` and `derive_pieces.py` to the visual meshes of Universal Robots'
+//! ROS 2 description (UR3e, UR5e, UR10e, UR16e and the CB3 UR5, each from its own meshes;
+//! provenance and per-link numbers in `data/PROVENANCE.md`). Every link is a few [`Cylinder`]s,
+//! flat-ended or with rounded rims where the housings are rounded: coaxial stacks on the joint
+//! axes for the housings, the base and the flange, and cylinders from joint axis to joint axis
+//! for the tubes, so no round cap sticks out along an axis. Each cylinder carries its
+//! [`ConvexPieces`]: convex polytopes hugging the part of the link it was fitted to (the
+//! shoulder's tilted cap, the tube junctions), which decide contact where the cylinder is
+//! close (the two-tier test is in `pregrasp_collision::tight`). Every mesh vertex lies inside
+//! its link's shapes and inside its pieces (tested); neither carries a margin — the clearance
+//! the arms keep is a planner setting (`[planner] link_clearance`).
 //!
 //! DH frames at q = 0 (UR5e, base coordinates): frames 1–3 have x = X, y = Z, z = −Y;
 //! frame 4 has x = X, y = −Y, z = −Z; frames 5 and 6 have x = X, y = Z, z = −Y. The link
@@ -172,6 +177,23 @@ pub struct LinkShape {
     pub frame: usize,
     /// The shape, in that frame.
     pub primitive: Primitive,
+    /// The link's surface inside this shape as convex pieces, where fitted: the exact tier of
+    /// the collision model (`None`: the primitive is the exact shape, as for the gripper).
+    pub pieces: Option<&'static ConvexPieces>,
+}
+
+/// The exact tier of a link shape: convex polytopes that hold the part of the link's surface
+/// the shape was fitted to (every visual-mesh vertex and 0.6 mm surface sample is in their
+/// union), each within `slack` of the shape. The shape, grown by `slack`, is then a bound of
+/// the pieces: a test that finds the shape clear by `margin + slack` has found the pieces
+/// clear by `margin`, and only shapes closer than that are tested on the pieces.
+/// Fitted by `tools/geometry/ur_pieces.py`.
+#[derive(Debug, PartialEq)]
+pub struct ConvexPieces {
+    /// Vertices of each piece in the owning frame (m); the piece is their convex hull.
+    pub pieces: Vec<Vec<Point3<f64>>>,
+    /// How far any piece reaches outside the primitive (m, ≥ 0).
+    pub slack: f64,
 }
 
 /// Collision model of an arm: shapes that contain its links, and the pairs checked.
@@ -199,10 +221,70 @@ impl ArmGeometry {
 /// z4 at a fixed offset from wrist_1) and the base vs the upper arm's shoulder housing (a
 /// solid of revolution about the shoulder-lift axis, at a fixed height above the base).
 pub fn arm_geometry(model: UrModel) -> ArmGeometry {
-    let links = fitted_links(model)
+    let mut links = fitted_links(model)
         .unwrap_or_else(|| panic!("ur_links.json has no shapes for {model}"))
         .clone();
+    let pieces = model_pieces(model);
+    for l in &mut links {
+        l.pieces = pieces.get(l.name);
+    }
     with_self_collision_pairs(links)
+}
+
+#[derive(serde::Deserialize)]
+struct PiecesJson {
+    pieces: Vec<Vec<[f64; 3]>>,
+    slack: f64,
+}
+
+#[derive(serde::Deserialize)]
+struct PiecesFileJson {
+    shapes: std::collections::BTreeMap<String, PiecesJson>,
+}
+
+/// The exact pieces of `model`'s link shapes by shape name (`data/ur_pieces_<model>.json`),
+/// parsed the first time the model is used: a scene with UR5e arms never parses the others.
+fn model_pieces(model: UrModel) -> &'static std::collections::BTreeMap<&'static str, ConvexPieces> {
+    type Pieces = std::collections::BTreeMap<&'static str, ConvexPieces>;
+    static MODELS: [std::sync::OnceLock<Pieces>; 5] = [const { std::sync::OnceLock::new() }; 5];
+    let (slot, text) = match model {
+        UrModel::Ur3e => (0, include_str!("../data/ur_pieces_ur3e.json")),
+        UrModel::Ur5e => (1, include_str!("../data/ur_pieces_ur5e.json")),
+        UrModel::Ur10e => (2, include_str!("../data/ur_pieces_ur10e.json")),
+        UrModel::Ur16e => (3, include_str!("../data/ur_pieces_ur16e.json")),
+        UrModel::Ur5 => (4, include_str!("../data/ur_pieces_ur5.json")),
+    };
+    MODELS[slot].get_or_init(|| {
+        let file: PiecesFileJson = serde_json::from_str(text)
+            .unwrap_or_else(|e| panic!("built-in ur_pieces_{model}.json: {e}"));
+        let names = fitted_links(model).expect("every model has shapes");
+        file.shapes
+            .into_iter()
+            .map(|(name, p)| {
+                let shape = names
+                    .iter()
+                    .find(|l| l.name == name)
+                    .unwrap_or_else(|| panic!("ur_pieces_{model}.json: no shape {name:?}"));
+                assert!(
+                    p.slack >= 0.0 && p.slack < 0.005 && p.pieces.iter().all(|v| v.len() >= 4),
+                    "ur_pieces_{model}.json: {name}: slack {} outside [0, 5 mm) or a piece of < 4 vertices",
+                    p.slack
+                );
+                let pieces = p
+                    .pieces
+                    .iter()
+                    .map(|v| v.iter().map(|&x| Point3::from(x)).collect())
+                    .collect();
+                (
+                    shape.name,
+                    ConvexPieces {
+                        pieces,
+                        slack: p.slack,
+                    },
+                )
+            })
+            .collect()
+    })
 }
 
 #[derive(serde::Deserialize)]
@@ -224,6 +306,8 @@ struct FittedLinkJson {
     shapes: Vec<FittedShapeJson>,
     #[serde(default)]
     excess_mm: Option<f64>,
+    #[serde(default)]
+    pieces_excess_mm: Option<f64>,
 }
 
 #[derive(serde::Deserialize)]
@@ -249,6 +333,9 @@ pub struct FittedLink {
     pub shapes: Vec<usize>,
     /// Largest outward excess of the shapes over the mesh (mm), as measured by the fit.
     pub excess_mm: Option<f64>,
+    /// Largest outward excess of the shapes' exact pieces ([`ConvexPieces`]) over the mesh
+    /// (mm), measured the same way: what decides contact.
+    pub pieces_excess_mm: Option<f64>,
 }
 
 struct FittedModel {
@@ -303,6 +390,7 @@ fn fitted_models() -> &'static std::collections::BTreeMap<String, FittedModel> {
                             name: Box::leak(s.name.into_boxed_str()),
                             frame: l.frame,
                             primitive,
+                            pieces: None,
                         });
                     }
                     links.push(FittedLink {
@@ -310,6 +398,7 @@ fn fitted_models() -> &'static std::collections::BTreeMap<String, FittedModel> {
                         frame: l.frame,
                         shapes: indices,
                         excess_mm: l.excess_mm,
+                        pieces_excess_mm: l.pieces_excess_mm,
                     });
                 }
                 (name, FittedModel { shapes, links })
@@ -369,7 +458,7 @@ pub fn joint_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> Joints {
     });
     let mut reach_in_frame = [0.0f64; 7];
     for shape in &geometry.links {
-        let r = shape.primitive.max_origin_distance();
+        let r = shape.primitive.max_origin_distance() + shape.pieces.map_or(0.0, |p| p.slack);
         reach_in_frame[shape.frame] = reach_in_frame[shape.frame].max(r);
     }
     // Every opening (the fingers move on arcs: an intermediate gap may reach farthest).
@@ -379,7 +468,7 @@ pub fn joint_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> Joints {
     });
     for state in states.chain([GripperState::Open]) {
         for shape in gripper.shapes(state) {
-            let r = shape.primitive.max_origin_distance();
+            let r = shape.primitive.max_origin_distance() + shape.pieces.map_or(0.0, |p| p.slack);
             reach_in_frame[6] = reach_in_frame[6].max(r);
         }
     }

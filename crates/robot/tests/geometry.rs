@@ -123,6 +123,12 @@ fn every_mesh_vertex_is_inside_its_link_shapes() {
 /// The description-mesh vertices of `link` of `model` (its DH frame) that the shapes must
 /// contain: `data/ur_link_vertices.json`, made with the shapes by `tools/geometry/derive.py`.
 fn mesh_vertices(model: &str, link: &str) -> Vec<Point3<f64>> {
+    link_vertices(model, link, "hull")
+}
+
+/// `key` ("hull": for the shapes, "piece_vertices": for the exact pieces) of `link` of
+/// `model` in `data/ur_link_vertices.json`.
+fn link_vertices(model: &str, link: &str, key: &str) -> Vec<Point3<f64>> {
     let file: serde_json::Value =
         serde_json::from_str(include_str!("../data/ur_link_vertices.json")).unwrap();
     let xyz = |p: &serde_json::Value| {
@@ -137,8 +143,77 @@ fn mesh_vertices(model: &str, link: &str) -> Vec<Point3<f64>> {
         .unwrap()
         .iter()
         .find(|l| l["name"] == link)
-        .map(|l| l["hull"].as_array().unwrap().iter().map(xyz).collect())
+        .map(|l| l[key].as_array().unwrap().iter().map(xyz).collect())
         .unwrap_or_default()
+}
+
+/// The exact tier ([`pregrasp_robot::ConvexPieces`]): every description-mesh vertex nearest the
+/// pieces' boundary (the 1500 per link that `tools/geometry/derive_pieces.py` found least deep
+/// inside; the others lie deeper) is in the union of its link's pieces, and every piece lies
+/// within its `slack` of the shape it refines, so the shape grown by the slack bounds it.
+#[test]
+fn every_mesh_vertex_is_inside_its_link_pieces() {
+    for model in UrModel::ALL {
+        let geometry = arm_geometry(model);
+        for link in fitted_links_of(model).unwrap() {
+            let mut hulls = Vec::new();
+            for &i in &link.shapes {
+                let shape = &geometry.links[i];
+                let pieces = shape
+                    .pieces
+                    .unwrap_or_else(|| panic!("{model} {}: no pieces", shape.name));
+                for piece in &pieces.pieces {
+                    let reach = piece
+                        .iter()
+                        .map(|v| outside_distance(&shape.primitive, v))
+                        .fold(0.0, f64::max);
+                    assert!(
+                        reach <= pieces.slack + 1e-9,
+                        "{model} {}: a piece reaches {:.3} mm outside, slack {:.3} mm",
+                        shape.name,
+                        reach * 1e3,
+                        pieces.slack * 1e3
+                    );
+                    hulls.push(
+                        parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(piece)
+                            .expect("a piece is a solid polytope"),
+                    );
+                }
+            }
+            let vertices = link_vertices(model.name(), &link.name, "piece_vertices");
+            assert!(
+                vertices.len() >= 100,
+                "{model} {}: too few test vertices",
+                link.name
+            );
+            let mounted = |v: &&Point3<f64>| link.frame != 0 || v.z >= BASE_MOUNT_GAP;
+            let mut worst: f64 = 0.0;
+            for v in vertices.iter().filter(mounted) {
+                let outside = hulls
+                    .iter()
+                    .map(|h| {
+                        use parry3d_f64::query::PointQuery;
+                        h.distance_to_local_point(v, true)
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                worst = worst.max(outside);
+            }
+            assert!(
+                worst <= 1e-6,
+                "{model} {}: a mesh vertex lies {:.4} mm outside the pieces",
+                link.name,
+                worst * 1e3
+            );
+            println!(
+                "{model:6} {:10} {} piece(s), {} vertices inside, excess {:.1} mm (shapes {:.1} mm)",
+                link.name,
+                hulls.len(),
+                vertices.len(),
+                link.pieces_excess_mm.unwrap_or(f64::NAN),
+                link.excess_mm.unwrap_or(f64::NAN)
+            );
+        }
+    }
 }
 
 /// Height above the mounting plane where the base shapes start (m).
