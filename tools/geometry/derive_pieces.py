@@ -71,12 +71,7 @@ def main():
                 polys += [np.asarray(P) for P in s["pieces"]]
                 names += [s["name"]] * len(L)
             e, at, who = ur_pieces.measure(polys, surf, names)
-            Vc = V.copy()
-            if name == "base":
-                Vc[:, 2] = np.maximum(Vc[:, 2], ur_vis.BASE_CLEAR)
-            Sc = surf.S.copy()
-            if name == "base":
-                Sc[:, 2] = np.maximum(Sc[:, 2], ur_vis.BASE_CLEAR)
+            Vc, Sc = ur_vis._cover_points(name, V), ur_vis._cover_points(name, surf.S)
             unc_v = ur_pieces.uncovered(polys, Vc)
             unc_s = ur_pieces.uncovered(polys, Sc)
             if unc_v > 1e-6:

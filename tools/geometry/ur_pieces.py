@@ -29,6 +29,7 @@ from scipy import ndimage
 from scipy.spatial import ConvexHull, HalfspaceIntersection, QhullError
 
 from shapes import _frame, dist_outside
+from ur_vis import _cover_points
 
 ANGLE = np.radians(10.0)  # least angle between two kept face normals
 SLACK = 0.0003            # a piece may exceed its cylinder by this much (m); the runtime grows
@@ -212,12 +213,10 @@ def _refine(shape, S, surf, lo, hi, depth):
 
 def pieces(link, shapes, V, surf):
     """Per cylinder (same order as shapes) a list of (vertices, slack) pieces: one convex piece, or
-    axial slabs of it where one piece bridges a concave profile (a waisted tube, a tube's junction
-    with a housing) by more than GOAL (`_refine`). [] where no point is assigned."""
-    Q = np.vstack([V, surf.S])
-    if link == "base":
-        Q = Q.copy(); Q[:, 2] = np.maximum(Q[:, 2], 0.002)
-    Q = np.unique(np.round(Q, 7), axis=0)
+    axial slabs or sectors of it where one piece bridges a concavity (a waisted tube, a tube's
+    junction with a housing, a pocket) by more than GOAL (`_refine`). [] where no point is
+    assigned. Base points below the mounting gap are lifted to it (`ur_vis._cover_points`)."""
+    Q = np.unique(np.round(_cover_points(link, np.vstack([V, surf.S])), 7), axis=0)
     who = assign(shapes, Q)
     out = []
     for i, s in enumerate(shapes):

@@ -215,7 +215,6 @@ impl ArmModel {
         let (gc, gr) = set.gripper_sphere;
         posed.len = set.names.len();
         posed.links = n_links;
-        posed.flange = frames[6];
         posed.frames = frames;
         posed.gripper = Bounded::sphere(frames[6] * gc, gr);
         for (f, slot) in posed.frame_spheres.iter_mut().enumerate() {
@@ -415,7 +414,6 @@ pub(crate) struct PosedArm {
     frame_spheres: [Bounded; 7],
     /// The DH frames 0..=6 in the world.
     frames: [Isometry3<f64>; 7],
-    flange: Isometry3<f64>,
     /// A sphere holding the whole gripper.
     gripper: Bounded,
 }
@@ -428,7 +426,6 @@ impl PosedArm {
         links: 0,
         frame_spheres: [Bounded::EMPTY; 7],
         frames: [IDENTITY; 7],
-        flange: IDENTITY,
         gripper: Bounded::EMPTY,
     };
 }
@@ -489,10 +486,10 @@ impl PosedArm {
         }
     }
 
-    /// Flange pose in the world.
+    /// Flange pose in the world (DH frame 6).
     #[inline]
     pub fn flange(&self) -> &Isometry3<f64> {
-        &self.flange
+        &self.frames[6]
     }
 
     /// Axis-aligned box around the whole arm: the union of the parts' bounding-sphere boxes.

@@ -7,8 +7,9 @@
 //! vertices in the link's DH frame, by parry's GJK on support maps with early exit at the margin
 //! (`closest_points_support_map_support_map` with a prediction distance), against the other
 //! solid's own pieces or primitive. A piece needs no faces at run time: GJK only asks for its
-//! support point `argmax_v d·v`, so loading a model builds no hulls. The pieces hug the real link surface (a few millimetres at most, see
-//! `crates/robot/data/PROVENANCE.md`), so this is where near-contact outcomes are decided.
+//! support point `argmax_v d·v`, so loading a model builds no hulls. The pieces hug the real
+//! link surface (a few millimetres at most, see `crates/robot/data/PROVENANCE.md`), so this is
+//! where near-contact outcomes are decided.
 
 use std::ops::ControlFlow;
 
@@ -34,16 +35,7 @@ pub struct Polytope {
 impl SupportMap for Polytope {
     #[inline]
     fn local_support_point(&self, dir: &Vector3<f64>) -> P {
-        let mut best = self.points[0];
-        let mut top = best.coords.dot(dir);
-        for p in &self.points[1..] {
-            let d = p.coords.dot(dir);
-            if d > top {
-                top = d;
-                best = *p;
-            }
-        }
-        best
+        parry3d_f64::utils::point_cloud_support_point(dir, &self.points)
     }
 }
 
@@ -101,11 +93,6 @@ impl Tight {
     /// How far the pieces reach outside the link shape (m).
     pub fn slack(&self) -> f64 {
         self.slack
-    }
-
-    /// The pieces' vertices (link frame), for viewers and tests.
-    pub fn piece_points(&self) -> impl Iterator<Item = &[P]> {
-        self.pieces.iter().map(|p| p.poly.points.as_slice())
     }
 }
 

@@ -89,19 +89,14 @@ fn every_mesh_vertex_is_inside_its_link_shapes() {
         for link in links {
             let vertices = mesh_vertices(model.name(), &link.name);
             assert!(!vertices.is_empty(), "{model} {}: no vertices", link.name);
-            let mut worst: f64 = f64::NEG_INFINITY;
-            // The base's shapes start 2 mm above the mounting plane, so that the plane the
-            // arm stands on never registers as a contact; the foot's bottom rim is not modelled.
-            let mounted = |v: &&Point3<f64>| link.frame != 0 || v.z >= BASE_MOUNT_GAP;
-            for v in vertices.iter().filter(mounted) {
-                // Signed distance outside the nearest shape (≤ 0 inside).
-                let outside = link
-                    .shapes
+            // Signed distance outside the nearest shape (≤ 0 inside); the foot's bottom rim,
+            // below the mounting gap, is not modelled.
+            let worst = worst_outside(link.frame, &vertices, |v| {
+                link.shapes
                     .iter()
                     .map(|&i| outside_distance(&geometry.links[i].primitive, v))
-                    .fold(f64::INFINITY, f64::min);
-                worst = worst.max(outside);
-            }
+                    .fold(f64::INFINITY, f64::min)
+            });
             assert!(
                 worst <= 1e-6,
                 "{model} {}: a mesh vertex lies {:.3} mm outside the shapes",
@@ -186,18 +181,14 @@ fn every_mesh_vertex_is_inside_its_link_pieces() {
                 "{model} {}: too few test vertices",
                 link.name
             );
-            let mounted = |v: &&Point3<f64>| link.frame != 0 || v.z >= BASE_MOUNT_GAP;
-            let mut worst: f64 = 0.0;
-            for v in vertices.iter().filter(mounted) {
-                let outside = hulls
+            let worst = worst_outside(link.frame, &vertices, |v| {
+                use parry3d_f64::query::PointQuery;
+                hulls
                     .iter()
-                    .map(|h| {
-                        use parry3d_f64::query::PointQuery;
-                        h.distance_to_local_point(v, true)
-                    })
-                    .fold(f64::INFINITY, f64::min);
-                worst = worst.max(outside);
-            }
+                    .map(|h| h.distance_to_local_point(v, true))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .max(0.0);
             assert!(
                 worst <= 1e-6,
                 "{model} {}: a mesh vertex lies {:.4} mm outside the pieces",
@@ -214,6 +205,21 @@ fn every_mesh_vertex_is_inside_its_link_pieces() {
             );
         }
     }
+}
+
+/// The largest `outside(v)` over the vertices a link's model must contain: all of them, except
+/// on the base (frame 0) those below [`BASE_MOUNT_GAP`] — the base's shapes start 2 mm above the
+/// mounting plane, so that the plane the arm stands on never registers as a contact.
+fn worst_outside(
+    frame: usize,
+    vertices: &[Point3<f64>],
+    outside: impl Fn(&Point3<f64>) -> f64,
+) -> f64 {
+    vertices
+        .iter()
+        .filter(|v| frame != 0 || v.z >= BASE_MOUNT_GAP)
+        .map(outside)
+        .fold(f64::NEG_INFINITY, f64::max)
 }
 
 /// Height above the mounting plane where the base shapes start (m).
