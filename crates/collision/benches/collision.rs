@@ -6,6 +6,9 @@
 //! - `reach_query`: RRT-Connect + simplification from a start configuration to a stand-off
 //!   above a part on a table (table cuboid and part mesh as obstacles).
 //! - `reach_problem_set`: the queries of `data/reach-ur5-table-boxes.json`, one per iteration.
+//! - `edge/boxes`, `edge/state_by_state`: one long free edge of the arm over the part (the pan
+//!   turned by 1.5 rad, checked every 5 mm of arm travel), accepted by joint boxes
+//!   (`ArmValidity`, `pregrasp_collision::sweep`) or checked one state after another.
 //!
 //! Run: `cargo bench -p pregrasp-collision --bench collision -- --warm-up-time 1 --measurement-time 3`.
 
@@ -174,5 +177,40 @@ fn reach_problem_set(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, check_arm, reach_query, reach_problem_set);
+fn edge(c: &mut Criterion) {
+    let plate = plate_10k();
+    let arm = ArmModel::new(
+        "left",
+        UrModel::Ur5e,
+        Isometry3::identity(),
+        Gripper2F85::default(),
+    );
+    let world = CollisionWorld::single_arm(Some(0.0), Some(&plate), arm)
+        .unwrap()
+        .with_margin(0.008);
+    let mut state = WorldState::new([UP, UP]);
+    state.object = ObjectPlacement::Fixed(plate_pose());
+    let space = joint_space(&world.arms()[0]);
+    let boxes = ArmValidity::new(&world, 0, state);
+    let one_by_one = |q: &Joints| boxes.is_valid(q);
+    let a = [-0.75, -1.9, 1.9, -1.57, -1.57, 0.0];
+    let b = [0.75, -1.7, 1.7, -1.57, -1.57, 0.4];
+    let by_boxes = pregrasp_motion::MotionValidator::new(&space, &boxes, 0.005);
+    let by_states = pregrasp_motion::MotionValidator::new(&space, &one_by_one, 0.005);
+    let (mut n1, mut n2) = (0, 0);
+    assert!(by_boxes.check_edge_counted(&a, &b, &mut n1));
+    assert!(by_states.check_edge_counted(&a, &b, &mut n2));
+    eprintln!(
+        "edge: {} steps; {n1} checks with boxes, {n2} state by state",
+        by_states.edge_steps(&a, &b)
+    );
+    c.bench_function("edge/boxes", |bch| {
+        bch.iter(|| black_box(by_boxes.check_edge(black_box(&a), &b)))
+    });
+    c.bench_function("edge/state_by_state", |bch| {
+        bch.iter(|| black_box(by_states.check_edge(black_box(&a), &b)))
+    });
+}
+
+criterion_group!(benches, check_arm, reach_query, reach_problem_set, edge);
 criterion_main!(benches);

@@ -6,7 +6,8 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use nalgebra::Isometry3;
 use pregrasp_robot::{
-    arm_geometry, Gripper2F85, GripperState, Joints, LinkShape, Primitive, UrKinematics, UrModel,
+    arm_geometry, flange_sweep_radii, group_sweep_radii, Gripper2F85, GripperState, Joints,
+    LinkShape, Primitive, UrKinematics, UrModel, SHAPE_GROUPS,
 };
 
 use crate::error::CollisionError;
@@ -26,13 +27,17 @@ pub(crate) type PairGroup = ((u8, u8), Vec<(u8, u8)>);
 pub(crate) struct ShapeSet {
     /// `(DH frame index 0..=6, primitive in that frame)` of the arm links.
     pub parts: Vec<(usize, Primitive)>,
+    /// The arm links as posed in their own frames ([`Local`]), in the order of `parts`.
+    pub local_parts: Vec<Local>,
     /// Per arm link (same order as `parts`), its exact pieces where it has them.
     pub tight: TightSet,
     /// The gripper's primitives (flange frame) when open.
     pub open_gripper: Vec<Primitive>,
+    /// `open_gripper` ready to be posed.
+    pub open_local: Vec<Local>,
     /// The gripper's primitives closed at the gaps it is known to hold (see
     /// [`ArmModel::with_closed_gaps`]); other gaps are computed when posed.
-    pub closed_grippers: Vec<(f64, Vec<Primitive>)>,
+    pub closed_grippers: Vec<(f64, Vec<Primitive>, Vec<Local>)>,
     /// `"<arm>/<link>"` for every part.
     pub names: Vec<String>,
     /// Whether the part belongs to the gripper (may touch a grasped part).
@@ -50,6 +55,13 @@ pub(crate) struct ShapeSet {
     pub link_pair_groups: Vec<PairGroup>,
     /// Shape groups: the link shapes of each DH frame 0..=6, then (group 7) the gripper's.
     pub group_members: [Vec<u8>; 8],
+    /// The group of every shape.
+    pub group_of: Vec<u8>,
+    /// Per joint and shape group, the group's largest distance from the joint axis (m), see
+    /// [`pregrasp_robot::group_sweep_radii`].
+    pub group_radii: [[f64; SHAPE_GROUPS]; 6],
+    /// Per joint, the flange origin's largest distance from the joint axis (m).
+    pub flange_radii: Joints,
 }
 
 /// An arm in the world: a UR model at `base` with a Robotiq 2F-85 on its flange.
@@ -126,14 +138,22 @@ impl ArmModel {
                 None => link_pair_groups.push((key, vec![(a, b)])),
             }
         }
+        let tight = tight_pieces(model, &geometry.links);
         let shapes = ShapeSet {
             parts: geometry
                 .links
                 .iter()
                 .map(|l| (l.frame, l.primitive))
                 .collect(),
-            tight: tight_pieces(model, &geometry.links),
+            local_parts: geometry
+                .links
+                .iter()
+                .zip(tight.iter())
+                .map(|(l, t)| Local::new(&l.primitive, t.as_ref().map_or(0.0, Tight::slack)))
+                .collect(),
+            tight,
             open_gripper: grip.iter().map(|l| l.primitive).collect(),
+            open_local: grip.iter().map(|l| Local::new(&l.primitive, 0.0)).collect(),
             closed_grippers: Vec::new(),
             names,
             is_gripper,
@@ -151,6 +171,11 @@ impl ArmModel {
                     (n_links..count).map(|k| k as u8).collect()
                 }
             }),
+            group_of: (0..count)
+                .map(|k| geometry.links.get(k).map_or(7, |l| l.frame as u8))
+                .collect(),
+            group_radii: group_sweep_radii(model, &gripper),
+            flange_radii: flange_sweep_radii(model),
         };
         Ok(ArmModel {
             name: name.to_string(),
@@ -165,13 +190,19 @@ impl ArmModel {
     /// holding the part at one of them costs no finger kinematics.
     pub fn with_closed_gaps(mut self, gaps: &[f64]) -> Self {
         for &gap in gaps {
-            if self.shapes.closed_grippers.iter().any(|(g, _)| *g == gap) {
+            if self
+                .shapes
+                .closed_grippers
+                .iter()
+                .any(|(g, _, _)| *g == gap)
+            {
                 continue;
             }
             let mut prims = Vec::with_capacity(self.gripper.shape_count());
             self.gripper
                 .for_each_shape(GripperState::Closed { gap }, |_, _, p| prims.push(p));
-            self.shapes.closed_grippers.push((gap, prims));
+            let local = prims.iter().map(|p| Local::new(p, 0.0)).collect();
+            self.shapes.closed_grippers.push((gap, prims, local));
         }
         self
     }
@@ -221,30 +252,27 @@ impl ArmModel {
             let (c, r) = set.frame_spheres[f];
             *slot = Bounded::sphere(frames[f] * c, r);
         }
-        for ((slot, (frame, prim)), tight) in posed
+        for ((slot, (frame, _)), local) in posed
             .shapes
             .iter_mut()
             .zip(set.parts.iter())
-            .zip(set.tight.iter())
+            .zip(set.local_parts.iter())
         {
-            *slot = Bounded::new(place(&frames[*frame], prim));
-            // The sphere holds the pieces too, which reach up to `slack` outside the shape.
-            slot.slack = tight.as_ref().map_or(0.0, Tight::slack);
-            slot.radius += slot.slack;
+            *slot = local.place(&frames[*frame]);
         }
         let flange = frames[6];
         let slots = &mut posed.shapes[n_links..];
         match state {
             GripperState::Open => {
-                for (slot, prim) in slots.iter_mut().zip(&set.open_gripper) {
-                    *slot = Bounded::new(place(&flange, prim));
+                for (slot, local) in slots.iter_mut().zip(&set.open_local) {
+                    *slot = local.place(&flange);
                 }
             }
             GripperState::Closed { gap } => {
-                match set.closed_grippers.iter().find(|(g, _)| *g == gap) {
-                    Some((_, prims)) => {
-                        for (slot, prim) in slots.iter_mut().zip(prims) {
-                            *slot = Bounded::new(place(&flange, prim));
+                match set.closed_grippers.iter().find(|(g, _, _)| *g == gap) {
+                    Some((_, _, locals)) => {
+                        for (slot, local) in slots.iter_mut().zip(locals) {
+                            *slot = local.place(&flange);
                         }
                     }
                     None => self.gripper.for_each_shape(state, |k, _, prim| {
@@ -255,29 +283,45 @@ impl ArmModel {
         }
     }
 
-    /// Calls `f` with each gripper primitive placed in the world at `q` (only the flange is
-    /// computed, not the links).
-    pub(crate) fn for_each_gripper_shape(
-        &self,
-        q: &Joints,
-        state: GripperState,
-        mut f: impl FnMut(&Placed),
-    ) {
+    /// World height of the lowest point of the gripper at `q` (m). Only the flange is posed,
+    /// and of each box only what its height needs: the world `z` row of its rotation.
+    pub(crate) fn gripper_lowest(&self, q: &Joints, state: GripperState) -> f64 {
         let flange = self.base * self.kin.fk(q);
+        let row = flange
+            .rotation
+            .to_rotation_matrix()
+            .matrix()
+            .row(2)
+            .transpose();
+        let tz = flange.translation.vector.z;
+        let lowest = |prim: &Primitive| match prim {
+            Primitive::Cuboid { pose, half_extents } => {
+                let r = pose.rotation.to_rotation_matrix();
+                let z = r.matrix().transpose() * row;
+                let ext = z.x.abs() * half_extents.x
+                    + z.y.abs() * half_extents.y
+                    + z.z.abs() * half_extents.z;
+                row.dot(&pose.translation.vector) + tz - ext
+            }
+            other => crate::shape::plane_distance(&place(&flange, other), 0.0),
+        };
         let set = &self.shapes;
         let cached = match state {
             GripperState::Open => Some(&set.open_gripper),
             GripperState::Closed { gap } => set
                 .closed_grippers
                 .iter()
-                .find(|(g, _)| *g == gap)
-                .map(|(_, prims)| prims),
+                .find(|(g, _, _)| *g == gap)
+                .map(|(_, prims, _)| prims),
         };
         match cached {
-            Some(prims) => prims.iter().for_each(|p| f(&place(&flange, p))),
-            None => self
-                .gripper
-                .for_each_shape(state, |_, _, p| f(&place(&flange, &p))),
+            Some(prims) => prims.iter().map(lowest).fold(f64::INFINITY, f64::min),
+            None => {
+                let mut low = f64::INFINITY;
+                self.gripper
+                    .for_each_shape(state, |_, _, p| low = low.min(lowest(&p)));
+                low
+            }
         }
     }
 
@@ -376,6 +420,64 @@ fn tight_pieces(model: UrModel, links: &[LinkShape]) -> TightSet {
             )
         })
         .clone()
+}
+
+/// An arm link's primitive ready to be posed: in its frame, a rounded cylinder already as its
+/// inset core, with the bounding sphere's radius (the same in every pose) grown by the exact
+/// pieces' `slack`, which the sphere must hold too.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Local {
+    shape: Placed,
+    radius: f64,
+    slack: f64,
+}
+
+impl Local {
+    fn new(prim: &Primitive, slack: f64) -> Self {
+        let b = Bounded::new(place(&Isometry3::identity(), prim));
+        Local {
+            shape: b.shape,
+            radius: b.radius + slack,
+            slack,
+        }
+    }
+
+    /// The primitive in the world, its frame at `t`.
+    #[inline]
+    fn place(&self, t: &Isometry3<f64>) -> Bounded {
+        let (shape, center) = match self.shape {
+            Placed::Capsule { a, b, radius } => {
+                let (a, b) = (t * a, t * b);
+                (Placed::Capsule { a, b, radius }, nalgebra::center(&a, &b))
+            }
+            Placed::Cylinder {
+                a,
+                b,
+                radius,
+                border,
+            } => {
+                let (a, b) = (t * a, t * b);
+                let shape = Placed::Cylinder {
+                    a,
+                    b,
+                    radius,
+                    border,
+                };
+                (shape, nalgebra::center(&a, &b))
+            }
+            Placed::Cuboid { pose, half } => {
+                let pose = t * pose;
+                let center = nalgebra::Point3::from(pose.translation.vector);
+                (Placed::Cuboid { pose, half }, center)
+            }
+        };
+        Bounded {
+            shape,
+            center,
+            radius: self.radius,
+            slack: self.slack,
+        }
+    }
 }
 
 /// A primitive of frame `t` placed in the world.
@@ -484,6 +586,12 @@ impl PosedArm {
         } else {
             &self.gripper
         }
+    }
+
+    /// DH frame `f` (0..=6) in the world.
+    #[inline]
+    pub fn frame(&self, f: usize) -> &Isometry3<f64> {
+        &self.frames[f]
     }
 
     /// Flange pose in the world (DH frame 6).

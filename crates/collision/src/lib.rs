@@ -10,6 +10,8 @@
 //! - [`arm`]: [`ArmModel`], an arm's kinematics, base and cached link/gripper primitives.
 //! - [`world`]: [`CollisionWorld`], [`WorldState`], [`ObjectPlacement`], [`Contact`]:
 //!   first contact by name, clearance, single-arm queries.
+//! - [`sweep`]: swept checks ([`Sweep`]) that stand for every state within a motion bound,
+//!   and [`CollisionWorld::first_contact_in`], a motion's states checked by ranges.
 //! - [`validity`]: [`ArmValidity`] (a `StateValidator<6>`) and [`joint_space`] (limits and
 //!   sweep-radius weights; the resolution bound is stated there).
 //! - [`reach`]: the `pregrasp bench reach` problem format, runner and generator.
@@ -26,6 +28,7 @@ pub mod grip;
 pub mod object;
 pub mod reach;
 pub mod shape;
+pub mod sweep;
 pub mod tight;
 pub mod validity;
 pub mod world;
@@ -35,5 +38,6 @@ pub use error::CollisionError;
 pub use grip::{closing_gap, GripFailure};
 pub use object::ObjectGeometry;
 pub use shape::Placed;
+pub use sweep::{Sweep, SWEEP_LIMIT};
 pub use validity::{attached_reach, joint_space, joint_space_with_payload, ArmValidity};
 pub use world::{CollisionWorld, Contact, ObjectPlacement, Obstacle, WorldState};

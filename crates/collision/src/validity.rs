@@ -68,6 +68,17 @@ impl StateValidator<6> for ArmValidity<'_> {
         }
         self.world.is_arm_free(self.arm, &self.state_at(q))
     }
+
+    /// The joint box about `q` is free ([`CollisionWorld::is_arm_free_within`]).
+    #[inline]
+    fn is_valid_around(&self, q: &State<6>, reach: &State<6>) -> bool {
+        self.world
+            .is_arm_free_within(self.arm, &self.state_at(q), reach)
+    }
+
+    fn around_limit(&self) -> f64 {
+        crate::sweep::SWEEP_LIMIT
+    }
 }
 
 /// The arm's joint space: its model's joint limits, weights from `joint_sweep_radii` (m/rad)

@@ -25,6 +25,7 @@ use crate::distance::aabb_aabb_sq;
 use crate::error::CollisionError;
 use crate::object::ObjectGeometry;
 use crate::shape::{pair_distance, pair_intersects, plane_distance, Bounded, Placed};
+use crate::sweep::Grows;
 use crate::tight::{self, Part};
 
 /// Where the part is.
@@ -101,8 +102,11 @@ impl Obstacle {
 
 /// Identifies one side of a pair, resolved to a name only when reported.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Id {
+pub(crate) enum Id {
     Arm(usize, usize),
+    /// A whole shape group of an arm (DH frame 0..=6, 7 = the gripper): only for culling by
+    /// bounding spheres, never reported.
+    Group(usize, usize),
     Support,
     Obstacle(usize),
     Object,
@@ -231,14 +235,10 @@ impl CollisionWorld {
     /// Lowest height (m) of arm `arm`'s gripper above the support at `state` (signed; `∞`
     /// without a support).
     pub fn gripper_support_distance(&self, arm: usize, state: &WorldState) -> f64 {
-        let Some(h) = self.support else {
-            return f64::INFINITY;
-        };
-        let mut lowest = f64::INFINITY;
-        self.arms[arm].for_each_gripper_shape(&state.q[arm], state.gripper[arm], |s| {
-            lowest = lowest.min(plane_distance(s, h));
-        });
-        lowest
+        match self.support {
+            None => f64::INFINITY,
+            Some(h) => self.arms[arm].gripper_lowest(&state.q[arm], state.gripper[arm]) - h,
+        }
     }
 
     /// The safety margin (m).
@@ -350,10 +350,7 @@ impl CollisionWorld {
     }
 
     fn first_contact(&self, only: Option<usize>, state: &WorldState) -> Option<(Id, Id)> {
-        let mut sink = FirstContact {
-            margin: self.margin,
-            ids: None,
-        };
+        let mut sink = FirstContact::new(self.margin);
         let _ = self.visit(only, state, &mut sink);
         sink.ids
     }
@@ -361,6 +358,7 @@ impl CollisionWorld {
     fn name(&self, id: Id) -> String {
         match id {
             Id::Arm(i, k) => self.arms[i].shape_names()[k].clone(),
+            Id::Group(i, g) => format!("{}/group {g}", self.arms[i].name),
             Id::Support => "support".to_string(),
             Id::Obstacle(o) => self.obstacles[o].name.clone(),
             Id::Object => "object".to_string(),
@@ -375,12 +373,21 @@ impl CollisionWorld {
     }
 
     /// Enumerates every pair to check (restricted to arm `only` if given), feeding `sink`.
-    fn visit(
+    pub(crate) fn visit(
         &self,
         only: Option<usize>,
         state: &WorldState,
         sink: &mut impl Sink,
     ) -> ControlFlow<()> {
+        self.with_posed(state, |posed| self.visit_posed(only, state, posed, sink))
+    }
+
+    /// Calls `f` with both active arms posed at `state` (from the per-thread buffers).
+    pub(crate) fn with_posed<R>(
+        &self,
+        state: &WorldState,
+        f: impl FnOnce([Option<&PosedArm>; 2]) -> R,
+    ) -> R {
         // Both active arms are posed: in a single-arm query the other one is an obstacle.
         POSED.with_borrow_mut(|(keys, buffers)| {
             for i in 0..2 {
@@ -394,13 +401,12 @@ impl CollisionWorld {
                 }
             }
             let [b0, b1] = &*buffers;
-            let posed = [self.active[0].then_some(b0), self.active[1].then_some(b1)];
-            self.visit_posed(only, state, posed, sink)
+            f([self.active[0].then_some(b0), self.active[1].then_some(b1)])
         })
     }
 
     /// [`visit`](Self::visit) with both arms posed.
-    fn visit_posed(
+    pub(crate) fn visit_posed(
         &self,
         only: Option<usize>,
         state: &WorldState,
@@ -415,6 +421,13 @@ impl CollisionWorld {
             ObjectPlacement::Attached { arm, .. } if object.is_some() => Some(arm),
             _ => None,
         };
+        if sink.part_first() {
+            for (i, pi) in posed.iter().enumerate() {
+                if let Some(pi) = pi.filter(|_| self.active[i] && only.is_none_or(|o| o == i)) {
+                    self.visit_part(i, pi, state, object, sink)?;
+                }
+            }
+        }
         for i in 0..2 {
             if !self.active[i] || only.is_some_and(|o| o != i) {
                 continue;
@@ -429,6 +442,9 @@ impl CollisionWorld {
                 for k in 0..shapes.len() {
                     if !arm.is_base_part(k) {
                         let margin = if state.grasping[i] && set.is_gripper[k] {
+                            if !sink.grasp_support() {
+                                continue;
+                            }
                             self.grasp_support_margin
                         } else {
                             self.margin
@@ -439,12 +455,14 @@ impl CollisionWorld {
             }
             // 2. Self-collision pairs.
             for ((fa, fb), pairs) in &set.link_pair_groups {
-                if sink.skip_spheres(pi.frame_sphere(*fa as usize), pi.frame_sphere(*fb as usize)) {
+                let (ga, gb) = (Id::Group(i, *fa as usize), Id::Group(i, *fb as usize));
+                let (sa, sb) = (pi.frame_sphere(*fa as usize), pi.frame_sphere(*fb as usize));
+                if sink.skip_spheres(sa, sb, (ga, gb)) {
                     continue;
                 }
                 for &(a, b) in pairs {
                     let (a, b) = (a as usize, b as usize);
-                    if !sink.skip_spheres(&shapes[a], &shapes[b]) {
+                    if !sink.skip_spheres(&shapes[a], &shapes[b], (Id::Arm(i, a), Id::Arm(i, b))) {
                         let (sa, sb) = (pi.part(set, a), pi.part(set, b));
                         sink.pair(sa, sb, (Id::Arm(i, a), Id::Arm(i, b)))?;
                     }
@@ -454,11 +472,11 @@ impl CollisionWorld {
             for &l in &set.gripper_forbidden {
                 let l = l as usize;
                 let sl = &shapes[l];
-                if sink.skip_spheres(sl, pi.gripper_sphere()) {
+                if sink.skip_spheres(sl, pi.gripper_sphere(), (Id::Arm(i, l), Id::Group(i, 7))) {
                     continue;
                 }
                 for g in pi.gripper_range() {
-                    if !sink.skip_spheres(sl, &shapes[g]) {
+                    if !sink.skip_spheres(sl, &shapes[g], (Id::Arm(i, l), Id::Arm(i, g))) {
                         let (pl, pg) = (pi.part(set, l), pi.part(set, g));
                         sink.pair(pl, pg, (Id::Arm(i, l), Id::Arm(i, g)))?;
                     }
@@ -467,13 +485,15 @@ impl CollisionWorld {
             // 3. Static cuboids.
             for (o, obs) in self.obstacles.iter().enumerate() {
                 for (g, members) in set.group_members.iter().enumerate() {
-                    if members.is_empty() || sink.skip_spheres(pi.group_sphere(g), &obs.shape) {
+                    let ids = (Id::Group(i, g), Id::Obstacle(o));
+                    if members.is_empty() || sink.skip_spheres(pi.group_sphere(g), &obs.shape, ids)
+                    {
                         continue;
                     }
                     for &k in members {
                         let (k, s) = (k as usize, &shapes[k as usize]);
-                        if !arm.is_base_part(k) && !sink.skip_spheres(s, &obs.shape) {
-                            let ids = (Id::Arm(i, k), Id::Obstacle(o));
+                        let ids = (Id::Arm(i, k), Id::Obstacle(o));
+                        if !arm.is_base_part(k) && !sink.skip_spheres(s, &obs.shape, ids) {
                             sink.pair(pi.part(set, k), Part::plain(&obs.shape), ids)?;
                         }
                     }
@@ -486,28 +506,9 @@ impl CollisionWorld {
                     self.arm_vs_arm(i, pi, j, pj, sink)?;
                 }
             }
-            // 5. The part.
-            if let Some((obj, pose)) = &object {
-                let (c, r) = obj.world_sphere(pose);
-                let part = Bounded::new(Placed::Capsule {
-                    a: c,
-                    b: c,
-                    radius: r,
-                });
-                for (g, members) in set.group_members.iter().enumerate() {
-                    let sphere = pi.group_sphere(g);
-                    let gripper = g == 7;
-                    if members.is_empty()
-                        || gripper && state.grasping[i]
-                        || sink.skip_spheres(sphere, &part)
-                    {
-                        continue;
-                    }
-                    for &k in members {
-                        let k = k as usize;
-                        sink.object(obj, pose, pi.part(set, k), (Id::Arm(i, k), Id::Object))?;
-                    }
-                }
+            // 5. The part (visited first instead when the sink asks).
+            if !sink.part_first() {
+                self.visit_part(i, pi, state, object, sink)?;
             }
         }
         // 6. The attached part vs static cuboids, and (single-arm queries) vs the other arm.
@@ -529,6 +530,44 @@ impl CollisionWorld {
                         }
                     }
                 }
+            }
+        }
+        ControlFlow::Continue(())
+    }
+
+    /// Arm `i` (posed as `pi`) vs the part at its pose, by groups culled by the part's sphere
+    /// and box; the gripper of an arm that grasps is left out.
+    fn visit_part(
+        &self,
+        i: usize,
+        pi: &PosedArm,
+        state: &WorldState,
+        object: Option<(&ObjectGeometry, Isometry3<f64>)>,
+        sink: &mut impl Sink,
+    ) -> ControlFlow<()> {
+        let Some((obj, pose)) = object else {
+            return ControlFlow::Continue(());
+        };
+        let set = self.arms[i].set();
+        let (c, r) = obj.world_sphere(&pose);
+        let part = Bounded::new(Placed::Capsule {
+            a: c,
+            b: c,
+            radius: r,
+        });
+        for (g, members) in set.group_members.iter().enumerate() {
+            let sphere = pi.group_sphere(g);
+            let gripper = g == 7;
+            if members.is_empty()
+                || gripper && state.grasping[i]
+                || sink.skip_spheres(sphere, &part, (Id::Group(i, g), Id::Object))
+                || sink.skip_object_box(obj, &pose, sphere, (Id::Group(i, g), Id::Object))
+            {
+                continue;
+            }
+            for &k in members {
+                let k = k as usize;
+                sink.object(obj, &pose, pi.part(set, k), (Id::Arm(i, k), Id::Object))?;
             }
         }
         ControlFlow::Continue(())
@@ -596,7 +635,8 @@ impl CollisionWorld {
                 continue;
             }
             for (gj, members_j) in set_j.group_members.iter().enumerate() {
-                if members_j.is_empty() || sink.skip_spheres(si, pj.group_sphere(gj)) {
+                let ids = (Id::Group(i, gi), Id::Group(j, gj));
+                if members_j.is_empty() || sink.skip_spheres(si, pj.group_sphere(gj), ids) {
                     continue;
                 }
                 for &k in members_i {
@@ -608,7 +648,8 @@ impl CollisionWorld {
                         if base_k && self.arms[j].is_base_part(l) {
                             continue;
                         }
-                        if !sink.skip_spheres(a, &pj.shapes()[l]) {
+                        let ids = (Id::Arm(i, k), Id::Arm(j, l));
+                        if !sink.skip_spheres(a, &pj.shapes()[l], ids) {
                             let (pa, pb) = (pi.part(set_i, k), pj.part(set_j, l));
                             sink.pair(pa, pb, (Id::Arm(i, k), Id::Arm(j, l)))?;
                         }
@@ -621,11 +662,32 @@ impl CollisionWorld {
 }
 
 /// What to do with each candidate pair: stop at the first contact, or track the minimum.
-trait Sink {
-    /// Whether a pair whose bounding spheres are `s1`, `s2` cannot matter.
-    fn skip_spheres(&self, s1: &Bounded, s2: &Bounded) -> bool;
+pub(crate) trait Sink {
+    /// Whether a pair (`ids`) whose bounding spheres are `s1`, `s2` cannot matter.
+    fn skip_spheres(&self, s1: &Bounded, s2: &Bounded, ids: (Id, Id)) -> bool;
+    /// Whether a body (`ids.0`) in the sphere `s` cannot matter against the part's box (its
+    /// mesh's bounding box in the object frame) at `pose`.
+    fn skip_object_box(
+        &self,
+        _obj: &ObjectGeometry,
+        _pose: &Isometry3<f64>,
+        _s: &Bounded,
+        _ids: (Id, Id),
+    ) -> bool {
+        false
+    }
     /// Whether a group whose boxes are `sqrt(gap_sq)` apart cannot matter.
     fn skip_gap_sq(&self, gap_sq: f64) -> bool;
+    /// Whether the arms are tested against the part before anything else (a swept check, whose
+    /// answer does not name the pair, stops soonest where the part is the usual obstacle).
+    fn part_first(&self) -> bool {
+        false
+    }
+    /// Whether grasping grippers are tested against the support (a swept query leaves them
+    /// to a test at every state: they work millimetres above it).
+    fn grasp_support(&self) -> bool {
+        true
+    }
     /// A solid vs the support plane; `margin` is the clearance this pair must keep.
     fn plane(&mut self, s: Part, height: f64, margin: f64, ids: (Id, Id)) -> ControlFlow<()>;
     /// Two solids.
@@ -640,12 +702,38 @@ trait Sink {
     ) -> ControlFlow<()>;
 }
 
-struct FirstContact {
-    margin: f64,
-    ids: Option<(Id, Id)>,
+/// Stops at the first pair within its clearance: the margin, grown for a swept query by
+/// how far each of the pair's bodies may move ([`Grows`]).
+pub(crate) struct FirstContact<'g> {
+    pub margin: f64,
+    /// Margin used to cull by bounding spheres and boxes: `margin` plus the largest growth of
+    /// any pair.
+    pub cull: f64,
+    pub grow: Option<&'g Grows<'g>>,
+    pub ids: Option<(Id, Id)>,
 }
 
-impl FirstContact {
+impl<'g> FirstContact<'g> {
+    /// A plain query at `margin`.
+    pub fn new(margin: f64) -> Self {
+        FirstContact {
+            margin,
+            cull: margin,
+            grow: None,
+            ids: None,
+        }
+    }
+
+    /// A swept query: every pair's clearance grows by the motion bounds of its two sides.
+    pub fn swept(margin: f64, grow: &'g Grows<'g>) -> Self {
+        FirstContact {
+            margin,
+            cull: margin + grow.most_pair(),
+            grow: Some(grow),
+            ids: None,
+        }
+    }
+
     #[inline]
     fn hit(&mut self, hit: bool, ids: (Id, Id)) -> ControlFlow<()> {
         if hit {
@@ -655,28 +743,56 @@ impl FirstContact {
             ControlFlow::Continue(())
         }
     }
+
+    /// The clearance pair `ids` must keep: `margin` plus both sides' growth.
+    #[inline]
+    fn margin_of(&self, margin: f64, (a, b): (Id, Id)) -> f64 {
+        match self.grow {
+            None => margin,
+            Some(g) => margin + g.pair(a, b),
+        }
+    }
 }
 
-impl Sink for FirstContact {
+impl Sink for FirstContact<'_> {
     #[inline]
-    fn skip_spheres(&self, s1: &Bounded, s2: &Bounded) -> bool {
-        !s1.spheres_near(s2, self.margin)
+    fn skip_spheres(&self, s1: &Bounded, s2: &Bounded, ids: (Id, Id)) -> bool {
+        !s1.spheres_near(s2, self.margin_of(self.margin, ids))
+    }
+    #[inline]
+    fn skip_object_box(
+        &self,
+        obj: &ObjectGeometry,
+        pose: &Isometry3<f64>,
+        s: &Bounded,
+        ids: (Id, Id),
+    ) -> bool {
+        !obj.sphere_near_box(pose, s, self.margin_of(self.margin, ids))
     }
     #[inline]
     fn skip_gap_sq(&self, gap_sq: f64) -> bool {
-        gap_sq > self.margin * self.margin
+        gap_sq > self.cull * self.cull
+    }
+    #[inline]
+    fn grasp_support(&self) -> bool {
+        self.grow.is_none_or(|g| !g.grasp_support_apart)
+    }
+    #[inline]
+    fn part_first(&self) -> bool {
+        self.grow.is_some()
     }
     /// The primitive first, with the margin grown by the pieces' slack; the pieces only
     /// where that finds contact (every `FirstContact` test below has this shape).
     #[inline]
     fn plane(&mut self, s: Part, height: f64, margin: f64, ids: (Id, Id)) -> ControlFlow<()> {
+        let margin = self.margin_of(margin, ids);
         let near = plane_distance(s.shape(), height) <= margin + s.slack();
         let hit = near && s.plane_distance(height).is_none_or(|d| d <= margin);
         self.hit(hit, ids)
     }
     #[inline]
     fn pair(&mut self, s1: Part, s2: Part, ids: (Id, Id)) -> ControlFlow<()> {
-        let margin = self.margin;
+        let margin = self.margin_of(self.margin, ids);
         let near = pair_intersects(s1.shape(), s2.shape(), margin + s1.slack() + s2.slack());
         let hit = near
             && (s1.tight().is_none() && s2.tight().is_none() || tight::within(&s1, &s2, margin));
@@ -690,7 +806,7 @@ impl Sink for FirstContact {
         s: Part,
         ids: (Id, Id),
     ) -> ControlFlow<()> {
-        let margin = self.margin;
+        let margin = self.margin_of(self.margin, ids);
         let near = obj.intersects(pose, s.bounded, margin + s.slack());
         let hit = near
             && s.tight()
@@ -715,7 +831,7 @@ impl MinDistance {
 }
 
 impl Sink for MinDistance {
-    fn skip_spheres(&self, s1: &Bounded, s2: &Bounded) -> bool {
+    fn skip_spheres(&self, s1: &Bounded, s2: &Bounded, _ids: (Id, Id)) -> bool {
         (s1.center - s2.center).norm() - s1.radius - s2.radius >= self.best
     }
     fn skip_gap_sq(&self, gap_sq: f64) -> bool {

@@ -95,8 +95,9 @@ pub fn random_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
         if new >= old * (1.0 - 1e-9) {
             continue;
         }
-        if motion.check_edge(&path[i], &x)
-            && motion.check_edge(&x, &y)
+        // The new edge first: it is the one likely to fail (the others lie along valid edges).
+        if motion.check_edge(&x, &y)
+            && motion.check_edge(&path[i], &x)
             && motion.check_edge(&y, &path[j + 1])
         {
             // p_0 … p_i, x, y, p_{j+1} …
@@ -154,8 +155,9 @@ pub fn partial_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
             let u = if total > 0.0 { run / total } else { 0.0 };
             sub[k][c] = x_c + u * (y_c - x_c);
         }
-        let valid = motion.check_edge(&path[i], &sub[0])
-            && sub.windows(2).all(|w| motion.check_edge(&w[0], &w[1]))
+        // The moved states' edges first: the end edges lie along valid edges.
+        let valid = sub.windows(2).all(|w| motion.check_edge(&w[0], &w[1]))
+            && motion.check_edge(&path[i], &sub[0])
             && motion.check_edge(&sub[sub.len() - 1], &path[j + 1]);
         if valid {
             path.splice(i + 1..=j, sub.iter().copied());

@@ -420,6 +420,13 @@ fn edge(pts: &[PointJson], k: usize, weights: &Joints, resolution: f64) -> (usiz
     }
 }
 
+/// The states of one segment queued for rule 2, with their points `(k, f)`.
+#[derive(Default)]
+struct Queued {
+    states: Vec<WorldState>,
+    at: Vec<(usize, f64)>,
+}
+
 /// "plan I SEG point K", for messages.
 fn at(index: usize, seg: &SegmentJson, k: usize) -> String {
     format!("plan {index} {} point {k}", seg.name)
@@ -690,16 +697,30 @@ impl<'a> PlanCheck<'a> {
         }
     }
 
-    /// Rule 2 at one state in which arm `moving` moves.
-    fn collide(&mut self, moving: usize, state: &WorldState, at: impl Fn() -> String) {
+    /// Rule 2 at one state: queued for [`collide_all`](Self::collide_all) with its point.
+    fn collide(&mut self, state: WorldState, at: (usize, f64), queue: &mut Queued) {
         *self.states_checked += 1;
-        if state.grasping[moving] {
-            let d = self.world.gripper_support_distance(moving, state);
+        queue.states.push(state);
+        queue.at.push(at);
+    }
+
+    /// Rule 2 at every queued state of a segment in which arm `moving` moves, in order: the
+    /// first in contact is reported as `what` at its point `(k, f)`, and the closest the
+    /// moving gripper came to the support while grasping is recorded. Both are exact over the
+    /// states, found by ranges ([`CollisionWorld::first_contact_in`],
+    /// [`CollisionWorld::closest_grasp_to_support`]).
+    fn collide_all(&mut self, moving: usize, queue: &Queued, what: impl Fn(usize, f64) -> String) {
+        if let Some(d) = self.world.closest_grasp_to_support(moving, &queue.states) {
             *self.finger_support = self.finger_support.min(d);
         }
-        if let Err(c) = self.world.check(state) {
+        if let Some(i) = self.world.first_contact_in(None, &queue.states) {
+            let c = self
+                .world
+                .check(&queue.states[i])
+                .expect_err("the first state in contact");
+            let (k, f) = queue.at[i];
             self.collisions
-                .fail(format!("{}: {} touches {}", at(), c.a, c.b));
+                .fail(format!("{}: {} touches {}", what(k, f), c.a, c.b));
         }
     }
 
@@ -749,6 +770,7 @@ impl<'a> PlanCheck<'a> {
                 )
             });
 
+        let mut queue = Queued::default();
         for k in 0..n {
             // The straight lines may bring the gripper within millimetres of the support.
             let grasping_edge = k >= approach_from || retreat_to.is_some_and(|r| k < r);
@@ -793,13 +815,12 @@ impl<'a> PlanCheck<'a> {
                     contact[arm] = true;
                 }
                 let state = self.state(all, grip, *object, contact);
-                let seg_name = seg.name.clone();
-                let index = self.index;
-                self.collide(arm, &state, || {
-                    format!("plan {index} {seg_name} point {k} (+{f:.2})")
-                });
+                self.collide(state, (k, f), &mut queue);
             }
         }
+        self.collide_all(arm, &queue, |k, f| {
+            format!("plan {index} {} point {k} (+{f:.2})", seg.name)
+        });
     }
 
     /// Rules 2, 3 and 4 along `rot`.
@@ -830,6 +851,7 @@ impl<'a> PlanCheck<'a> {
         grasp_error(self.grasps, dp, da, || {
             format!("plan {} rot: first object_pose vs P_init", index)
         });
+        let mut queue = Queued::default();
         for k in 0..n {
             // Rule 4: precision point on G_s at every point.
             let tool = self.tool(arm, &pts[k].q, true);
@@ -877,11 +899,11 @@ impl<'a> PlanCheck<'a> {
                 let mut all = *q;
                 all[arm] = lerp_joints(&pts[k].q, &pts[edge_end].q, f);
                 let state = self.state(all, *gripper, object, *holding);
-                let index = self.index;
-                self.collide(arm, &state, || {
-                    format!("plan {index} rot point {k} (+{f:.2})")
-                });
+                self.collide(state, (k, f), &mut queue);
             }
         }
+        self.collide_all(arm, &queue, |k, f| {
+            format!("plan {index} rot point {k} (+{f:.2})")
+        });
     }
 }

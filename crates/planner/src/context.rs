@@ -11,6 +11,7 @@ use pregrasp_io::scene::Scene;
 use pregrasp_motion::{JointSpace, MotionValidator};
 use pregrasp_robot::{wrap_angle, Gripper2F85, Joints, UrKinematics, UrModel};
 
+use crate::clock::StageClock;
 use crate::timeline::Moment;
 
 /// Resolution (m) at which motions are validated: no point of an arm moves farther than this
@@ -71,6 +72,8 @@ pub struct PlanningContext<'a> {
     /// When `sup1` has already run (re-planning `--from rot`): the supportive arm's joints,
     /// which μ_rot must start from (within [`FIXED_START_TOLERANCE`]).
     pub fixed_rot_start: Option<(usize, Joints)>,
+    /// Time spent per part of Algorithm 3 (summed over candidates).
+    pub clock: StageClock,
 }
 
 /// Largest joint difference (rad) between μ_rot's first point and a fixed start.
@@ -104,6 +107,7 @@ impl<'a> PlanningContext<'a> {
             names: [scene.robots[0].name.clone(), scene.robots[1].name.clone()],
             grips,
             fixed_rot_start: None,
+            clock: StageClock::default(),
         })
     }
 

@@ -13,9 +13,11 @@
 //! - [`auto_grasps`]: `[grasps] mode = "auto"`, grasps found from the mesh.
 //!
 //! [`context`] holds the read-only models every stage shares; [`timeline`] the semantics of a
-//! plan's instants (who moves, which gripper is closed, where contact is allowed).
+//! plan's instants (who moves, which gripper is closed, where contact is allowed); [`clock`]
+//! where Algorithm 3's time goes.
 
 pub mod check;
+pub mod clock;
 pub mod context;
 pub mod dummies;
 pub mod hold;

@@ -7,6 +7,7 @@
 //! the candidate's integrated path (an element of the paper's set Z).
 
 use crate::axes::RotationAxisCandidate;
+use crate::clock::Stage;
 use crate::context::{PlanningContext, FIXED_START_TOLERANCE};
 use crate::poses::PowerGraspPose;
 use crate::reach::{reach_lines, reach_transit, ReachMotion, ReachQuery};
@@ -75,7 +76,10 @@ pub fn integrated_path(
     };
 
     'support: for c_ik_s in pose.support_ik.iter().take(MAX_IK_TRIES) {
-        let mut rot = match rotation_path(ctx, candidate, pose, c_ik_s) {
+        let mut rot = match ctx
+            .clock
+            .time(Stage::Rot, || rotation_path(ctx, candidate, pose, c_ik_s))
+        {
             Ok(rot) => rot,
             Err(f) => {
                 failure.note(1, f.describe());
@@ -110,7 +114,10 @@ pub fn integrated_path(
             retreat: false,
             seed: motion_seed(seed, candidate.id, 1),
         };
-        let sup1_lines = match reach_lines(ctx, &sup1_query) {
+        let sup1_lines = match ctx
+            .clock
+            .time(Stage::Lines, || reach_lines(ctx, &sup1_query))
+        {
             Ok(lines) => lines,
             Err(f) => {
                 failure.note(2, format!("μ_sup1: {}", f.describe()));
@@ -132,7 +139,10 @@ pub fn integrated_path(
                 retreat: false,
                 seed: motion_seed(seed, candidate.id, 2),
             };
-            let mas1_lines = match reach_lines(ctx, &mas1_query) {
+            let mas1_lines = match ctx
+                .clock
+                .time(Stage::Lines, || reach_lines(ctx, &mas1_query))
+            {
                 Ok(lines) => lines,
                 Err(f) => {
                     failure.note(3, format!("μ_mas1: {}", f.describe()));
@@ -160,7 +170,10 @@ pub fn integrated_path(
                     retreat: true,
                     seed: motion_seed(seed, candidate.id, 3),
                 };
-                let sup2_lines = match reach_lines(ctx, &sup2_query) {
+                let sup2_lines = match ctx
+                    .clock
+                    .time(Stage::Lines, || reach_lines(ctx, &sup2_query))
+                {
                     Ok(lines) => lines,
                     Err(f) => {
                         failure.note(4, format!("μ_sup2: {}", f.describe()));
@@ -169,7 +182,9 @@ pub fn integrated_path(
                 };
                 // Every line holds: now the transits, each planned once.
                 if sup1.is_none() {
-                    match reach_transit(ctx, &sup1_query, &sup1_lines) {
+                    match ctx.clock.time(Stage::Transit, || {
+                        reach_transit(ctx, &sup1_query, &sup1_lines)
+                    }) {
                         Ok(m) => sup1 = Some(m),
                         Err(f) => {
                             failure.note(2, format!("μ_sup1: {}", f.describe()));
@@ -178,7 +193,9 @@ pub fn integrated_path(
                     }
                 }
                 if mas1.is_none() {
-                    match reach_transit(ctx, &mas1_query, &mas1_lines) {
+                    match ctx.clock.time(Stage::Transit, || {
+                        reach_transit(ctx, &mas1_query, &mas1_lines)
+                    }) {
                         Ok(m) => mas1 = Some(m),
                         Err(f) => {
                             failure.note(3, format!("μ_mas1: {}", f.describe()));
@@ -186,7 +203,9 @@ pub fn integrated_path(
                         }
                     }
                 }
-                match reach_transit(ctx, &sup2_query, &sup2_lines) {
+                match ctx.clock.time(Stage::Transit, || {
+                    reach_transit(ctx, &sup2_query, &sup2_lines)
+                }) {
                     Ok(sup2) => {
                         return Ok(IntegratedPath {
                             rot,

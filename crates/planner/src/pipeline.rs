@@ -13,6 +13,7 @@ use rayon::prelude::*;
 
 use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
 use crate::check::PlanChecker;
+use crate::clock::Stage;
 use crate::context::{ContextError, PlanningContext};
 use crate::hold::HoldCheck;
 use crate::output::{plan_file_header, plan_json};
@@ -151,10 +152,12 @@ pub fn plan(
                         single.plans =
                             vec![plan_json(&ctx, candidate.id, candidate.score, &pose, &path)];
                         let check = match &checker {
-                            Ok(checker) => verify(checker, &single),
+                            Ok(checker) => {
+                                ctx.clock.time(Stage::Recheck, || verify(checker, &single))
+                            }
                             Err(e) => Some(format!("rule 0 ({e})")),
                         };
-                        let held = hold_check.check(&single);
+                        let held = ctx.clock.time(Stage::Hold, || hold_check.check(&single));
                         let mut plan = single.plans.swap_remove(0);
                         let hold = held.and_then(|h| {
                             plan.physics = Some(h.json);
@@ -232,6 +235,9 @@ pub fn plan(
     file.timing_ms.insert("axes".into(), ms(t_axes));
     file.timing_ms.insert("poses".into(), ms(t_poses));
     file.timing_ms.insert("paths".into(), ms(t_paths));
+    for (key, spent) in ctx.clock.ms() {
+        file.timing_ms.insert(key.into(), spent);
+    }
     file.timing_ms.insert("total".into(), ms(t0.elapsed()));
     Ok(PlanReport {
         file,

@@ -15,10 +15,11 @@ use pregrasp_motion::{
 };
 use std::sync::Mutex;
 
-use pregrasp_collision::Contact;
+use pregrasp_collision::{Contact, WorldState};
+use pregrasp_motion::StateValidator;
 use pregrasp_robot::Joints;
 
-use crate::context::{PlanningContext, FINE_RESOLUTION};
+use crate::context::{world_state, PlanningContext, FINE_RESOLUTION};
 use crate::timeline::{Moment, CONTACT_ZONE};
 use crate::timing::{scaled, time_along, CONTACT_SCALE, TRANSIT_SCALE};
 
@@ -88,18 +89,65 @@ pub struct ReachLines {
 pub const SHORTCUT_ROUNDS: usize = 16;
 
 impl ReachQuery<'_> {
-    /// The first contact of this arm at `q`, with or without contact allowed between its
-    /// gripper and the part.
-    fn contact(&self, ctx: &PlanningContext, q: &State<6>, contact: bool) -> Result<(), Contact> {
+    /// This arm's states with everything else as in the query, with or without contact
+    /// allowed between its gripper and the part; `touched` remembers the last contact found.
+    fn validity<'v>(
+        &self,
+        ctx: &'v PlanningContext,
+        contact: bool,
+        touched: Option<&'v Mutex<Option<Contact>>>,
+    ) -> ArmFree<'v> {
         let mut m = self.scene.clone();
-        m.q[self.arm] = *q;
         m.contact_allowed[self.arm] = contact;
-        ctx.check_arm(self.arm, &m)
+        ArmFree {
+            ctx,
+            arm: self.arm,
+            state: world_state(&m),
+            touched,
+        }
+    }
+}
+
+/// Validity of one arm's states in a reach query (a [`StateValidator`] that also certifies
+/// whole joint boxes, so straight edges far from everything cost a few checks).
+struct ArmFree<'v> {
+    ctx: &'v PlanningContext<'v>,
+    arm: usize,
+    /// The world with this arm's joints to be replaced.
+    state: WorldState,
+    touched: Option<&'v Mutex<Option<Contact>>>,
+}
+
+impl ArmFree<'_> {
+    fn at(&self, q: &State<6>) -> WorldState {
+        let mut s = self.state;
+        s.q[self.arm] = *q;
+        s
+    }
+}
+
+impl StateValidator<6> for ArmFree<'_> {
+    fn is_valid(&self, q: &State<6>) -> bool {
+        match self.touched {
+            None => self.ctx.world.is_arm_free(self.arm, &self.at(q)),
+            Some(touched) => match self.ctx.world.check_arm(self.arm, &self.at(q)) {
+                Ok(()) => true,
+                Err(c) => {
+                    *touched.lock().expect("not poisoned") = Some(c);
+                    false
+                }
+            },
+        }
     }
 
-    /// Is this arm at `q` free (no contact allowed)?
-    fn free(&self, ctx: &PlanningContext, q: &State<6>) -> bool {
-        self.contact(ctx, q, false).is_ok()
+    fn is_valid_around(&self, q: &State<6>, reach: &State<6>) -> bool {
+        self.ctx
+            .world
+            .is_arm_free_within(self.arm, &self.at(q), reach)
+    }
+
+    fn around_limit(&self) -> f64 {
+        pregrasp_collision::SWEEP_LIMIT
     }
 }
 
@@ -108,15 +156,8 @@ pub fn reach_lines(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachLin
     let kin = ctx.arm(query.arm).kin;
     // The line stops at the first invalid state: remember what touched there.
     let touched: Mutex<Option<Contact>> = Mutex::new(None);
-    let free = |q: &State<6>, contact: bool| match query.contact(ctx, q, contact) {
-        Ok(()) => true,
-        Err(c) => {
-            *touched.lock().expect("not poisoned") = Some(c);
-            false
-        }
-    };
-    let strict = |q: &State<6>| free(q, false);
-    let touching = |q: &State<6>| free(q, true);
+    let strict = query.validity(ctx, false, Some(&touched));
+    let touching = query.validity(ctx, true, Some(&touched));
     let strict_motion = ctx.motion_validator(query.arm, &strict);
     // Within the contact zone the gripper may be a few millimetres above the table.
     let contact_motion = ctx.motion_validator_at(query.arm, &touching, FINE_RESOLUTION);
@@ -162,7 +203,7 @@ pub fn reach_transit(
     lines: &ReachLines,
 ) -> Result<ReachMotion, ReachFailure> {
     let arm = query.arm;
-    let strict = |q: &State<6>| query.free(ctx, q);
+    let strict = query.validity(ctx, false, None);
     let strict_motion = ctx.motion_validator(arm, &strict);
     let transit_from = *lines.retreat.last().expect("non-empty");
     let standoff = lines.approach[0];

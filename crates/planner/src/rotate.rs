@@ -11,9 +11,10 @@ use nalgebra::Isometry3;
 use pregrasp_robot::Joints;
 
 use crate::axes::RotationAxisCandidate;
-use crate::context::{PlanningContext, FINE_RESOLUTION};
+use crate::context::{world_state, PlanningContext, FINE_RESOLUTION};
 use crate::poses::PowerGraspPose;
 use crate::timeline::{lerp_joints, substeps, Moment};
+use pregrasp_collision::WorldState;
 
 /// μ_rot from P_init (index 0) to P_obj (last index).
 #[derive(Clone, Debug)]
@@ -92,7 +93,9 @@ pub const MAX_STEP_HALVINGS: u32 = 4;
 /// `max_joint_step` is halved (up to [`MAX_STEP_HALVINGS`] times) so a fast but continuous
 /// branch is followed with more points instead of being refused. Every state between points
 /// is checked at [`FINE_RESOLUTION`]: the gripper holds a pinch a few millimetres above the
-/// table.
+/// table. The states are collected along the path (from θ_goal down) and checked in one
+/// pass ([`pregrasp_collision::CollisionWorld::first_contact_in`]): the first one in contact,
+/// if it comes before the branch is lost, is the failure.
 pub fn rotation_path(
     ctx: &PlanningContext,
     candidate: &RotationAxisCandidate,
@@ -106,27 +109,55 @@ pub fn rotation_path(
         candidate,
         pose,
     };
-    tracker.check(
-        &rotation_moment(ctx, pose, pose.p_obj, *c_ik_s),
-        pose.theta_goal,
-    )?;
-    // Points from θ_goal down to 0 (reversed at the end).
+    // Points from θ_goal down to 0 (reversed at the end), and every state to check with its
+    // angle, in the same order.
     let mut theta = vec![pose.theta_goal];
     let mut q = vec![*c_ik_s];
     let mut object = vec![pose.p_obj];
+    let mut states = States {
+        theta: vec![pose.theta_goal],
+        world: vec![world_state(&rotation_moment(
+            ctx, pose, pose.p_obj, *c_ik_s,
+        ))],
+    };
+    let mut lost = None;
     for k in (0..n).rev() {
         let th = k as f64 * params.step;
         let (from_theta, from_q) = (*theta.last().expect("≥ 1"), *q.last().expect("≥ 1"));
-        tracker.step(from_theta, &from_q, th, 0, &mut |t, qi, o| {
+        let stepped = tracker.step(from_theta, &from_q, th, 0, &mut states, &mut |t, qi, o| {
             theta.push(t);
             q.push(qi);
             object.push(o);
-        })?;
+        });
+        if let Err(e) = stepped {
+            lost = Some(e);
+            break;
+        }
+    }
+    if let Some(k) = ctx.world.first_contact_in(None, &states.world) {
+        let c = ctx
+            .world
+            .check(&states.world[k])
+            .expect_err("the first state in contact");
+        return Err(RotationFailure::Collision {
+            theta: states.theta[k],
+            a: c.a,
+            b: c.b,
+        });
+    }
+    if let Some(e) = lost {
+        return Err(e);
     }
     theta.reverse();
     q.reverse();
     object.reverse();
     Ok(RotationPath { theta, q, object })
+}
+
+/// The states of μ_rot to check, in path order, with their rotation angles.
+struct States {
+    theta: Vec<f64>,
+    world: Vec<WorldState>,
 }
 
 struct Tracker<'a> {
@@ -136,24 +167,17 @@ struct Tracker<'a> {
 }
 
 impl Tracker<'_> {
-    fn check(&self, moment: &Moment, theta: f64) -> Result<(), RotationFailure> {
-        self.ctx
-            .check(moment)
-            .map_err(|c| RotationFailure::Collision {
-                theta,
-                a: c.a,
-                b: c.b,
-            })
-    }
-
     /// From `(from_theta, from_q)` to angle `to`, emitting the points reached (excluding the
-    /// start), halving the step where the branch moves too fast.
+    /// start) and collecting the states between them, halving the step where the branch
+    /// moves too fast.
+    #[allow(clippy::too_many_arguments)]
     fn step(
         &self,
         from_theta: f64,
         from_q: &Joints,
         to: f64,
         depth: u32,
+        states: &mut States,
         emit: &mut dyn FnMut(f64, Joints, Isometry3<f64>),
     ) -> Result<(), RotationFailure> {
         let ctx = self.ctx;
@@ -177,11 +201,18 @@ impl Tracker<'_> {
             if depth < MAX_STEP_HALVINGS {
                 let mid = 0.5 * (from_theta + to);
                 let mut reached = (from_theta, *from_q);
-                self.step(from_theta, from_q, mid, depth + 1, &mut |t, qi, o| {
-                    reached = (t, qi);
-                    emit(t, qi, o)
-                })?;
-                return self.step(reached.0, &reached.1, to, depth + 1, emit);
+                self.step(
+                    from_theta,
+                    from_q,
+                    mid,
+                    depth + 1,
+                    states,
+                    &mut |t, qi, o| {
+                        reached = (t, qi);
+                        emit(t, qi, o)
+                    },
+                )?;
+                return self.step(reached.0, &reached.1, to, depth + 1, states, emit);
             }
             return Err(RotationFailure::JointJump {
                 theta: to,
@@ -189,15 +220,19 @@ impl Tracker<'_> {
                 delta: jump.1,
             });
         }
-        // Interpolated states between the two points: joints linearly, angle linearly.
+        // Interpolated states between the two points (joints linearly, angle linearly), from
+        // the previous point's side to the new point.
         let weights = ctx.spaces[sup].weights;
         let steps = substeps(&next, from_q, &weights, FINE_RESOLUTION);
-        for s in 0..steps {
+        for s in (0..steps).rev() {
             let f = s as f64 / steps as f64;
             let qi = lerp_joints(&next, from_q, f);
             let ti = to + f * (from_theta - to);
             let oi = self.candidate.rotated_pose(&ctx.p_init, ti);
-            self.check(&rotation_moment(ctx, self.pose, oi, qi), ti)?;
+            states.theta.push(ti);
+            states
+                .world
+                .push(world_state(&rotation_moment(ctx, self.pose, oi, qi)));
         }
         emit(to, next, obj);
         Ok(())

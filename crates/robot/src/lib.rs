@@ -20,7 +20,8 @@ pub use fk::UrKinematics;
 pub use gripper::{Gripper2F85, GripperState, GRIPPER_FRAME};
 pub use ik::{joint_distance, IkSolutions, IK_RESIDUAL_TOL};
 pub use links::{
-    arm_geometry, fitted_links_of, joint_sweep_radii, point_cylinder_distance, ArmGeometry,
-    Capsule, ConvexPieces, Cylinder, FittedLink, LinkShape, Primitive,
+    arm_geometry, fitted_links_of, flange_sweep_radii, group_sweep_radii, joint_sweep_radii,
+    point_cylinder_distance, ArmGeometry, Capsule, ConvexPieces, Cylinder, FittedLink, LinkShape,
+    Primitive, SHAPE_GROUPS,
 };
 pub use model::{DhParams, Joints, UnknownModel, UrModel, DEFAULT_JOINT_ACCEL, JOINT_NAMES};

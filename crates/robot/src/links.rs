@@ -446,40 +446,74 @@ fn with_self_collision_pairs(links: Vec<LinkShape>) -> ArmGeometry {
 /// closed. Moving joint i by Δ rad moves any point by at most `radius_i·|Δ|`, so
 /// `Σ radius_i·|Δq_i|` bounds any point's displacement.
 ///
+/// The largest of [`group_sweep_radii`] over the shape groups.
+pub fn joint_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> Joints {
+    let groups = group_sweep_radii(model, gripper);
+    std::array::from_fn(|i| groups[i].iter().copied().fold(0.0, f64::max))
+}
+
+/// Shape groups of an arm: its link shapes by DH frame 0..=6, then (index 7) the gripper.
+pub const SHAPE_GROUPS: usize = 8;
+
+/// Per joint i and shape group g (the link shapes of DH frame g, or g = 7 the gripper at any
+/// opening with its precision and power points), an upper bound `R[i][g]` on the distance
+/// from joint axis i to any point of the group (m). Under any joint motion a point of group g
+/// moves at most `Σ_i R[i][g]·|Δq_i|`: the proximal links' bounds are much smaller than the
+/// whole arm's ([`joint_sweep_radii`]).
+///
 /// Bound: joint i's axis passes through the origin of DH frame i−1; a point of a shape in
 /// frame f ≥ i is within `Σ_{j=i..f} √(a_j² + d_j²)` (origin-to-origin link offsets) plus
-/// the shape's largest distance from its own frame origin.
-pub fn joint_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> Joints {
-    let dh = model.dh();
+/// the shape's largest distance from its own frame origin (its exact pieces' slack included).
+/// Frames a joint does not move get 0.
+pub fn group_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> [[f64; SHAPE_GROUPS]; 6] {
+    let offsets = flange_offsets(model);
     let geometry = arm_geometry(model);
-    let offset: [f64; 6] = std::array::from_fn(|j| {
-        let (d, a, _) = dh.row(j);
-        a.hypot(d)
-    });
-    let mut reach_in_frame = [0.0f64; 7];
+    let mut reach_in_group = [0.0f64; SHAPE_GROUPS];
     for shape in &geometry.links {
         let r = shape.primitive.max_origin_distance() + shape.pieces.map_or(0.0, |p| p.slack);
-        reach_in_frame[shape.frame] = reach_in_frame[shape.frame].max(r);
+        reach_in_group[shape.frame] = reach_in_group[shape.frame].max(r);
     }
     // Every opening (the fingers move on arcs: an intermediate gap may reach farthest).
     let stroke = gripper.fingers().stroke();
     let states = (0..=32).map(|k| GripperState::Closed {
         gap: stroke * k as f64 / 32.0,
     });
+    let mut reach_gripper = gripper
+        .precision_point_z
+        .abs()
+        .max(gripper.power_point_z.abs());
     for state in states.chain([GripperState::Open]) {
         for shape in gripper.shapes(state) {
             let r = shape.primitive.max_origin_distance() + shape.pieces.map_or(0.0, |p| p.slack);
-            reach_in_frame[6] = reach_in_frame[6].max(r);
+            reach_gripper = reach_gripper.max(r);
         }
     }
-    let r6 = reach_in_frame[6]
-        .max(gripper.precision_point_z.abs())
-        .max(gripper.power_point_z.abs());
-    reach_in_frame[6] = r6;
+    reach_in_group[7] = reach_gripper;
     std::array::from_fn(|i| {
         // Joint i (0-based) moves frames i+1..=6; its axis passes through frame i's origin.
-        (i + 1..=6)
-            .map(|f| offset[i..f].iter().sum::<f64>() + reach_in_frame[f])
-            .fold(0.0, f64::max)
+        std::array::from_fn(|g| {
+            let f = g.min(6);
+            if f <= i {
+                0.0
+            } else {
+                offsets[i..f].iter().sum::<f64>() + reach_in_group[g]
+            }
+        })
+    })
+}
+
+/// Per joint i, an upper bound on the distance from joint axis i to the flange origin (m): a
+/// part rigid with the flange within `r` of its origin moves at most `Σ_i (F[i] + r)·|Δq_i|`.
+pub fn flange_sweep_radii(model: UrModel) -> Joints {
+    let offsets = flange_offsets(model);
+    std::array::from_fn(|i| offsets[i..6].iter().sum::<f64>())
+}
+
+/// The origin-to-origin distances of consecutive DH frames, `√(a_j² + d_j²)`.
+fn flange_offsets(model: UrModel) -> [f64; 6] {
+    let dh = model.dh();
+    std::array::from_fn(|j| {
+        let (d, a, _) = dh.row(j);
+        a.hypot(d)
     })
 }

@@ -8,8 +8,8 @@ use common::{intersects, placed};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::shape::{Capsule as PCapsule, Cuboid};
 use pregrasp_robot::{
-    arm_geometry, fitted_links_of, joint_sweep_radii, Gripper2F85, GripperState, Joints, Primitive,
-    UrKinematics, UrModel,
+    arm_geometry, fitted_links_of, flange_sweep_radii, group_sweep_radii, joint_sweep_radii,
+    Gripper2F85, GripperState, Joints, Primitive, UrKinematics, UrModel,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -474,6 +474,8 @@ fn forbidden_links_are_all_but_wrist_3() {
 
 #[test]
 fn sweep_radii_bound_point_displacement() {
+    // Also the per-group bounds (`group_sweep_radii`): absolute, vertical without the base
+    // joint, relative to every earlier frame, and the flange origin's (`flange_sweep_radii`).
     let g = Gripper2F85::default();
     let mut rng = ChaCha8Rng::seed_from_u64(9);
     for model in UrModel::ALL {
@@ -529,25 +531,50 @@ fn sweep_radii_bound_point_displacement() {
                 for sx in [-1.0, 1.0] {
                     for sy in [-1.0, 1.0] {
                         for sz in [-1.0, 1.0] {
-                            probes.push((6, pose * Point3::new(sx * h.x, sy * h.y, sz * h.z)));
+                            probes.push((7, pose * Point3::new(sx * h.x, sy * h.y, sz * h.z)));
                         }
                     }
                 }
             }
         }
+        let groups = group_sweep_radii(model, &g);
+        let flange = flange_sweep_radii(model);
         for _ in 0..200 {
             let q: Joints = std::array::from_fn(|_| rng.random_range(-PI..PI));
             let dq: Joints = std::array::from_fn(|_| rng.random_range(-0.05..0.05));
             let q2: Joints = std::array::from_fn(|i| q[i] + dq[i]);
             let bound: f64 = (0..6).map(|i| radii[i] * dq[i].abs()).sum();
             let (f1, f2) = (kin.fk_frames(&q), kin.fk_frames(&q2));
-            for (f, p) in &probes {
-                let moved = (f1[*f] * p - f2[*f] * p).norm();
+            // A group's own bound, vertically without the base joint, and relative to every
+            // frame before it by the joints between.
+            let group_bound = |from: usize, g: usize| -> f64 {
+                (from..6).map(|i| groups[i][g] * dq[i].abs()).sum()
+            };
+            for (g, p) in &probes {
+                let f = (*g).min(6);
+                let moved = (f1[f] * p - f2[f] * p).norm();
                 assert!(
                     moved <= bound + 1e-12,
                     "{model}: moved {moved} > bound {bound}"
                 );
+                assert!(moved <= group_bound(0, *g) + 1e-12, "{model} group {g}");
+                let up = ((f1[f] * p).z - (f2[f] * p).z).abs();
+                assert!(
+                    up <= group_bound(1, *g) + 1e-12,
+                    "{model} group {g} vertical"
+                );
+                for near in 0..=f {
+                    let rel =
+                        (f1[near].inverse() * f1[f] * p - f2[near].inverse() * f2[f] * p).norm();
+                    assert!(
+                        rel <= group_bound(near, *g) + 1e-12,
+                        "{model}: group {g} relative to frame {near}: {rel}"
+                    );
+                }
             }
+            let flange_moved = (f1[6].translation.vector - f2[6].translation.vector).norm();
+            let flange_bound: f64 = (0..6).map(|i| flange[i] * dq[i].abs()).sum();
+            assert!(flange_moved <= flange_bound + 1e-12, "{model}: flange");
         }
     }
 }

@@ -5,8 +5,9 @@
 //! RRT-Connect and simplification, and prints the success rate and the median / p95
 //! in-process planning time.
 //!
-//! `pregrasp bench plan SCENE.toml [--runs N]` runs the whole pipeline (Algorithms 1–3 and the
-//! plan check) N times in-process on one scene and prints the median / p95 time per stage.
+//! `pregrasp bench plan SCENE.toml… [--runs N]` runs the whole pipeline (Algorithms 1–3, the
+//! plan check and the grip check) N times in-process on each scene and prints the median / p95
+//! time per stage, Algorithm 3 split into its parts (`pregrasp_planner::clock`).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -22,14 +23,15 @@ use serde_json::json;
 pub enum BenchCommand {
     /// Motion-planning benchmark on a reach problem set (e.g. data/reach-ur5-table-boxes.json).
     Reach(ReachArgs),
-    /// The whole pipeline on one scene, repeated: median / p95 time per stage.
+    /// The whole pipeline on each scene, repeated: median / p95 time per stage.
     Plan(PlanArgs),
 }
 
 #[derive(clap::Args)]
 pub struct PlanArgs {
-    /// The scene file.
-    pub scene: PathBuf,
+    /// The scene files (e.g. `examples/*.toml`).
+    #[arg(required = true)]
+    pub scenes: Vec<PathBuf>,
     /// How many times to plan (after one warm-up run).
     #[arg(long, default_value_t = 20)]
     pub runs: usize,
@@ -72,28 +74,85 @@ pub fn run(command: BenchCommand) -> anyhow::Result<ExitCode> {
     }
 }
 
+/// The stages `bench plan` reports: Algorithms 1 and 2, Algorithm 3 with the checks after it
+/// (`paths`) and its parts, the whole.
+const PLAN_STAGES: [&str; 9] = [
+    "axes", "poses", "paths", "rot", "lines", "transit", "recheck", "hold", "total",
+];
+
 fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
-    use pregrasp_planner::auto_grasps::plan_auto;
-    use pregrasp_planner::pipeline::PlanOptions;
-    let scene = pregrasp_io::scene::Scene::load(&args.scene)?;
-    let mesh = pregrasp_io::mesh_io::load_mesh(&scene.object.mesh_path, scene.object.scale)
-        .with_context(|| format!("{}: object.mesh", args.scene.display()))?
-        .mesh;
     let mut builder = rayon::ThreadPoolBuilder::new();
     if let Some(n) = args.threads {
         builder = builder.num_threads(n.max(1));
     }
     let pool = builder.build()?;
     let runs = args.runs.max(1);
-    let stages = ["axes", "poses", "paths", "total"];
-    let mut samples: Vec<Vec<f64>> = vec![Vec::with_capacity(runs); stages.len()];
+    let mut reports = Vec::new();
+    for scene in &args.scenes {
+        let (status, summary) = plan_one(scene, runs, &pool)?;
+        if args.json {
+            let stages: serde_json::Map<String, serde_json::Value> = summary
+                .iter()
+                .map(|(n, m, p)| (n.to_string(), json!({ "median_ms": m, "p95_ms": p })))
+                .collect();
+            reports.push(json!({ "scene": scene.display().to_string(), "runs": runs,
+                                 "threads": pool.current_num_threads(), "status": status,
+                                 "stages": stages }));
+        } else {
+            println!(
+                "{}: {} runs on {} thread(s), status {}",
+                scene.display(),
+                runs,
+                pool.current_num_threads(),
+                status
+            );
+            for (name, median, p95) in &summary {
+                let indent = if ["rot", "lines", "transit", "recheck", "hold"].contains(name) {
+                    "  "
+                } else {
+                    ""
+                };
+                let label = format!("{indent}{name}");
+                println!("  {label:<9} median {median:8.2} ms   p95 {p95:8.2} ms");
+            }
+        }
+    }
+    if args.json {
+        // One scene: its object, as before; several: an array.
+        let out = if reports.len() == 1 {
+            reports.remove(0)
+        } else {
+            serde_json::Value::Array(reports)
+        };
+        println!("{}", serde_json::to_string_pretty(&out)?);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A stage's name, median and p95 (ms).
+type StageTime = (&'static str, f64, f64);
+
+/// `runs` timed plans of one scene (after a warm-up): its status and, per stage of
+/// [`PLAN_STAGES`], the median and p95 (ms).
+fn plan_one(
+    path: &std::path::Path,
+    runs: usize,
+    pool: &rayon::ThreadPool,
+) -> anyhow::Result<(String, Vec<StageTime>)> {
+    use pregrasp_planner::auto_grasps::plan_auto;
+    use pregrasp_planner::pipeline::PlanOptions;
+    let scene = pregrasp_io::scene::Scene::load(path)?;
+    let mesh = pregrasp_io::mesh_io::load_mesh(&scene.object.mesh_path, scene.object.scale)
+        .with_context(|| format!("{}: object.mesh", path.display()))?
+        .mesh;
+    let mut samples: Vec<Vec<f64>> = vec![Vec::with_capacity(runs); PLAN_STAGES.len()];
     let mut status = String::new();
     for run in 0..=runs {
         let report =
             pool.install(|| plan_auto(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}))?;
         status = report.file.status.clone();
         if run > 0 {
-            for (k, stage) in stages.iter().enumerate() {
+            for (k, stage) in PLAN_STAGES.iter().enumerate() {
                 samples[k].push(report.file.timing_ms.get(*stage).copied().unwrap_or(0.0));
             }
         }
@@ -103,7 +162,7 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
         let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
         (at(0.5), at(0.95))
     };
-    let summary: Vec<(&str, f64, f64)> = stages
+    let summary = PLAN_STAGES
         .iter()
         .zip(samples.iter_mut())
         .map(|(name, v)| {
@@ -111,27 +170,7 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
             (*name, median, p95)
         })
         .collect();
-    if args.json {
-        let stages: serde_json::Map<String, serde_json::Value> = summary
-            .iter()
-            .map(|(n, m, p)| (n.to_string(), json!({ "median_ms": m, "p95_ms": p })))
-            .collect();
-        let out = json!({ "scene": args.scene.display().to_string(), "runs": runs,
-                          "threads": pool.current_num_threads(), "status": status, "stages": stages });
-        println!("{}", serde_json::to_string_pretty(&out)?);
-    } else {
-        println!(
-            "{}: {} runs on {} thread(s), status {}",
-            args.scene.display(),
-            runs,
-            pool.current_num_threads(),
-            status
-        );
-        for (name, median, p95) in &summary {
-            println!("  {name:<6} median {median:8.2} ms   p95 {p95:8.2} ms");
-        }
-    }
-    Ok(ExitCode::SUCCESS)
+    Ok((status, summary))
 }
 
 fn reach(args: ReachArgs) -> anyhow::Result<ExitCode> {

@@ -1,0 +1,556 @@
+//! Swept queries: one check that stands for every state within a motion bound of it.
+//!
+//! # The bound
+//! The distance between two bodies changes by at most the sum of their points' displacements.
+//! So if at a state every pair keeps its clearance `m` *plus* `δ_a + δ_b`, where `δ_a` bounds
+//! how far any point of body `a` moves to any other state considered, every one of those
+//! states keeps `m` (the test is [`CollisionWorld::is_free_within`]). Bodies:
+//! - a shape group of an arm (the link shapes of one DH frame, or the gripper): along joint
+//!   motions within `|Δq_i| ≤ r_i` every point of group g moves at most `Σ_i R[i][g] r_i`
+//!   ([`pregrasp_robot::group_sweep_radii`]: the upper arm moves far less than the gripper);
+//! - the part, fixed at a pose per state: its bounding sphere's centre moves `|Δc|` and the
+//!   rest turns by the rotation angle `α` about it, so a point moves at most `|Δc| + α·r`;
+//!   attached to a flange: `Σ_i (F[i] + ρ) r_i` for `ρ` its reach from the flange origin;
+//! - the support and the static cuboids do not move.
+//!
+//! # Sequences
+//! [`CollisionWorld::first_contact_in`] finds the first state of a sequence (the states of a
+//! motion at its check resolution) that [`CollisionWorld::check`] would reject, and returns
+//! exactly what checking them one by one returns; but a range of states around its middle is
+//! accepted by one swept check when the bodies keep room for the range's motion, and split in
+//! halves otherwise. Far from everything a whole motion costs a few checks; near contact the
+//! ranges shrink to single states, which are checked as before. Motion bounds along the
+//! sequence are prefix sums of the steps' bounds (the triangle inequality), so a range's bound
+//! costs O(1).
+//!
+//! A grasping gripper works millimetres above the support (a fingertip pinch), where no range
+//! of the whole world would pass: that pair is left out of the swept checks and tested on its
+//! own first, with the gripper posed by its flange only and ranges passed where the gripper's
+//! height above the clearance exceeds how far it may move vertically.
+
+use pregrasp_robot::{GripperState, Joints, SHAPE_GROUPS};
+
+use crate::arm::{ArmModel, PosedArm};
+use crate::validity::attached_reach;
+use crate::world::{CollisionWorld, FirstContact, Id, ObjectPlacement, WorldState};
+
+/// How far each body may move from a checked state: per arm, how far each joint may turn
+/// (rad); a part at a fixed pose, how far any of its points may move (m). A part attached to a
+/// flange moves with its arm's joints.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Sweep {
+    pub reach: [Joints; 2],
+    pub object: f64,
+}
+
+/// A [`Sweep`] as the pair tests look it up: how much each pair's clearance grows.
+///
+/// Two shape groups of one arm move relative to each other only by the joints between them:
+/// for groups in frames `f_a ≤ f_b`, `Σ_{i ≥ f_a} R[i][b]·reach_i` (the joints before `f_a`
+/// move both rigidly). The same holds for a part attached to that arm's flange. Against the
+/// support only vertical motion counts, and turning the base of an upright arm moves no point
+/// up or down.
+#[derive(Clone, Debug)]
+pub(crate) struct Grows<'w> {
+    group_of: [&'w [u8]; 2],
+    /// Per arm, frame `f` and group `g`: `Σ_{i ≥ f} R[i][g]·reach_i` (m), how far group g
+    /// may move relative to DH frame `f` (f = 0: absolute).
+    after: [[[f64; SHAPE_GROUPS]; 7]; 2],
+    /// Per arm, the first joint that moves points vertically.
+    tilting: [usize; 2],
+    /// The part: absolute motion bound, and (attached to `attached`) per frame of that arm
+    /// relative to it.
+    object: f64,
+    attached: Option<usize>,
+    object_after: [f64; 7],
+    /// Grasping grippers vs the support are left to a test at every state.
+    pub grasp_support_apart: bool,
+}
+
+impl<'w> Grows<'w> {
+    fn new(
+        world: &'w CollisionWorld,
+        state: &WorldState,
+        sweep: &Sweep,
+        grasp_support_apart: bool,
+        posed: &[Option<&PosedArm>; 2],
+    ) -> Self {
+        let mut after = [[[0.0; SHAPE_GROUPS]; 7]; 2];
+        let mut tilting = [0; 2];
+        for i in 0..2 {
+            let model = &world.arms()[i];
+            let reach = &sweep.reach[i];
+            tilting[i] = first_tilting_joint(model);
+            if reach.iter().all(|r| *r == 0.0) {
+                continue;
+            }
+            let levers = match posed[i] {
+                Some(p) => levers(&model.set().group_radii, reach, p),
+                None => model.set().group_radii,
+            };
+            // Suffix sums over the joints, from the wrist down.
+            for f in (0..6).rev() {
+                for g in 0..SHAPE_GROUPS {
+                    after[i][f][g] = after[i][f + 1][g] + levers[f][g] * reach[f];
+                }
+            }
+        }
+        let (mut object, mut attached, mut object_after) = (sweep.object, None, [0.0; 7]);
+        if let ObjectPlacement::Attached { arm: a, .. } = state.object {
+            let rho = attached_reach(world, a, state);
+            let flange = &world.arms()[a].set().flange_radii;
+            let reach = &sweep.reach[a];
+            for f in (0..6).rev() {
+                object_after[f] = object_after[f + 1] + (flange[f] + rho) * reach[f];
+            }
+            object = object_after[0];
+            attached = Some(a);
+        }
+        Grows {
+            group_of: [
+                &world.arms()[0].set().group_of,
+                &world.arms()[1].set().group_of,
+            ],
+            after,
+            tilting,
+            object,
+            attached,
+            object_after,
+            grasp_support_apart,
+        }
+    }
+
+    /// The shape group of an arm body.
+    #[inline(always)]
+    fn group(&self, i: usize, id: Id) -> usize {
+        match id {
+            Id::Arm(_, k) => self.group_of[i][k] as usize,
+            Id::Group(_, g) => g,
+            _ => unreachable!("not an arm body"),
+        }
+    }
+
+    /// How far body `id` may move (against something static).
+    #[inline]
+    fn of(&self, id: Id) -> f64 {
+        match id {
+            Id::Arm(i, _) | Id::Group(i, _) => self.after[i][0][self.group(i, id)],
+            Id::Object => self.object,
+            Id::Support | Id::Obstacle(_) => 0.0,
+        }
+    }
+
+    /// How much the clearance of the pair `(a, b)` grows (`b` the support: vertical motion).
+    #[inline(always)]
+    pub fn pair(&self, a: Id, b: Id) -> f64 {
+        let arm = |id: Id| match id {
+            Id::Arm(i, _) | Id::Group(i, _) => Some(i),
+            _ => None,
+        };
+        match (a, b, arm(a), arm(b)) {
+            // Two groups of one arm: by the joints between them.
+            (_, _, Some(i), Some(j)) if i == j => {
+                let (ga, gb) = (self.group(i, a), self.group(j, b));
+                let (fa, fb) = (ga.min(6), gb.min(6));
+                let (near, far) = if fa <= fb { (fa, gb) } else { (fb, ga) };
+                self.after[i][near][far]
+            }
+            (_, Id::Support, Some(i), _) | (Id::Support, _, _, Some(i)) => {
+                let id = if arm(a).is_some() { a } else { b };
+                self.after[i][self.tilting[i]][self.group(i, id)]
+            }
+            (_, Id::Object, Some(i), _) | (Id::Object, _, _, Some(i))
+                if self.attached == Some(i) =>
+            {
+                let id = if arm(a).is_some() { a } else { b };
+                self.object_after[self.group(i, id).min(6)]
+            }
+            _ => self.of(a) + self.of(b),
+        }
+    }
+
+    /// The largest growth of any pair's clearance (for the bounding-box culls).
+    #[inline]
+    pub fn most_pair(&self) -> f64 {
+        let most_arm = self.after.iter().flat_map(|a| a[0]).fold(0.0, f64::max);
+        most_arm + most_arm.max(self.object)
+    }
+}
+
+impl CollisionWorld {
+    /// Whether every state whose bodies lie within `sweep` of theirs in `state` is free — in
+    /// the sense of [`check`](Self::check), or of [`check_arm`](Self::check_arm) when `only`
+    /// is given — grasping grippers against the support included (grown like every pair).
+    pub fn is_free_within(&self, only: Option<usize>, state: &WorldState, sweep: &Sweep) -> bool {
+        self.free_within(only, state, sweep, false)
+    }
+
+    /// Arm `arm` anywhere in the joint box `q ± reach` about its configuration in `state`
+    /// (a part attached to it moving along), everything else as in `state`: is every such
+    /// state free in the sense of [`check_arm`](Self::check_arm)?
+    pub fn is_arm_free_within(&self, arm: usize, state: &WorldState, reach: &Joints) -> bool {
+        let mut sweep = Sweep::default();
+        sweep.reach[arm] = *reach;
+        self.free_within(Some(arm), state, &sweep, false)
+    }
+
+    fn free_within(
+        &self,
+        only: Option<usize>,
+        state: &WorldState,
+        sweep: &Sweep,
+        grasp_support_apart: bool,
+    ) -> bool {
+        self.with_posed(state, |posed| {
+            let grows = Grows::new(self, state, sweep, grasp_support_apart, &posed);
+            let mut sink = FirstContact::swept(self.margin(), &grows);
+            let _ = self.visit_posed(only, state, posed, &mut sink);
+            sink.ids.is_none()
+        })
+    }
+
+    /// How much room the grasping grippers (of arm `only` if given) have above the grasp
+    /// clearance from the support at `state` (m): the smallest `height − margin`, `∞` when
+    /// none grasps. The state keeps that clearance iff it is positive — the one pair
+    /// [`check`](Self::check) tests with [`grasp_support_margin`](Self::grasp_support_margin).
+    fn grasp_support_room(&self, only: Option<usize>, state: &WorldState) -> f64 {
+        let margin = self.grasp_support_margin();
+        (0..2)
+            .filter(|&i| self.is_active(i) && state.grasping[i] && only.is_none_or(|o| o == i))
+            .map(|i| self.gripper_support_distance(i, state) - margin)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The first of `states` that [`check`](Self::check) (or [`check_arm`](Self::check_arm)
+    /// when `only` is given) rejects, or `None`: the same answer as checking them in order,
+    /// with ranges of states accepted by one swept check where the bodies keep room for the
+    /// range's motion (see the module docs).
+    pub fn first_contact_in(&self, only: Option<usize>, states: &[WorldState]) -> Option<usize> {
+        if states.is_empty() {
+            return None;
+        }
+        let path = PathBounds::new(self, states);
+        // The grasping grippers vs the support first: cheap, and they work nearest.
+        let limit = self
+            .grasp_support_fails(only, states, &path, 0, states.len() - 1)
+            .unwrap_or(states.len());
+        if limit > 0 {
+            if let Some(k) = self.certify(only, states, &path, 0, limit - 1) {
+                return Some(k);
+            }
+        }
+        // The state whose gripper came too near the support fails its full check.
+        (limit < states.len()).then_some(limit)
+    }
+
+    /// The smallest height above the support of arm `arm`'s gripper over the `states` in
+    /// which it grasps (`None`: it grasps in none). Exact over the states; ranges whose lower
+    /// bound (the height at their middle less how far the gripper may move vertically) cannot
+    /// beat the best so far are skipped.
+    pub fn closest_grasp_to_support(&self, arm: usize, states: &[WorldState]) -> Option<f64> {
+        if states.is_empty() || self.support_height().is_none() {
+            return None;
+        }
+        let path = PathBounds::new(self, states);
+        let mut best = f64::INFINITY;
+        let mut stack = vec![(0, states.len() - 1)];
+        while let Some((lo, hi)) = stack.pop() {
+            let mid = lo + (hi - lo) / 2;
+            let state = &states[mid];
+            let d = if state.grasping[arm] {
+                let d = self.gripper_support_distance(arm, state);
+                best = best.min(d);
+                d
+            } else {
+                f64::INFINITY
+            };
+            if lo == hi {
+                continue;
+            }
+            let bound = if path.run[lo] == path.run[hi] {
+                if !state.grasping[arm] {
+                    continue;
+                }
+                d - self.gripper_vertical_sweep(arm, &path.reach(arm, lo, mid, hi))
+            } else {
+                f64::NEG_INFINITY
+            };
+            if bound >= best {
+                continue;
+            }
+            if mid < hi {
+                stack.push((mid + 1, hi));
+            }
+            if mid > lo {
+                stack.push((lo, mid - 1));
+            }
+        }
+        best.is_finite().then_some(best)
+    }
+
+    /// How far arm `arm`'s gripper may move vertically within `reach` of its joints.
+    fn gripper_vertical_sweep(&self, arm: usize, reach: &Joints) -> f64 {
+        let model = &self.arms()[arm];
+        let radii = &model.set().group_radii;
+        (first_tilting_joint(model)..6)
+            .map(|j| radii[j][SHAPE_GROUPS - 1] * reach[j])
+            .sum()
+    }
+
+    /// The first state in `lo..=hi` whose grasping gripper comes within the grasp clearance of
+    /// the support; a range is passed at once when the room at its middle exceeds how far the
+    /// grippers may move vertically over it.
+    fn grasp_support_fails(
+        &self,
+        only: Option<usize>,
+        states: &[WorldState],
+        path: &PathBounds,
+        lo: usize,
+        hi: usize,
+    ) -> Option<usize> {
+        if hi - lo < LEAF_STATES {
+            return (lo..=hi).find(|&k| self.grasp_support_room(only, &states[k]) <= 0.0);
+        }
+        let mid = lo + (hi - lo) / 2;
+        let room = self.grasp_support_room(only, &states[mid]);
+        if path.run[lo] == path.run[hi] {
+            let moves = (0..2)
+                .filter(|&i| states[mid].grasping[i] && only.is_none_or(|o| o == i))
+                .map(|i| self.gripper_vertical_sweep(i, &path.reach(i, lo, mid, hi)))
+                .fold(0.0, f64::max);
+            if room > moves {
+                return None;
+            }
+        }
+        self.grasp_support_fails(only, states, path, lo, mid - 1)
+            .or_else(|| (room <= 0.0).then_some(mid))
+            .or_else(|| self.grasp_support_fails(only, states, path, mid + 1, hi))
+    }
+
+    /// The first state in `lo..=hi` that is not free (every pair but the grasping grippers vs
+    /// the support, which the caller has tested), in order: from the first unchecked state,
+    /// a swept check of the next `2w + 1` states (about their middle) passes them all and
+    /// doubles `w`; a failed one halves it, and at `w = 1` the state is checked exactly.
+    fn certify(
+        &self,
+        only: Option<usize>,
+        states: &[WorldState],
+        path: &PathBounds,
+        lo: usize,
+        hi: usize,
+    ) -> Option<usize> {
+        let mut k = lo;
+        let mut w = FIRST_HALF_WIDTH;
+        let mut exact_run = 0;
+        while k <= hi {
+            if exact_run == 0 {
+                let end = (k + 2 * w).min(hi);
+                if end > k {
+                    let mid = k + (end - k) / 2;
+                    if let Some(sweep) = path.sweep(&states[mid], k, mid, end) {
+                        if self.sweep_bound(&sweep) > SWEEP_LIMIT {
+                            w = (w / 2).max(1);
+                            continue;
+                        }
+                        if self.free_within(only, &states[mid], &sweep, true) {
+                            k = end + 1;
+                            w *= 2;
+                            continue;
+                        }
+                    }
+                    if w > 1 {
+                        w /= 2;
+                        continue;
+                    }
+                    exact_run = EXACT_AFTER_FAILURE;
+                }
+            }
+            exact_run = exact_run.saturating_sub(1);
+            if !self.state_free(only, &states[k]) {
+                return Some(k);
+            }
+            k += 1;
+        }
+        None
+    }
+
+    /// The farthest any point of an arm or the part may move in `sweep` (m).
+    fn sweep_bound(&self, sweep: &Sweep) -> f64 {
+        let arm = |i: usize| -> f64 {
+            let radii = &self.arms()[i].set().group_radii;
+            (0..6)
+                .map(|j| radii[j].iter().copied().fold(0.0, f64::max) * sweep.reach[i][j])
+                .sum()
+        };
+        arm(0).max(arm(1)).max(sweep.object)
+    }
+
+    fn state_free(&self, only: Option<usize>, state: &WorldState) -> bool {
+        match only {
+            Some(arm) => self.is_arm_free(arm, state),
+            None => self.is_free(state),
+        }
+    }
+}
+
+/// The largest motion bound (m) a swept check is tried for: past a few centimetres the
+/// arms' own links (a wrist beside its forearm) and the part rarely leave room, and a check
+/// with wide margins costs the most. Wider ranges are split without trying.
+pub const SWEEP_LIMIT: f64 = 0.16;
+
+/// The half-width (states) of the first swept check of a sequence.
+const FIRST_HALF_WIDTH: usize = 8;
+
+/// States checked one by one after a swept check of three states failed, before the next try.
+const EXACT_AFTER_FAILURE: usize = 2;
+
+/// Ranges of fewer states than this (minus one) are checked state by state: a swept check
+/// that fails there would cost more than it could save.
+const LEAF_STATES: usize = 2;
+
+/// Prefix sums of the motion bounds along a sequence of states: per arm and joint the path
+/// length `Σ|Δq|`, and for a part at a fixed pose per state the displacement bound of its
+/// points. Between states `k ≤ l` joint `j` moved at most `Q[l] − Q[k]` and the part at most
+/// `O[l] − O[k]` (triangle inequality).
+struct PathBounds {
+    q: Vec<[Joints; 2]>,
+    object: Vec<f64>,
+    /// States with equal run numbers agree on grippers, grasping flags and how the part is
+    /// placed (absent / fixed / attached to the same flange the same way).
+    run: Vec<u32>,
+}
+
+impl PathBounds {
+    fn new(world: &CollisionWorld, states: &[WorldState]) -> Self {
+        let n = states.len();
+        let mut q = Vec::with_capacity(n);
+        let mut object = Vec::with_capacity(n);
+        let mut run = Vec::with_capacity(n);
+        let (mut qs, mut os, mut r) = ([[0.0; 6]; 2], 0.0, 0u32);
+        let sphere = |s: &WorldState| match (s.object, world.object()) {
+            (ObjectPlacement::Fixed(p), Some(obj)) => {
+                let (c, radius) = obj.world_sphere(&p);
+                Some((c, p.rotation, radius))
+            }
+            _ => None,
+        };
+        let mut prev_sphere = states.first().and_then(sphere);
+        for (k, s) in states.iter().enumerate() {
+            if k > 0 {
+                let p = &states[k - 1];
+                for (i, arm) in qs.iter_mut().enumerate() {
+                    for (j, total) in arm.iter_mut().enumerate() {
+                        *total += (s.q[i][j] - p.q[i][j]).abs();
+                    }
+                }
+                let this = sphere(s);
+                if let (Some((c0, r0, radius)), Some((c1, r1, _))) = (prev_sphere, this) {
+                    os += (c1 - c0).norm() + r0.angle_to(&r1) * radius;
+                }
+                prev_sphere = this;
+                if !same_run(p, s) {
+                    r += 1;
+                }
+            }
+            q.push(qs);
+            object.push(os);
+            run.push(r);
+        }
+        PathBounds { q, object, run }
+    }
+
+    /// How far each joint of arm `i` may be from state `mid` in states `lo..=hi` (rad).
+    fn reach(&self, i: usize, lo: usize, mid: usize, hi: usize) -> Joints {
+        std::array::from_fn(|j| {
+            let (a, m, b) = (self.q[lo][i][j], self.q[mid][i][j], self.q[hi][i][j]);
+            (m - a).max(b - m) + REACH_ROUNDING
+        })
+    }
+
+    /// The sweep that covers every state of `lo..=hi` from `state` (state `mid`), or `None`
+    /// when the range crosses a change of grippers, grasp flags or the part's placement.
+    fn sweep(&self, state: &WorldState, lo: usize, mid: usize, hi: usize) -> Option<Sweep> {
+        if self.run[lo] != self.run[hi] {
+            return None;
+        }
+        let mut sweep = Sweep {
+            reach: [self.reach(0, lo, mid, hi), self.reach(1, lo, mid, hi)],
+            object: 0.0,
+        };
+        if let ObjectPlacement::Fixed(_) = state.object {
+            let (a, m, b) = (self.object[lo], self.object[mid], self.object[hi]);
+            sweep.object = (m - a).max(b - m) + REACH_ROUNDING;
+        }
+        Some(sweep)
+    }
+}
+
+/// Per joint `j` and shape group `g`, how far any point of the group may be from joint axis
+/// `j` anywhere in the joint box `reach` about the posed configuration `p` (m): its distance
+/// there (the group's sphere from the axis through DH frame `j`'s origin along its `z`) plus
+/// how far the joints after `j` may move the group relative to that axis, and never more than
+/// the configuration-free bound `radii` ([`pregrasp_robot::group_sweep_radii`]). Joints before
+/// `j` move the axis and the group together, and joint `j` turns the group about the axis:
+/// neither changes the distance. In a bent arm these levers are much shorter than the
+/// stretched arm's.
+fn levers(
+    radii: &[[f64; SHAPE_GROUPS]; 6],
+    reach: &Joints,
+    p: &PosedArm,
+) -> [[f64; SHAPE_GROUPS]; 6] {
+    let mut out = *radii;
+    for g in 0..SHAPE_GROUPS {
+        let sphere = p.group_sphere(g);
+        // Σ_{k > j} R[k][g]·reach_k, from the wrist down.
+        let mut drift = 0.0;
+        for j in (0..6).rev() {
+            if radii[j][g] > 0.0 {
+                let frame = p.frame(j);
+                let axis = frame.rotation * nalgebra::Vector3::z();
+                let v = sphere.center - nalgebra::Point3::from(frame.translation.vector);
+                let off_axis = (v - v.dot(&axis) * axis).norm();
+                out[j][g] = radii[j][g].min(off_axis + sphere.radius + drift);
+            }
+            drift += radii[j][g] * reach[j];
+        }
+    }
+    out
+}
+
+/// The first joint whose motion can move a point of the arm up or down: 1 when the base
+/// joint's axis is the world's vertical (turning about it moves every point horizontally),
+/// else 0.
+fn first_tilting_joint(model: &ArmModel) -> usize {
+    let upright = (model.base.rotation * nalgebra::Vector3::z()).z >= 1.0 - 1e-12;
+    usize::from(upright)
+}
+
+/// Added to every bound: the states are computed in floating point.
+const REACH_ROUNDING: f64 = 1e-12;
+
+/// Whether two states agree on everything but the joints and a fixed part's pose.
+fn same_run(a: &WorldState, b: &WorldState) -> bool {
+    let placement = match (a.object, b.object) {
+        (ObjectPlacement::Absent, ObjectPlacement::Absent)
+        | (ObjectPlacement::Fixed(_), ObjectPlacement::Fixed(_)) => true,
+        (
+            ObjectPlacement::Attached {
+                arm: a1,
+                flange_to_object: f1,
+            },
+            ObjectPlacement::Attached {
+                arm: a2,
+                flange_to_object: f2,
+            },
+        ) => a1 == a2 && f1 == f2,
+        _ => false,
+    };
+    let grippers = a.gripper.iter().zip(&b.gripper).all(|(x, y)| match (x, y) {
+        (GripperState::Open, GripperState::Open) => true,
+        (GripperState::Closed { gap: g1 }, GripperState::Closed { gap: g2 }) => {
+            g1.to_bits() == g2.to_bits()
+        }
+        _ => false,
+    });
+    placement && grippers && a.grasping == b.grasping
+}
