@@ -6,22 +6,27 @@
 //! how far any point of body `a` moves to any other state considered, every one of those
 //! states keeps `m` (the test is [`CollisionWorld::is_free_within`]). Bodies:
 //! - a shape group of an arm (the link shapes of one DH frame, or the gripper): along joint
-//!   motions within `|Δq_i| ≤ r_i` every point of group g moves at most `Σ_i R[i][g] r_i`
-//!   ([`pregrasp_robot::group_sweep_radii`]: the upper arm moves far less than the gripper);
+//!   motions within `|Δq_i| ≤ r_i` every point of group g moves at most `Σ_i L[i][g] r_i`,
+//!   `L[i][g]` its lever about joint axis `i`: the group's distance from the axis at the
+//!   checked configuration plus how far the later joints may move it, never more than the
+//!   configuration-free bound `R[i][g]` ([`pregrasp_robot::group_sweep_radii`]). The upper
+//!   arm moves far less than the gripper, and a bent arm's levers are much shorter than a
+//!   stretched one's;
 //! - the part, fixed at a pose per state: its bounding sphere's centre moves `|Δc|` and the
-//!   rest turns by the rotation angle `α` about it, so a point moves at most `|Δc| + α·r`;
+//!   rest turns by the rotation angle `α` about it, so a point moves at most
+//!   `|Δc| + 2 sin(α/2)·r`;
 //!   attached to a flange: `Σ_i (F[i] + ρ) r_i` for `ρ` its reach from the flange origin;
 //! - the support and the static cuboids do not move.
 //!
 //! # Sequences
 //! [`CollisionWorld::first_contact_in`] finds the first state of a sequence (the states of a
 //! motion at its check resolution) that [`CollisionWorld::check`] would reject, and returns
-//! exactly what checking them one by one returns; but a range of states around its middle is
-//! accepted by one swept check when the bodies keep room for the range's motion, and split in
-//! halves otherwise. Far from everything a whole motion costs a few checks; near contact the
-//! ranges shrink to single states, which are checked as before. Motion bounds along the
-//! sequence are prefix sums of the steps' bounds (the triangle inequality), so a range's bound
-//! costs O(1).
+//! exactly what checking them one by one returns; but, going along the sequence, the next
+//! states are accepted by one swept check about their middle when the bodies keep room for
+//! their motion — the range doubles after a success and halves after a failure, down to
+//! single states checked as before. Far from everything a whole motion costs a few checks.
+//! Motion bounds along the sequence are prefix sums of the steps' bounds (the triangle
+//! inequality), so a range's bound costs O(1).
 //!
 //! A grasping gripper works millimetres above the support (a fingertip pinch), where no range
 //! of the whole world would pass: that pair is left out of the swept checks and tested on its
@@ -445,7 +450,10 @@ impl PathBounds {
                 }
                 let this = sphere(s);
                 if let (Some((c0, r0, radius)), Some((c1, r1, _))) = (prev_sphere, this) {
-                    os += (c1 - c0).norm() + r0.angle_to(&r1) * radius;
+                    // A turn by α moves a point at distance r by the chord 2·sin(α/2)·r, and
+                    // sin(α/2) is the length of the relative rotation's vector part.
+                    let chord = 2.0 * (r0.inverse() * r1).imag().norm();
+                    os += (c1 - c0).norm() + chord * radius;
                 }
                 prev_sphere = this;
                 if !same_run(p, s) {
