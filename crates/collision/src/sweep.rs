@@ -448,14 +448,19 @@ impl PathBounds {
                         *total += (s.q[i][j] - p.q[i][j]).abs();
                     }
                 }
-                let this = sphere(s);
-                if let (Some((c0, r0, radius)), Some((c1, r1, _))) = (prev_sphere, this) {
-                    // A turn by α moves a point at distance r by the chord 2·sin(α/2)·r, and
-                    // sin(α/2) is the length of the relative rotation's vector part.
-                    let chord = 2.0 * (r0.inverse() * r1).imag().norm();
-                    os += (c1 - c0).norm() + chord * radius;
+                // A part that stays put (a reach segment) costs nothing to follow.
+                let still = matches!((p.object, s.object),
+                    (ObjectPlacement::Fixed(a), ObjectPlacement::Fixed(b)) if a == b);
+                if !still {
+                    let this = sphere(s);
+                    if let (Some((c0, r0, radius)), Some((c1, r1, _))) = (prev_sphere, this) {
+                        // A turn by α moves a point at distance r by the chord 2·sin(α/2)·r,
+                        // and sin(α/2) is the length of the relative rotation's vector part.
+                        let chord = 2.0 * (r0.inverse() * r1).imag().norm();
+                        os += (c1 - c0).norm() + chord * radius;
+                    }
+                    prev_sphere = this;
                 }
-                prev_sphere = this;
                 if !same_run(p, s) {
                     r += 1;
                 }

@@ -32,6 +32,11 @@ pub struct PlanOptions {
     /// `sup1` has already run: (supportive arm, its joints now). μ_rot must start there and
     /// that arm must be the supportive one ([`crate::replan`] `--from rot`).
     pub fixed_rot_start: Option<(usize, pregrasp_robot::Joints)>,
+    /// Algorithm 3 runs over the candidates with a pose in waves of this many, best S_rot
+    /// first (each wave in parallel); it stops once `max_plans` plans are kept whose scores
+    /// are above every candidate not yet run, so no later one could be kept. The waves do not
+    /// depend on the thread count: the plan file does not either.
+    pub wave: usize,
 }
 
 impl Default for PlanOptions {
@@ -40,9 +45,14 @@ impl Default for PlanOptions {
             max_plans: 3,
             only: None,
             fixed_rot_start: None,
+            wave: DEFAULT_WAVE,
         }
     }
 }
+
+/// Candidates per wave of Algorithm 3 ([`PlanOptions::wave`]): a few more than the usual
+/// `max_plans`, and a multiple of two cores.
+pub const DEFAULT_WAVE: usize = 4;
 
 /// What became of one candidate.
 #[derive(Clone, Debug)]
@@ -66,6 +76,9 @@ pub enum CandidateOutcome {
     },
     /// Not planned: [`PlanOptions::only`] leaves it out.
     Skipped,
+    /// Algorithm 2 found a pose, but Algorithm 3 was not run: `max_plans` plans were kept from
+    /// candidates that rank above it whatever it would give (see [`PlanOptions::wave`]).
+    NotEvaluated,
 }
 
 /// The result of [`plan`]: the plan file plus per-candidate details for reports.
@@ -139,45 +152,77 @@ pub fn plan(
     };
     let checker = PlanChecker::new(&header, mesh);
     let hold_check = HoldCheck::new(scene, &header, mesh);
-    let outcomes: Vec<CandidateOutcome> = candidates
-        .par_iter()
-        .zip(poses.into_par_iter())
-        .map(|(candidate, pose)| {
-            let outcome = match pose {
-                None => CandidateOutcome::Skipped,
-                Some(Err(rejection)) => CandidateOutcome::NoPose(rejection),
-                Some(Ok(pose)) => match integrated_path(&ctx, candidate, &pose) {
-                    Ok(path) => {
-                        let mut single = header.clone();
-                        single.plans =
-                            vec![plan_json(&ctx, candidate.id, candidate.score, &pose, &path)];
-                        let check = match &checker {
-                            Ok(checker) => {
-                                ctx.clock.time(Stage::Recheck, || verify(checker, &single))
-                            }
-                            Err(e) => Some(format!("rule 0 ({e})")),
-                        };
-                        let held = ctx.clock.time(Stage::Hold, || hold_check.check(&single));
-                        let mut plan = single.plans.swap_remove(0);
-                        let hold = held.and_then(|h| {
-                            plan.physics = Some(h.json);
-                            h.rejection
-                        });
-                        CandidateOutcome::Planned {
-                            pose,
-                            path: Box::new(path),
-                            plan: Box::new(plan),
-                            check,
-                            hold,
-                        }
-                    }
-                    Err(reason) => CandidateOutcome::NoPath { pose, reason },
-                },
-            };
+    let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose| {
+        let outcome = match integrated_path(&ctx, candidate, &pose) {
+            Ok(path) => {
+                let mut single = header.clone();
+                single.plans = vec![plan_json(&ctx, candidate.id, candidate.score, &pose, &path)];
+                let check = match &checker {
+                    Ok(checker) => ctx.clock.time(Stage::Recheck, || verify(checker, &single)),
+                    Err(e) => Some(format!("rule 0 ({e})")),
+                };
+                let held = ctx.clock.time(Stage::Hold, || hold_check.check(&single));
+                let mut plan = single.plans.swap_remove(0);
+                let hold = held.and_then(|h| {
+                    plan.physics = Some(h.json);
+                    h.rejection
+                });
+                CandidateOutcome::Planned {
+                    pose,
+                    path: Box::new(path),
+                    plan: Box::new(plan),
+                    check,
+                    hold,
+                }
+            }
+            Err(reason) => CandidateOutcome::NoPath { pose, reason },
+        };
+        progress();
+        outcome
+    };
+    // Algorithm 2's verdicts are final; candidates with a pose go to Algorithm 3 in waves.
+    let mut outcomes: Vec<CandidateOutcome> = Vec::with_capacity(poses.len());
+    let mut pending: Vec<(usize, PowerGraspPose)> = Vec::new();
+    for (k, pose) in poses.into_iter().enumerate() {
+        outcomes.push(match pose {
+            None => CandidateOutcome::Skipped,
+            Some(Err(rejection)) => CandidateOutcome::NoPose(rejection),
+            Some(Ok(pose)) => {
+                pending.push((k, pose));
+                CandidateOutcome::NotEvaluated
+            }
+        });
+    }
+    for (k, o) in outcomes.iter().enumerate() {
+        if !matches!(o, CandidateOutcome::NotEvaluated) && k < candidates.len() {
             progress();
-            outcome
-        })
-        .collect();
+        }
+    }
+    let wave = options.wave.max(1);
+    let mut pending = pending.into_iter().peekable();
+    while pending.peek().is_some() {
+        let batch: Vec<(usize, PowerGraspPose)> = pending.by_ref().take(wave).collect();
+        let done: Vec<(usize, CandidateOutcome)> = batch
+            .into_par_iter()
+            .map(|(k, pose)| (k, evaluate(&candidates[k], pose)))
+            .collect();
+        for (k, outcome) in done {
+            outcomes[k] = outcome;
+        }
+        if let Some(&(next, _)) = pending.peek() {
+            if ranked_beyond(
+                &candidates,
+                &outcomes,
+                options.max_plans,
+                candidates[next].score,
+            ) {
+                break;
+            }
+        }
+    }
+    for _ in pending {
+        progress();
+    }
     let t_paths = t2.elapsed();
 
     // Ranking: candidates are sorted best first by S_rot; among equal scores the plan that
@@ -224,6 +269,13 @@ pub fn plan(
                 json.theta_goal = None;
                 json.outcome = "skipped: not re-planned (the plan keeps another candidate)".into();
             }
+            CandidateOutcome::NotEvaluated => {
+                json.theta_goal = None;
+                json.outcome = format!(
+                    "not evaluated: the best {} plans came from candidates with higher S_rot",
+                    options.max_plans
+                );
+            }
         }
         file.candidates[candidate.id] = json;
     }
@@ -245,6 +297,36 @@ pub fn plan(
         candidates,
         outcomes,
     })
+}
+
+/// Whether `max_plans` plans are kept among the evaluated `outcomes` (ranked as the plan file
+/// ranks them) and the worst of them scores above `next` by more than a tie: every candidate
+/// from `next` on (sorted best first) ranks below them whatever it gives.
+fn ranked_beyond(
+    candidates: &[RotationAxisCandidate],
+    outcomes: &[CandidateOutcome],
+    max_plans: usize,
+    next: f64,
+) -> bool {
+    if max_plans == 0 {
+        return false;
+    }
+    let scores: Vec<f64> = candidates.iter().map(|c| c.score).collect();
+    let kept: Vec<usize> = rank(&scores, |i| required_force(&outcomes[i]))
+        .into_iter()
+        .filter(|&i| {
+            matches!(
+                &outcomes[i],
+                CandidateOutcome::Planned {
+                    check: None,
+                    hold: None,
+                    ..
+                }
+            )
+        })
+        .take(max_plans)
+        .collect();
+    kept.len() == max_plans && kept.iter().all(|&i| scores[i] - next > SCORE_TIE)
 }
 
 /// Two scores closer than this are a tie, broken by the grip force the rotation needs.

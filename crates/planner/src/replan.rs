@@ -145,7 +145,7 @@ pub fn replan(
         &PlanOptions {
             max_plans: 1,
             only: Some(vec![id]),
-            fixed_rot_start: None,
+            ..PlanOptions::default()
         },
         &|_| {},
         &|| {},
@@ -224,6 +224,7 @@ pub fn replan_from_rot(
         max_plans: 1,
         only: Some(matched.into_iter().collect()),
         fixed_rot_start: Some((sup, q_sup)),
+        ..PlanOptions::default()
     };
     let mut report = plan(&moved, mesh, &options, &|_| {}, &|| {})?;
     let route = match (matched, report.file.plans.is_empty()) {

@@ -227,3 +227,55 @@ mod edited_plans_fail_the_check {
         assert!(failed_rules(&file, &mesh).contains(&3));
     }
 }
+
+/// Algorithm 3 in waves: once `max_plans` plans are kept from candidates whose scores beat
+/// every candidate not yet run, the rest are not evaluated — and the plans kept are the ones a
+/// run over every candidate keeps, for any wave size and thread count.
+#[test]
+fn waves_stop_once_the_kept_plans_outrank_the_rest_and_keep_the_same_plans() {
+    let (scene, mesh) = example("chair_side");
+    let with = |max_plans: usize, wave: usize, threads: usize| -> PlanFile {
+        let options = PlanOptions {
+            max_plans,
+            wave,
+            ..PlanOptions::default()
+        };
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| plan(&scene, &mesh, &options, &|_| {}, &|| {}))
+            .expect("models build")
+            .file
+    };
+    let every = with(1, usize::MAX, 2);
+    let first = with(1, 1, 1);
+    assert_eq!(first.status, "planned");
+    assert_eq!(
+        serde_json::to_string(&first.plans).unwrap(),
+        serde_json::to_string(&every.plans).unwrap(),
+        "the same plan kept"
+    );
+    let skipped: Vec<usize> = first
+        .candidates
+        .iter()
+        .filter(|c| c.outcome.starts_with("not evaluated"))
+        .map(|c| c.id)
+        .collect();
+    assert!(
+        !skipped.is_empty(),
+        "a wave of one stops after the first plan"
+    );
+    let kept = first.plans[0].candidate;
+    for &id in &skipped {
+        assert!(first.candidates[id].score < first.candidates[kept].score);
+        // Run over every candidate, each skipped one was outranked or failed.
+        assert_ne!(every.candidates[id].outcome, "planned");
+    }
+    // Deterministic for any thread count; a wave holding every candidate skips none.
+    assert_eq!(without_timing(&first), without_timing(&with(1, 1, 2)));
+    assert!(every
+        .candidates
+        .iter()
+        .all(|c| !c.outcome.starts_with("not evaluated")));
+}
