@@ -349,6 +349,12 @@ impl ArmModel {
 /// every shape's bounding sphere at 65 openings from closed to open, plus 1 mm for the motion
 /// between them (the fingers move less than that between neighbouring samples' spheres).
 fn gripper_sphere(gripper: &Gripper2F85) -> (nalgebra::Point3<f64>, f64) {
+    // The shapes (not the precision and power points) decide it: the same for every gripper.
+    static SPHERE: OnceLock<(nalgebra::Point3<f64>, f64)> = OnceLock::new();
+    *SPHERE.get_or_init(|| gripper_sphere_of(gripper))
+}
+
+fn gripper_sphere_of(gripper: &Gripper2F85) -> (nalgebra::Point3<f64>, f64) {
     let center = nalgebra::Point3::new(0.0, 0.0, 0.09);
     let stroke = gripper.fingers().stroke();
     let mut radius: f64 = 0.0;

@@ -466,6 +466,36 @@ pub const SHAPE_GROUPS: usize = 8;
 /// the shape's largest distance from its own frame origin (its exact pieces' slack included).
 /// Frames a joint does not move get 0.
 pub fn group_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> [[f64; SHAPE_GROUPS]; 6] {
+    // Computed once per model and gripper (every opening's shapes are posed): cached.
+    type Key = (&'static str, u64, u64);
+    static CACHE: std::sync::OnceLock<std::sync::Mutex<Vec<(Key, GroupRadii)>>> =
+        std::sync::OnceLock::new();
+    let key = (
+        model.name(),
+        gripper.precision_point_z.to_bits(),
+        gripper.power_point_z.to_bits(),
+    );
+    let cache = CACHE.get_or_init(Default::default);
+    if let Some((_, r)) = cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .iter()
+        .find(|(k, _)| *k == key)
+    {
+        return *r;
+    }
+    let radii = compute_group_sweep_radii(model, gripper);
+    cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push((key, radii));
+    radii
+}
+
+/// Per joint and shape group, the bound of [`group_sweep_radii`].
+type GroupRadii = [[f64; SHAPE_GROUPS]; 6];
+
+fn compute_group_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> GroupRadii {
     let offsets = flange_offsets(model);
     let geometry = arm_geometry(model);
     let mut reach_in_group = [0.0f64; SHAPE_GROUPS];
