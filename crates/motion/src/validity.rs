@@ -123,7 +123,8 @@ impl<'a, const D: usize, V: StateValidator<D> + ?Sized> MotionValidator<'a, D, V
         self.check_edge_counted(a, b, &mut checked)
     }
 
-    /// [`Self::check_edge`], adding the number of states checked to `states_checked`.
+    /// [`Self::check_edge`], adding the number of checks made to `states_checked` (a box
+    /// check of a whole range counts as one).
     pub fn check_edge_counted(&self, a: &State<D>, b: &State<D>, states_checked: &mut u64) -> bool {
         *states_checked += 1;
         if !self.check_state(b) {
@@ -301,6 +302,63 @@ mod tests {
         assert!(count < mv.edge_steps(&[0.0], &[1.0]) as u64);
         // Coarser than the wall: may be missed — that is the documented contract.
         assert!(mv.with_resolution(0.5).check_edge(&[0.0], &[1.0]));
+    }
+
+    /// A wall on a line, with exact box answers: the interval `q ± r` misses it.
+    struct Wall {
+        from: f64,
+        to: f64,
+        limit: f64,
+    }
+
+    impl StateValidator<1> for Wall {
+        fn is_valid(&self, q: &State<1>) -> bool {
+            !(q[0] > self.from && q[0] < self.to)
+        }
+        fn is_valid_around(&self, q: &State<1>, r: &State<1>) -> bool {
+            q[0] + r[0] <= self.from || q[0] - r[0] >= self.to
+        }
+        fn around_limit(&self) -> f64 {
+            self.limit
+        }
+    }
+
+    #[test]
+    fn edges_checked_by_boxes_give_the_answers_of_state_by_state_with_fewer_checks() {
+        let space = JointSpace::new([-10.0], [10.0], [1.0]).unwrap();
+        let mut fewer = 0;
+        for (k, from) in [0.0, 0.123, 0.42, 0.5, 0.97, 2.0].iter().enumerate() {
+            let wall = Wall {
+                from: *from,
+                to: from + 0.013 * (k + 1) as f64,
+                limit: [0.05, 0.2, 5.0][k % 3],
+            };
+            let plain = |q: &State<1>| wall.is_valid(q);
+            for (a, b) in [
+                (-0.3, 1.4),
+                (1.4, -0.3),
+                (0.6, 0.9),
+                (0.2, 0.45),
+                (2.5, 3.0),
+            ] {
+                for resolution in [0.001, 0.007, 0.04] {
+                    let boxes = MotionValidator::new(&space, &wall, resolution);
+                    let states = MotionValidator::new(&space, &plain, resolution);
+                    let (mut n1, mut n2) = (0, 0);
+                    let by_boxes = boxes.check_edge_counted(&[a], &[b], &mut n1);
+                    let one_by_one = states.check_edge_counted(&[a], &[b], &mut n2);
+                    assert_eq!(
+                        by_boxes, one_by_one,
+                        "wall {from}, {a} → {b} at {resolution}"
+                    );
+                    if by_boxes && states.edge_steps(&[a], &[b]) > 20 {
+                        assert!(n1 < n2, "{n1} checks with boxes, {n2} without");
+                        fewer += 1;
+                    }
+                }
+            }
+        }
+        assert!(fewer > 10);
     }
 
     #[test]
