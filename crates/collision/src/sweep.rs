@@ -352,16 +352,15 @@ impl CollisionWorld {
                 let end = (k + 2 * w).min(hi);
                 if end > k {
                     let mid = k + (end - k) / 2;
-                    if let Some(sweep) = path.sweep(&states[mid], k, mid, end) {
-                        if self.sweep_bound(&sweep) > SWEEP_LIMIT {
-                            w = (w / 2).max(1);
-                            continue;
-                        }
-                        if self.free_within(only, &states[mid], &sweep, true) {
-                            k = end + 1;
-                            w *= 2;
-                            continue;
-                        }
+                    // Too wide a motion is not worth a swept check: it halves like a failure.
+                    let passed = path.sweep(&states[mid], k, mid, end).is_some_and(|sweep| {
+                        self.sweep_bound(&sweep) <= SWEEP_LIMIT
+                            && self.free_within(only, &states[mid], &sweep, true)
+                    });
+                    if passed {
+                        k = end + 1;
+                        w *= 2;
+                        continue;
                     }
                     if w > 1 {
                         w /= 2;

@@ -120,6 +120,20 @@ fn a_motion_checked_by_ranges_finds_the_state_checking_one_by_one_finds() {
 }
 
 #[test]
+fn a_motion_with_wide_steps_is_checked_state_by_state_and_gives_the_same_answer() {
+    // Steps far wider than any swept check would take (0.3–1 rad): every state is checked
+    // on its own, and the answer is still the first state in contact.
+    let world = cell();
+    let mut rng = ChaCha8Rng::seed_from_u64(24);
+    for _ in 0..40 {
+        let step = rng.random_range(0.3..1.0);
+        let states = random_motion(&mut rng, step);
+        let one_by_one = states.iter().position(|s| world.check(s).is_err());
+        assert_eq!(world.first_contact_in(None, &states), one_by_one);
+    }
+}
+
+#[test]
 fn the_closest_grasp_to_the_support_is_the_minimum_over_the_states() {
     let world = cell();
     let mut rng = ChaCha8Rng::seed_from_u64(21);
