@@ -229,6 +229,17 @@ pub fn print_summary(report: &PlanReport, file: &PlanFile) {
         get("paths"),
         get("total")
     );
+    if t.contains_key("rot") {
+        println!(
+            "      in paths, summed over candidates: μ_rot {:.2} ms, lines {:.2} ms, transits \
+             {:.2} ms, re-check {:.2} ms, grip check {:.2} ms",
+            get("rot"),
+            get("lines"),
+            get("transit"),
+            get("recheck"),
+            get("hold")
+        );
+    }
 }
 
 fn opt(v: Option<f64>, digits: usize) -> String {
