@@ -8,8 +8,9 @@
 //!   `resolution` metres of arm-point travel, coarse-to-fine, first failure stops.
 //! - [`rrt_connect`](mod@rrt_connect): [`rrt_connect()`] with [`RrtConnectSettings`];
 //!   the outcome is a [`PlanResult`] with a [`PlanStatus`] and [`PlanStats`], never an error.
-//! - [`simplify`](mod@simplify): [`simplify()`] — greedy, seeded random and single-joint
-//!   (partial) shortcutting, then waypoint removal; never invalidates nor lengthens a path.
+//! - [`simplify`](mod@simplify): [`simplify()`] / [`simplify_by`] — greedy, seeded random
+//!   and single-joint (partial) shortcutting, then waypoint removal; never invalidates a
+//!   path nor raises its [`PathCost`] (length, or [`RestToRest`] duration).
 //! - [`cartesian`]: [`straight_line`] — straight tool moves by seeded IK with branch
 //!   continuity; typed [`CartesianError`].
 //! - [`timing`]: [`time_parameterize`] — trapezoidal timing under speed and acceleration
@@ -46,7 +47,9 @@ pub use cartesian::{interpolate_pose, straight_line, CartesianError, CartesianSe
 pub use rrt_connect::{
     rrt_connect, PlanResult, PlanStats, PlanStatus, RrtConnectSettings, SIMPLIFY_ROUNDS,
 };
-pub use simplify::simplify;
+pub use simplify::{simplify, simplify_by, PathCost, RestToRest};
 pub use space::{JointSpace, JointSpaceError, State};
-pub use timing::{time_parameterize, try_time_parameterize, TimedPath, TimingError};
+pub use timing::{
+    rest_to_rest_duration, time_parameterize, try_time_parameterize, TimedPath, TimingError,
+};
 pub use validity::{MotionValidator, StateValidator};

@@ -1,24 +1,76 @@
 //! Path simplification: greedy and random shortcutting, then waypoint removal.
 //!
 //! Every edge the simplifier introduces is checked with the same [`MotionValidator`]
-//! that validated the input, and a change is kept only when it does not lengthen the
-//! path in the space's metric, so the output is valid whenever the input was and
-//! `length(out) ≤ length(in)` (the metric is a norm: the triangle inequality holds).
+//! that validated the input, and a change is kept only when it lowers the path's
+//! [`PathCost`] (by default its length in the space's metric), so the output is valid
+//! whenever the input was and `cost(out) ≤ cost(in)`. Greedy shortcuts and waypoint
+//! removal replace two or more edges by one, which never costs more when the edge cost
+//! satisfies the triangle inequality (length does, being a norm; so does
+//! [`RestToRest`] duration); random and partial shortcuts compare costs before they
+//! check any edge, so a change that would not pay costs no collision check.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::space::State;
+use crate::space::{JointSpace, State};
+use crate::timing::rest_to_rest_duration;
 use crate::validity::{MotionValidator, StateValidator};
 
-/// Shortens a valid path.
+/// What simplification lowers: a cost that adds up over a path's edges, with
+/// `edge(a, c) ≤ edge(a, b) + edge(b, c)` (the triangle inequality).
+pub trait PathCost<const D: usize> {
+    /// The cost of the straight edge `a → b`.
+    fn edge(&self, a: &State<D>, b: &State<D>) -> f64;
+
+    /// The cost of a polyline: the sum over its edges.
+    fn path(&self, path: &[State<D>]) -> f64 {
+        path.windows(2).map(|w| self.edge(&w[0], &w[1])).sum()
+    }
+}
+
+/// Length in the space's metric ([`JointSpace::motion_bound`]).
+impl<const D: usize> PathCost<D> for JointSpace<D> {
+    fn edge(&self, a: &State<D>, b: &State<D>) -> f64 {
+        self.motion_bound(a, b)
+    }
+}
+
+/// Duration when every edge is run rest to rest under per-joint speed and acceleration
+/// limits, as [`time_parameterize`](crate::time_parameterize) times it: each waypoint is
+/// a stop, so a shortcut that saves length but adds a waypoint may well cost time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RestToRest<const D: usize> {
+    /// Speed limit per joint (> 0).
+    pub vmax: [f64; D],
+    /// Acceleration limit per joint (> 0).
+    pub amax: [f64; D],
+}
+
+impl<const D: usize> PathCost<D> for RestToRest<D> {
+    fn edge(&self, a: &State<D>, b: &State<D>) -> f64 {
+        rest_to_rest_duration(a, b, &self.vmax, &self.amax)
+    }
+}
+
+/// Shortens a valid path in the space's metric: [`simplify_by`] with
+/// `motion.space` as the cost.
+pub fn simplify<const D: usize, V: StateValidator<D> + ?Sized>(
+    motion: &MotionValidator<D, V>,
+    path: &[State<D>],
+    rng_seed: u64,
+    rounds: usize,
+) -> Vec<State<D>> {
+    simplify_by(motion, path, rng_seed, rounds, motion.space)
+}
+
+/// Lowers the cost of a valid path.
 ///
 /// 1. Greedy pass (deterministic): from each kept waypoint, jump to the farthest later
 ///    waypoint reachable by one valid edge.
 /// 2. `rounds` random shortcuts (ChaCha8 seeded by `rng_seed`): pick two points on two
 ///    different edges, `x` on edge `i` and `y` on edge `j > i`, and replace the part
-///    between them by the straight edge `x → y` if the three new edges
-///    `p_i → x → y → p_{j+1}` are valid and the path gets strictly shorter.
+///    `p_i … p_{j+1}` by `p_i → x → y → p_{j+1}` if that costs strictly less and the
+///    three new edges are valid.
 /// 3. `rounds` partial shortcuts (seeded by `rng_seed + 1`): the same for one joint
 ///    only ([`partial_shortcut`]); this straightens joints that wander while another
 ///    joint must stay in a narrow passage.
@@ -26,23 +78,29 @@ use crate::validity::{MotionValidator, StateValidator};
 ///    valid edge (removes collinear and otherwise unneeded ones).
 ///
 /// Paths with fewer than three states are returned unchanged.
-pub fn simplify<const D: usize, V: StateValidator<D> + ?Sized>(
+pub fn simplify_by<const D: usize, V: StateValidator<D> + ?Sized>(
     motion: &MotionValidator<D, V>,
     path: &[State<D>],
     rng_seed: u64,
     rounds: usize,
+    cost: &impl PathCost<D>,
 ) -> Vec<State<D>> {
     if path.len() < 3 {
         return path.to_vec();
     }
     let mut out = greedy_shortcut(motion, path);
-    random_shortcut(motion, &mut out, rng_seed, rounds);
-    partial_shortcut(motion, &mut out, rng_seed.wrapping_add(1), rounds);
+    random_shortcut(motion, &mut out, rng_seed, rounds, cost);
+    partial_shortcut(motion, &mut out, rng_seed.wrapping_add(1), rounds, cost);
     remove_waypoints(motion, &mut out);
     out
 }
 
-/// Step 1 of [`simplify`]: from each kept waypoint, the farthest directly reachable one.
+/// Whether `new` is a strict improvement on `old` (beyond round-off).
+fn cheaper(new: f64, old: f64) -> bool {
+    new < old * (1.0 - 1e-9)
+}
+
+/// Step 1 of [`simplify_by`]: from each kept waypoint, the farthest directly reachable one.
 pub fn greedy_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
     motion: &MotionValidator<D, V>,
     path: &[State<D>],
@@ -64,22 +122,23 @@ pub fn greedy_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
     out
 }
 
-/// Step 2 of [`simplify`]: `rounds` seeded random shortcuts between points on edges.
+/// Step 2 of [`simplify_by`]: `rounds` seeded random shortcuts between points on edges.
 pub fn random_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
     motion: &MotionValidator<D, V>,
     path: &mut Vec<State<D>>,
     rng_seed: u64,
     rounds: usize,
+    cost: &impl PathCost<D>,
 ) {
     let space = motion.space;
     let mut rng = ChaCha8Rng::seed_from_u64(rng_seed);
     for _ in 0..rounds {
-        let edges = path.len().saturating_sub(1);
-        if edges < 2 {
+        let n = path.len().saturating_sub(1);
+        if n < 2 {
             return;
         }
-        let mut i = rng.random_range(0..edges);
-        let mut j = rng.random_range(0..edges - 1);
+        let mut i = rng.random_range(0..n);
+        let mut j = rng.random_range(0..n - 1);
         if j >= i {
             j += 1;
         }
@@ -88,49 +147,64 @@ pub fn random_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
         }
         let x = space.interpolate(&path[i], &path[i + 1], rng.random());
         let y = space.interpolate(&path[j], &path[j + 1], rng.random());
-        let old = space.motion_bound(&x, &path[i + 1])
-            + space.path_length(&path[i + 1..=j])
-            + space.motion_bound(&path[j], &y);
-        let new = space.motion_bound(&x, &y);
-        if new >= old * (1.0 - 1e-9) {
-            continue;
-        }
-        // The new edge first: it is the one likely to fail (the others lie along valid edges).
-        if motion.check_edge(&x, &y)
-            && motion.check_edge(&path[i], &x)
-            && motion.check_edge(&y, &path[j + 1])
-        {
-            // p_0 … p_i, x, y, p_{j+1} …
-            path.splice(i + 1..=j, [x, y]);
+        let old = cost.path(&path[i..=j + 1]);
+        let (p, q) = (path[i], path[j + 1]);
+        // p_i → x → y → p_{j+1}; where that does not pay (a stop costs time), the cheaper of
+        // p_i → y → p_{j+1} and p_i → x → p_{j+1}, if it does. Under length the first
+        // always pays when anything does (the triangle inequality).
+        let (both, only_y, only_x) = ([x, y], [y], [x]);
+        let via_both = cost.edge(&p, &x) + cost.edge(&x, &y) + cost.edge(&y, &q);
+        let via_y = cost.edge(&p, &y) + cost.edge(&y, &q);
+        let via_x = cost.edge(&p, &x) + cost.edge(&x, &q);
+        // The new edge first in each: it is the one likely to fail (the others lie along
+        // valid edges).
+        let keep: Option<&[State<D>]> = if cheaper(via_both, old) {
+            let valid =
+                motion.check_edge(&x, &y) && motion.check_edge(&p, &x) && motion.check_edge(&y, &q);
+            valid.then_some(&both)
+        } else if cheaper(via_y, old) && via_y <= via_x {
+            let valid = motion.check_edge(&p, &y) && motion.check_edge(&y, &q);
+            valid.then_some(&only_y)
+        } else if cheaper(via_x, old) {
+            let valid = motion.check_edge(&x, &q) && motion.check_edge(&p, &x);
+            valid.then_some(&only_x)
+        } else {
+            None
+        };
+        if let Some(keep) = keep {
+            // p_0 … p_i, keep…, p_{j+1} …
+            path.splice(i + 1..=j, keep.iter().copied());
         }
     }
 }
 
-/// Step 3 of [`simplify`]: `rounds` seeded partial (single-joint) shortcuts.
+/// Step 3 of [`simplify_by`]: `rounds` seeded partial (single-joint) shortcuts.
 ///
 /// Picks a joint `c`, a point `x` on edge `i` and `y` on edge `j > i`; the states
 /// `x, p_{i+1}, …, p_j, y` keep their other coordinates while coordinate `c` is
 /// replaced by the linear interpolation from `x_c` to `y_c` (parameterised by the
 /// cumulative length of the sub-path). The weighted L1 length is a per-coordinate sum
-/// of total variations, so this never lengthens the path; the change is kept when it
-/// shortens it strictly and every new edge `p_i → x' → … → y' → p_{j+1}` is valid.
+/// of total variations, so this never lengthens the path; the change is kept when
+/// `p_i → x' → … → y' → p_{j+1}` costs strictly less than `p_i … p_{j+1}` and every new
+/// edge is valid.
 pub fn partial_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
     motion: &MotionValidator<D, V>,
     path: &mut Vec<State<D>>,
     rng_seed: u64,
     rounds: usize,
+    cost: &impl PathCost<D>,
 ) {
     let space = motion.space;
     let mut rng = ChaCha8Rng::seed_from_u64(rng_seed);
     let mut sub: Vec<State<D>> = Vec::new();
     for _ in 0..rounds {
-        let edges = path.len().saturating_sub(1);
-        if edges < 2 || D == 0 {
+        let n = path.len().saturating_sub(1);
+        if n < 2 || D == 0 {
             return;
         }
         let c = rng.random_range(0..D);
-        let mut i = rng.random_range(0..edges);
-        let mut j = rng.random_range(0..edges - 1);
+        let mut i = rng.random_range(0..n);
+        let mut j = rng.random_range(0..n - 1);
         if j >= i {
             j += 1;
         }
@@ -155,6 +229,13 @@ pub fn partial_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
             let u = if total > 0.0 { run / total } else { 0.0 };
             sub[k][c] = x_c + u * (y_c - x_c);
         }
+        let old = cost.path(&path[i..=j + 1]);
+        let new = cost.edge(&path[i], &sub[0])
+            + cost.path(&sub)
+            + cost.edge(&sub[sub.len() - 1], &path[j + 1]);
+        if !cheaper(new, old) {
+            continue;
+        }
         // The moved states' edges first: the end edges lie along valid edges.
         let valid = sub.windows(2).all(|w| motion.check_edge(&w[0], &w[1]))
             && motion.check_edge(&path[i], &sub[0])
@@ -165,7 +246,7 @@ pub fn partial_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
     }
 }
 
-/// Step 4 of [`simplify`]: drops interior waypoints whose neighbours connect directly.
+/// Step 4 of [`simplify_by`]: drops interior waypoints whose neighbours connect directly.
 pub fn remove_waypoints<const D: usize, V: StateValidator<D> + ?Sized>(
     motion: &MotionValidator<D, V>,
     path: &mut Vec<State<D>>,

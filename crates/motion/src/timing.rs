@@ -135,6 +135,18 @@ pub fn try_time_parameterize<const D: usize>(
     Ok(out)
 }
 
+/// Duration (s) of the rest-to-rest profile of the edge `a → b` that
+/// [`time_parameterize`] samples (before its floating-point delays, which are a few ulps):
+/// `2 t_ramp + t_cruise`, 0 when `a = b`. Limits must be finite and positive.
+pub fn rest_to_rest_duration<const D: usize>(
+    a: &State<D>,
+    b: &State<D>,
+    vmax: &[f64; D],
+    amax: &[f64; D],
+) -> f64 {
+    Trapezoid::new(a, b, vmax, amax).map_or(0.0, |p| p.duration())
+}
+
 fn lerp<const D: usize>(a: &State<D>, b: &State<D>, u: f64) -> State<D> {
     let mut q = *a;
     for i in 0..D {

@@ -10,8 +10,8 @@
 
 use nalgebra::{Isometry3, Translation3};
 use pregrasp_motion::{
-    rrt_connect, simplify, straight_line, time_parameterize, CartesianError, CartesianSettings,
-    PlanStatus, RrtConnectSettings, State,
+    rrt_connect, simplify_by, straight_line, time_parameterize, CartesianError, CartesianSettings,
+    PlanStatus, RestToRest, RrtConnectSettings, State,
 };
 use std::sync::Mutex;
 
@@ -85,8 +85,9 @@ pub struct ReachLines {
 }
 
 /// Shortcutting rounds after RRT-Connect (seeded; the greedy pass and waypoint removal run
-/// regardless).
-pub const SHORTCUT_ROUNDS: usize = 16;
+/// regardless). A shortcut is tried only where it makes the transit faster as it is timed
+/// (rest to rest per edge, [`RestToRest`]), so most rounds cost no collision check.
+pub const SHORTCUT_ROUNDS: usize = 4;
 
 impl ReachQuery<'_> {
     /// This arm's states with everything else as in the query, with or without contact
@@ -207,6 +208,12 @@ pub fn reach_transit(
     let strict_motion = ctx.motion_validator(arm, &strict);
     let transit_from = *lines.retreat.last().expect("non-empty");
     let standoff = lines.approach[0];
+    let model = ctx.arm(arm).kin.model();
+    let (speed, accel) = (model.max_joint_speed(), model.max_joint_accel());
+    let transit_limits = RestToRest {
+        vmax: scaled(&speed, TRANSIT_SCALE),
+        amax: scaled(&accel, TRANSIT_SCALE),
+    };
     let settings = RrtConnectSettings {
         max_iterations: RRT_MAX_ITERATIONS,
         max_time: None,
@@ -227,11 +234,15 @@ pub fn reach_transit(
         if result.status != PlanStatus::Solved {
             return Err(ReachFailure::Transit(result.status));
         }
-        simplify(&strict_motion, &result.path, query.seed, SHORTCUT_ROUNDS)
+        simplify_by(
+            &strict_motion,
+            &result.path,
+            query.seed,
+            SHORTCUT_ROUNDS,
+            &transit_limits,
+        )
     };
 
-    let model = ctx.arm(arm).kin.model();
-    let (speed, accel) = (model.max_joint_speed(), model.max_joint_accel());
     let time_line = |path: &[Joints]| -> Vec<f64> {
         let n = (path.len() - 1).max(1) as f64;
         let u: Vec<f64> = (0..path.len()).map(|k| k as f64 / n).collect();
@@ -259,11 +270,7 @@ pub fn reach_transit(
         append(&mut q, &mut t, &lines.retreat, &[0.0]);
         None
     };
-    let timed = time_parameterize(
-        &transit,
-        &scaled(&speed, TRANSIT_SCALE),
-        &scaled(&accel, TRANSIT_SCALE),
-    );
+    let timed = time_parameterize(&transit, &transit_limits.vmax, &transit_limits.amax);
     append(&mut q, &mut t, &timed.q, &timed.t);
     let approach_from = q.len() - 1;
     append(&mut q, &mut t, &lines.approach, &time_line(&lines.approach));
