@@ -1,6 +1,7 @@
 //! Will the pinch hold? The quasi-static check of `μ_rot` (crate `pregrasp-physics`, paper
 //! condition c5: the table carries the part's weight while the fingertip pinch turns it) applied
-//! to every plan the pipeline makes.
+//! to the μ_rot of every candidate whose straight lines hold, before its transits are planned
+//! ([`crate::paths::integrated_path`]'s `accept`).
 //!
 //! Each plan gets the plan file's `physics` object (required and recommended grip force,
 //! friction use at the pads and the support). With `[physics] reject = true` (the default) a

@@ -14,6 +14,7 @@ use crate::context::PlanningContext;
 use crate::paths::IntegratedPath;
 use crate::poses::PowerGraspPose;
 use crate::reach::ReachMotion;
+use crate::rotate::RotationPath;
 use crate::timing::{scaled, time_along, CONTACT_SCALE};
 
 /// Everything of the plan file that does not depend on the planning result.
@@ -102,27 +103,6 @@ pub fn plan_json(
 ) -> PlanJson {
     let sup = &ctx.names[pose.supportive];
     let mas = &ctx.names[pose.master];
-    let model = ctx.arm(pose.supportive).kin.model();
-    let rot_t = time_along(
-        &path.rot.q,
-        &path.rot.theta,
-        &scaled(&model.max_joint_speed(), CONTACT_SCALE),
-        &scaled(&model.max_joint_accel(), CONTACT_SCALE),
-    );
-    let rot_points = path
-        .rot
-        .q
-        .iter()
-        .zip(&rot_t)
-        .zip(&path.rot.object)
-        .map(
-            |((q, &t), object): ((&Joints, &f64), &Isometry3<f64>)| PointJson {
-                t,
-                q: *q,
-                object_pose: Some(PoseJson::from(object)),
-            },
-        )
-        .collect();
     PlanJson {
         candidate: candidate_id,
         score,
@@ -135,16 +115,7 @@ pub fn plan_json(
                 ctx.support_gap(pose.supportive),
                 &path.sup1,
             ),
-            SegmentJson {
-                name: "rot".to_string(),
-                robot: sup.clone(),
-                kind: "rotate".to_string(),
-                grasp: "support".to_string(),
-                retreat_to: None,
-                approach_from: None,
-                grip_width: Some(ctx.support_gap(pose.supportive)),
-                points: rot_points,
-            },
+            rot_segment(ctx, pose, &path.rot),
             reach_segment(
                 ("mas1", mas, "reach", "power"),
                 ctx.power_gap(pose.master),
@@ -156,6 +127,66 @@ pub fn plan_json(
                 &path.sup2,
             ),
         ],
+        physics: None,
+        robustness: None,
+    }
+}
+
+/// μ_rot as the plan file's `rot` segment: the supportive arm's configurations, timed along θ,
+/// with the part's pose at each.
+pub fn rot_segment(
+    ctx: &PlanningContext,
+    pose: &PowerGraspPose,
+    rot: &RotationPath,
+) -> SegmentJson {
+    let model = ctx.arm(pose.supportive).kin.model();
+    let t = time_along(
+        &rot.q,
+        &rot.theta,
+        &scaled(&model.max_joint_speed(), CONTACT_SCALE),
+        &scaled(&model.max_joint_accel(), CONTACT_SCALE),
+    );
+    let points = rot
+        .q
+        .iter()
+        .zip(&t)
+        .zip(&rot.object)
+        .map(
+            |((q, &t), object): ((&Joints, &f64), &Isometry3<f64>)| PointJson {
+                t,
+                q: *q,
+                object_pose: Some(PoseJson::from(object)),
+            },
+        )
+        .collect();
+    SegmentJson {
+        name: "rot".to_string(),
+        robot: ctx.names[pose.supportive].clone(),
+        kind: "rotate".to_string(),
+        grasp: "support".to_string(),
+        retreat_to: None,
+        approach_from: None,
+        grip_width: Some(ctx.support_gap(pose.supportive)),
+        points,
+    }
+}
+
+/// A plan-file entry with only its `rot` segment: what the grip check reads, before the reach
+/// motions exist.
+pub fn rot_only_plan_json(
+    ctx: &PlanningContext,
+    candidate_id: usize,
+    score: f64,
+    pose: &PowerGraspPose,
+    rot: &RotationPath,
+) -> PlanJson {
+    PlanJson {
+        candidate: candidate_id,
+        score,
+        master: ctx.names[pose.master].clone(),
+        supportive: ctx.names[pose.supportive].clone(),
+        object_goal_pose: PoseJson::from(&pose.p_obj),
+        segments: vec![rot_segment(ctx, pose, rot)],
         physics: None,
         robustness: None,
     }

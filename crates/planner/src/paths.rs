@@ -55,17 +55,30 @@ impl Furthest {
     }
 }
 
-/// Algorithm 3 for one candidate: its integrated path, or why there is none (the failure
-/// that got furthest, naming the motion).
+/// Why a candidate has no integrated path.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NoPath<E> {
+    /// No combination of the four motions exists: the failure that got furthest, naming the
+    /// motion.
+    Motions(String),
+    /// μ_rot exists, but the caller's test of it refused it (the pinch cannot hold the part).
+    Refused(E),
+}
+
+/// Algorithm 3 for one candidate: its integrated path with what `accept` said of its μ_rot, or
+/// why there is none.
 ///
-/// The straight approach and retreat lines of a combination are validated before any transit
-/// is planned: they are cheap and decide most failures, while a transit (RRT-Connect) is the
-/// expensive part. Transits are planned once per choice they depend on and reused.
-pub fn integrated_path(
+/// The straight approach and retreat lines of a combination are validated first: they are cheap
+/// and decide most failures. Once they all hold, its μ_rot is put to `accept` (the grip check,
+/// which costs more than the lines and less than the transits: a rotation the pinch cannot
+/// hold needs no transits), and a refusal ends the candidate. Then the transits (RRT-Connect,
+/// the expensive part), each planned once per choice it depends on and reused.
+pub fn integrated_path<T, E>(
     ctx: &PlanningContext,
     candidate: &RotationAxisCandidate,
     pose: &PowerGraspPose,
-) -> Result<IntegratedPath, String> {
+    accept: impl Fn(&RotationPath) -> Result<T, E>,
+) -> Result<(IntegratedPath, T), NoPath<E>> {
     let sup = pose.supportive;
     let mas = pose.master;
     let starts = ctx.starts();
@@ -102,6 +115,8 @@ pub fn integrated_path(
             // The same configuration up to IK round-off: start exactly where the arm stands.
             rot.q[0] = q;
         }
+        // What `accept` says of this μ_rot, asked once its lines all hold.
+        let mut accepted: Option<T> = None;
         let last = *rot.q.last().expect("μ_rot has points");
 
         // μ_sup1: supportive arm from start to μ_rot,first; master at start, part at P_init.
@@ -180,7 +195,10 @@ pub fn integrated_path(
                         continue;
                     }
                 };
-                // Every line holds: now the transits, each planned once.
+                // Every line holds: now the grip check, then the transits, each planned once.
+                if accepted.is_none() {
+                    accepted = Some(accept(&rot).map_err(NoPath::Refused)?);
+                }
                 if sup1.is_none() {
                     match ctx.clock.time(Stage::Transit, || {
                         reach_transit(ctx, &sup1_query, &sup1_lines)
@@ -207,17 +225,18 @@ pub fn integrated_path(
                     reach_transit(ctx, &sup2_query, &sup2_lines)
                 }) {
                     Ok(sup2) => {
-                        return Ok(IntegratedPath {
+                        let path = IntegratedPath {
                             rot,
                             sup1: sup1.expect("planned above"),
                             mas1: mas1.expect("planned above"),
                             sup2,
-                        })
+                        };
+                        return Ok((path, accepted.expect("asked above")));
                     }
                     Err(f) => failure.note(4, format!("μ_sup2: {}", f.describe())),
                 }
             }
         }
     }
-    Err(failure.reason)
+    Err(NoPath::Motions(failure.reason))
 }

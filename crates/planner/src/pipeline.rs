@@ -15,10 +15,11 @@ use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
 use crate::check::PlanChecker;
 use crate::clock::Stage;
 use crate::context::{ContextError, PlanningContext};
-use crate::hold::HoldCheck;
-use crate::output::{plan_file_header, plan_json};
-use crate::paths::{integrated_path, IntegratedPath};
+use crate::hold::{HoldCheck, HoldResult};
+use crate::output::{plan_file_header, plan_json, rot_only_plan_json};
+use crate::paths::{integrated_path, IntegratedPath, NoPath};
 use crate::poses::{object_pose_for_power_grasp, PoseRejection, PowerGraspPose};
+use crate::rotate::RotationPath;
 use crate::timeline::Moment;
 
 /// Settings of one `plan` run beyond the scene's `[planner]` table.
@@ -58,14 +59,18 @@ pub const DEFAULT_WAVE: usize = 4;
 #[derive(Clone, Debug)]
 pub enum CandidateOutcome {
     /// Algorithms 2 and 3 succeeded; `plan` is the plan-file entry (with its `physics`
-    /// object), `check` the first rule it failed when re-verified (`None`: valid), `hold` why
-    /// the pinch cannot hold the part during `rot` (`None`: it holds, or not rejected).
+    /// object), `check` the first rule it failed when re-verified (`None`: valid).
     Planned {
         pose: PowerGraspPose,
         path: Box<IntegratedPath>,
         plan: Box<PlanJson>,
         check: Option<String>,
-        hold: Option<String>,
+    },
+    /// Algorithm 3 found μ_rot, but the pinch cannot hold the part during it (`[physics]
+    /// reject`): `reason` says why; no reach motion was planned.
+    Unheld {
+        pose: PowerGraspPose,
+        reason: String,
     },
     /// Algorithm 2 found no pose.
     NoPose(PoseRejection),
@@ -153,29 +158,44 @@ pub fn plan(
     let checker = PlanChecker::new(&header, mesh);
     let hold_check = HoldCheck::new(scene, &header, mesh);
     let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose| {
-        let outcome = match integrated_path(&ctx, candidate, &pose) {
-            Ok(path) => {
+        // The grip check reads μ_rot alone: it runs as soon as μ_rot exists, and a rotation the
+        // pinch cannot hold gets no reach motions.
+        let hold = |rot: &RotationPath| {
+            let mut single = header.clone();
+            single.plans = vec![rot_only_plan_json(
+                &ctx,
+                candidate.id,
+                candidate.score,
+                &pose,
+                rot,
+            )];
+            match ctx.clock.time(Stage::Hold, || hold_check.check(&single)) {
+                Some(HoldResult {
+                    rejection: Some(reason),
+                    ..
+                }) => Err(reason),
+                held => Ok(held.map(|h| h.json)),
+            }
+        };
+        let outcome = match integrated_path(&ctx, candidate, &pose, hold) {
+            Ok((path, physics)) => {
                 let mut single = header.clone();
                 single.plans = vec![plan_json(&ctx, candidate.id, candidate.score, &pose, &path)];
                 let check = match &checker {
                     Ok(checker) => ctx.clock.time(Stage::Recheck, || verify(checker, &single)),
                     Err(e) => Some(format!("rule 0 ({e})")),
                 };
-                let held = ctx.clock.time(Stage::Hold, || hold_check.check(&single));
                 let mut plan = single.plans.swap_remove(0);
-                let hold = held.and_then(|h| {
-                    plan.physics = Some(h.json);
-                    h.rejection
-                });
+                plan.physics = physics;
                 CandidateOutcome::Planned {
                     pose,
                     path: Box::new(path),
                     plan: Box::new(plan),
                     check,
-                    hold,
                 }
             }
-            Err(reason) => CandidateOutcome::NoPath { pose, reason },
+            Err(NoPath::Motions(reason)) => CandidateOutcome::NoPath { pose, reason },
+            Err(NoPath::Refused(reason)) => CandidateOutcome::Unheld { pose, reason },
         };
         progress();
         outcome
@@ -235,17 +255,11 @@ pub fn plan(
         let mut json = candidate.to_json();
         match outcome {
             CandidateOutcome::Planned {
-                pose,
-                plan,
-                check,
-                hold,
-                ..
+                pose, plan, check, ..
             } => {
                 json.theta_goal = Some(pose.theta_goal);
                 if let Some(rule) = check {
                     json.outcome = format!("rejected: failed the plan check: {rule}");
-                } else if let Some(reason) = hold {
-                    json.outcome = format!("rejected: {reason}");
                 } else if kept < options.max_plans {
                     json.outcome = "planned".to_string();
                     file.plans.push((**plan).clone());
@@ -261,7 +275,8 @@ pub fn plan(
                 json.theta_goal = None;
                 json.outcome = format!("rejected: {}", rejection.describe(&ctx.names));
             }
-            CandidateOutcome::NoPath { pose, reason } => {
+            CandidateOutcome::NoPath { pose, reason }
+            | CandidateOutcome::Unheld { pose, reason } => {
                 json.theta_goal = Some(pose.theta_goal);
                 json.outcome = format!("rejected: {reason}");
             }
@@ -314,16 +329,7 @@ fn ranked_beyond(
     let scores: Vec<f64> = candidates.iter().map(|c| c.score).collect();
     let kept: Vec<usize> = rank(&scores, |i| required_force(&outcomes[i]))
         .into_iter()
-        .filter(|&i| {
-            matches!(
-                &outcomes[i],
-                CandidateOutcome::Planned {
-                    check: None,
-                    hold: None,
-                    ..
-                }
-            )
-        })
+        .filter(|&i| matches!(&outcomes[i], CandidateOutcome::Planned { check: None, .. }))
         .take(max_plans)
         .collect();
     kept.len() == max_plans && kept.iter().all(|&i| scores[i] - next > SCORE_TIE)
@@ -435,11 +441,7 @@ fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) -> String {
         };
     }
     let unheld = outcomes.iter().find_map(|o| match o {
-        CandidateOutcome::Planned {
-            check: None,
-            hold: Some(reason),
-            ..
-        } => Some(reason.as_str()),
+        CandidateOutcome::Unheld { reason, .. } => Some(reason.as_str()),
         _ => None,
     });
     if let Some(reason) = unheld {

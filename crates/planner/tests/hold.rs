@@ -77,6 +77,11 @@ fn a_rotation_the_gripper_cannot_hold_is_rejected() {
         .map(|c| c.id)
         .collect();
     assert_eq!(physics_rejected, planned_before);
+    // The grip check comes before the transits: a rotation nobody can hold gets none, and so
+    // no plan to re-check either (a stage never entered has spent exactly nothing).
+    assert_eq!(file.timing_ms["transit"], 0.0);
+    assert_eq!(file.timing_ms["recheck"], 0.0);
+    assert!(file.timing_ms["hold"] > 0.0);
 
     // With `reject = false` the same plans are kept, flagged.
     let (kept, _) = chair(Some(153.0), "[physics]\nreject = false\n");
