@@ -18,8 +18,8 @@ pub mod statics;
 
 pub use mass::{MassError, MassProperties};
 pub use plan::{
-    analyse_plan, PartMass, PhysicsError, PlanPhysics, StateReport, StateStatus, Verdict,
-    SUPPORT_CONTACT_TOLERANCE,
+    analyse_plan, screen_plan, PartMass, PhysicsError, PlanPhysics, StateReport, StateStatus,
+    Verdict, SUPPORT_CONTACT_TOLERANCE,
 };
 pub use settings::{
     PhysicsSettings, SettingsError, DEFAULT_DENSITY, DEFAULT_MU_PAD, DEFAULT_MU_SUPPORT,

@@ -176,6 +176,10 @@ pub struct PlanPhysics {
     pub verdict: Verdict,
     /// Things the verdict alone does not say (axis off the support, ...).
     pub warnings: Vec<String>,
+    /// The analysis stopped at the first state that cannot be held ([`screen_plan`]): `worst`
+    /// is where the failure begins, and the states after it were not checked.
+    #[serde(skip)]
+    pub stopped_at_failure: bool,
 }
 
 impl PlanPhysics {
@@ -218,7 +222,16 @@ impl PlanPhysics {
     /// Why the planner drops this plan's candidate (`[physics] reject`), or `None` if it holds.
     pub fn rejection(&self) -> Option<String> {
         let worst = self.states.get(self.worst)?;
-        let at = format!("at θ = {:.1}° (t = {:.2} s)", worst.theta_deg, worst.t);
+        let at = format!(
+            "{} θ = {:.1}° (t = {:.2} s)",
+            if self.stopped_at_failure {
+                "from"
+            } else {
+                "at"
+            },
+            worst.theta_deg,
+            worst.t
+        );
         match self.verdict {
             Verdict::Holds => None,
             Verdict::SlidesAtSupport => Some(match self.warnings.first() {
@@ -324,6 +337,30 @@ pub fn analyse_plan(
     part: &PartMass,
     settings: &PhysicsSettings,
 ) -> Result<PlanPhysics, PhysicsError> {
+    analyse(file, plan_index, part, settings, false)
+}
+
+/// [`analyse_plan`] for a yes-or-no answer: it stops at the first point of `rot` that cannot
+/// be held at all (the part slides at the support, or no grip force holds it), and that state
+/// is the report's last and worst one — the rotation is refused from there on, whatever
+/// follows. A rotation with no such point gets the whole analysis, the same report as
+/// [`analyse_plan`]'s.
+pub fn screen_plan(
+    file: &PlanFile,
+    plan_index: usize,
+    part: &PartMass,
+    settings: &PhysicsSettings,
+) -> Result<PlanPhysics, PhysicsError> {
+    analyse(file, plan_index, part, settings, true)
+}
+
+fn analyse(
+    file: &PlanFile,
+    plan_index: usize,
+    part: &PartMass,
+    settings: &PhysicsSettings,
+    stop_at_failure: bool,
+) -> Result<PlanPhysics, PhysicsError> {
     let plan = file.plans.get(plan_index).ok_or(PhysicsError::NoSuchPlan {
         index: plan_index,
         count: file.plans.len(),
@@ -420,7 +457,12 @@ pub fn analyse_plan(
     let stride = settings.substeps + 1;
     let mut at_points = Vec::new();
     for s in all.iter().step_by(stride) {
-        at_points.push(solve(s)?);
+        let report = solve(s)?;
+        let failed = report.status != StateStatus::Held;
+        at_points.push(report);
+        if failed && stop_at_failure {
+            break;
+        }
     }
     let n = at_points.len();
     let force = |i: usize| at_points[i].n_min.unwrap_or(f64::INFINITY);
@@ -436,7 +478,11 @@ pub fn analyse_plan(
             || (!both_fail
                 && (a.support_contacts != b.support_contacts || local_max(k) || local_max(k + 1)))
     };
-    let refined: Vec<bool> = (0..n.saturating_sub(1)).map(refine).collect();
+    // Stopped at a failure: that state decides, nothing between the points is needed.
+    let stopped = stop_at_failure && at_points.iter().any(|r| r.status != StateStatus::Held);
+    let refined: Vec<bool> = (0..n.saturating_sub(1))
+        .map(|k| !stopped && refine(k))
+        .collect();
     let mut states = Vec::with_capacity(all.len());
     for (k, report) in at_points.into_iter().enumerate() {
         states.push(report);
@@ -529,5 +575,6 @@ pub fn analyse_plan(
         recommended,
         verdict,
         warnings,
+        stopped_at_failure: stopped,
     })
 }

@@ -8,7 +8,7 @@ use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
 use pregrasp_physics::{
-    analyse_plan, PartMass, PhysicsSettings, PlanPhysics, StateStatus, Verdict,
+    analyse_plan, screen_plan, PartMass, PhysicsSettings, PlanPhysics, StateStatus, Verdict,
 };
 use pregrasp_planner::pipeline::{plan, PlanOptions};
 
@@ -232,4 +232,48 @@ fn a_rotation_about_a_line_20_mm_above_the_edge_slides() {
     let honest = check(&honest_file, &mesh, &settings);
     assert_eq!(honest.verdict, Verdict::Holds);
     assert!(!honest.warnings.iter().any(|w| w.contains("slides")));
+}
+
+/// The screening the planner uses when a failure means rejection: a rotation that holds gets
+/// the whole report; one that does not stops at its first failing point, which is the report's
+/// worst state, with the answers the whole analysis gives up to it.
+#[test]
+fn screening_stops_at_the_first_failing_point() {
+    let (file, mesh) = planned("stool_side");
+    let base = PhysicsSettings::default();
+    let part = PartMass::resolve(&file, &mesh, None, base.density).unwrap();
+    let whole = analyse_plan(&file, 0, &part, &base).unwrap();
+    assert_eq!(whole.verdict, Verdict::Holds);
+    assert_eq!(screen_plan(&file, 0, &part, &base).unwrap(), whole);
+
+    // The stool's candidate 2 slides at the support (the planner rejects it; kept here).
+    let ex = pregrasp_examples::by_name("stool_side").unwrap();
+    let text = format!("{}\n[physics]\nreject = false\n", ex.scene_toml);
+    let scene = Scene::from_str(&text, Path::new("examples/stool_side.toml")).unwrap();
+    let kept = plan(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file;
+    let k = kept
+        .plans
+        .iter()
+        .position(|p| p.candidate == 2)
+        .expect("kept");
+    let (file, slippery) = (&kept, base);
+    let whole = analyse_plan(file, k, &part, &slippery).unwrap();
+    assert_eq!(whole.verdict, Verdict::SlidesAtSupport);
+    let points: Vec<_> = whole.states.iter().filter(|s| s.point.is_some()).collect();
+    let first = points
+        .iter()
+        .position(|s| s.status != StateStatus::Held)
+        .expect("a failing point");
+    let screened = screen_plan(file, k, &part, &slippery).unwrap();
+    assert!(screened.stopped_at_failure && !whole.stopped_at_failure);
+    assert_eq!(screened.states.len(), first + 1);
+    assert_eq!(screened.worst, first);
+    for (a, b) in screened.states.iter().zip(&points) {
+        assert_eq!((a.point, a.status, a.n_min), (b.point, b.status, b.n_min));
+    }
+    assert_ne!(screened.verdict, Verdict::Holds);
+    let why = screened.rejection().expect("refused");
+    assert!(why.contains("from θ ="), "{why}");
 }

@@ -13,7 +13,7 @@
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{PhysicsJson, PlanFile};
 use pregrasp_io::scene::Scene;
-use pregrasp_physics::{analyse_plan, PartMass, PhysicsSettings};
+use pregrasp_physics::{analyse_plan, screen_plan, PartMass, PhysicsSettings};
 
 /// The settings and the part's mass properties, computed once per scene.
 pub struct HoldCheck {
@@ -52,7 +52,13 @@ impl HoldCheck {
     /// analysis cannot run on the plan (which the plan checker would have refused).
     pub fn check(&self, single: &PlanFile) -> Option<HoldResult> {
         let part = self.part.as_ref().ok()?;
-        let report = analyse_plan(single, 0, part, &self.settings).ok()?;
+        // A rotation that will be refused needs no more than its first failing state.
+        let analyse = if self.reject {
+            screen_plan
+        } else {
+            analyse_plan
+        };
+        let report = analyse(single, 0, part, &self.settings).ok()?;
         Some(HoldResult {
             json: report.to_json(),
             rejection: if self.reject {
