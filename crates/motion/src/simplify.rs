@@ -70,7 +70,8 @@ pub fn simplify<const D: usize, V: StateValidator<D> + ?Sized>(
 /// 2. `rounds` random shortcuts (ChaCha8 seeded by `rng_seed`): pick two points on two
 ///    different edges, `x` on edge `i` and `y` on edge `j > i`, and replace the part
 ///    `p_i … p_{j+1}` by `p_i → x → y → p_{j+1}` if that costs strictly less and the
-///    three new edges are valid.
+///    three new edges are valid; where it does not (under a duration, every waypoint is a
+///    stop), by the cheaper of `p_i → y → p_{j+1}` and `p_i → x → p_{j+1}` if that does.
 /// 3. `rounds` partial shortcuts (seeded by `rng_seed + 1`): the same for one joint
 ///    only ([`partial_shortcut`]); this straightens joints that wander while another
 ///    joint must stay in a narrow passage.
