@@ -66,8 +66,9 @@ pub enum CandidateOutcome {
         plan: Box<PlanJson>,
         check: Option<String>,
     },
-    /// Algorithm 3 found μ_rot, but the pinch cannot hold the part during it (`[physics]
-    /// reject`): `reason` says why; no reach motion was planned.
+    /// Algorithm 3 found μ_rot and the straight lines of its reach motions, but the pinch
+    /// cannot hold the part during μ_rot (`[physics] reject`): `reason` says why; no transit
+    /// was planned.
     Unheld {
         pose: PowerGraspPose,
         reason: String,
@@ -158,8 +159,8 @@ pub fn plan(
     let checker = PlanChecker::new(&header, mesh);
     let hold_check = HoldCheck::new(scene, &header, mesh);
     let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose| {
-        // The grip check reads μ_rot alone: it runs as soon as μ_rot exists, and a rotation the
-        // pinch cannot hold gets no reach motions.
+        // The grip check reads μ_rot alone: Algorithm 3 asks it once a candidate's straight
+        // lines hold, and a rotation the pinch cannot hold gets no transits.
         let hold = |rot: &RotationPath| {
             let mut single = header.clone();
             single.plans = vec![rot_only_plan_json(
