@@ -206,9 +206,8 @@ def _refine(shape, S, surf, lo, hi, depth, sectors=True, limit=MAX_DEPTH):
     and, for the first SECTOR_DEPTH levels, the sectoring of SECTORINGS (k sectors about the axis
     at a phase: a pocket or a bore in a housing, which no axial cut can follow) that measures best,
     as it is and with every sector refined axially (at most SECTOR_AXIAL more levels, no further
-    sectors). The candidates
-    are taken by increasing piece count; one replaces the current best only if it measures
-    0.1 mm better, and the search stops at the first that reaches GOAL."""
+    sectors). The candidates are taken by increasing piece count; one replaces the current best
+    only if it measures 0.1 mm better, and the search stops at the first that reaches GOAL."""
     a, b = np.asarray(shape["a"], float), np.asarray(shape["b"], float)
     u = (b - a) / np.linalg.norm(b - a)
     t = (S - a) @ u
