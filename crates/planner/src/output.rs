@@ -103,30 +103,42 @@ pub fn plan_json(
 ) -> PlanJson {
     let sup = &ctx.names[pose.supportive];
     let mas = &ctx.names[pose.master];
+    let segments = vec![
+        reach_segment(
+            ("sup1", sup, "reach", "support"),
+            ctx.support_gap(pose.supportive),
+            &path.sup1,
+        ),
+        rot_segment(ctx, pose, &path.rot),
+        reach_segment(
+            ("mas1", mas, "reach", "power"),
+            ctx.power_gap(pose.master),
+            &path.mas1,
+        ),
+        reach_segment(
+            ("sup2", sup, "regrasp", "power"),
+            ctx.power_gap(pose.supportive),
+            &path.sup2,
+        ),
+    ];
+    plan_entry(ctx, candidate_id, score, pose, segments)
+}
+
+/// A plan-file entry of candidate `candidate_id` with these segments (no `physics` yet).
+fn plan_entry(
+    ctx: &PlanningContext,
+    candidate_id: usize,
+    score: f64,
+    pose: &PowerGraspPose,
+    segments: Vec<SegmentJson>,
+) -> PlanJson {
     PlanJson {
         candidate: candidate_id,
         score,
-        master: mas.clone(),
-        supportive: sup.clone(),
+        master: ctx.names[pose.master].clone(),
+        supportive: ctx.names[pose.supportive].clone(),
         object_goal_pose: PoseJson::from(&pose.p_obj),
-        segments: vec![
-            reach_segment(
-                ("sup1", sup, "reach", "support"),
-                ctx.support_gap(pose.supportive),
-                &path.sup1,
-            ),
-            rot_segment(ctx, pose, &path.rot),
-            reach_segment(
-                ("mas1", mas, "reach", "power"),
-                ctx.power_gap(pose.master),
-                &path.mas1,
-            ),
-            reach_segment(
-                ("sup2", sup, "regrasp", "power"),
-                ctx.power_gap(pose.supportive),
-                &path.sup2,
-            ),
-        ],
+        segments,
         physics: None,
         robustness: None,
     }
@@ -180,14 +192,11 @@ pub fn rot_only_plan_json(
     pose: &PowerGraspPose,
     rot: &RotationPath,
 ) -> PlanJson {
-    PlanJson {
-        candidate: candidate_id,
+    plan_entry(
+        ctx,
+        candidate_id,
         score,
-        master: ctx.names[pose.master].clone(),
-        supportive: ctx.names[pose.supportive].clone(),
-        object_goal_pose: PoseJson::from(&pose.p_obj),
-        segments: vec![rot_segment(ctx, pose, rot)],
-        physics: None,
-        robustness: None,
-    }
+        pose,
+        vec![rot_segment(ctx, pose, rot)],
+    )
 }
