@@ -12,7 +12,9 @@
 //! squeezing with the same normal force. See `docs/physics.md`.
 
 pub mod mass;
+mod pivot;
 pub mod plan;
+mod polish;
 pub mod settings;
 pub mod statics;
 
@@ -26,5 +28,6 @@ pub use settings::{
     DEFAULT_SAFETY_FACTOR, GRAVITY, GRIP_FORCE_RANGE, PAD_PATCH_TORSION_RADIUS,
 };
 pub use statics::{
-    min_grip_force, ContactModel, Equilibrium, Pads, SolverError, StaticOutcome, StaticProblem,
+    min_grip_force, min_grip_force_conic, min_grip_force_from, ContactModel, Equilibrium, Pads,
+    SolverError, StaticOutcome, StaticProblem, WarmStart,
 };

@@ -8,7 +8,7 @@ use pregrasp_io::plan_file::{PhysicsJson, PlanFile, SegmentJson};
 use crate::mass::{MassError, MassProperties};
 use crate::settings::{PhysicsSettings, GRAVITY, GRIP_FORCE_RANGE};
 use crate::statics::{
-    min_grip_force, Equilibrium, Pads, SolverError, StaticOutcome, StaticProblem,
+    min_grip_force_from, Equilibrium, Pads, SolverError, StaticOutcome, StaticProblem, WarmStart,
 };
 
 /// Support contacts are the rotation axis' endpoints (at each state's pose) that lie at most
@@ -389,7 +389,8 @@ fn analyse(
     let h = file.support_height;
     let above_max = file.planner.lift.max(0.0) + SUPPORT_CONTACT_TOLERANCE;
 
-    let solve = |s: &State| -> Result<StateReport, PhysicsError> {
+    // Each state starts its solver from the optimum of the state before it along `rot`.
+    let solve = |s: &State, warm: &mut WarmStart| -> Result<StateReport, PhysicsError> {
         let support: Vec<Point3<f64>> = axis_obj
             .iter()
             .map(|a| s.pose * a)
@@ -410,11 +411,12 @@ fn analyse(
             },
             support,
         };
-        let outcome = min_grip_force(&problem, &model).map_err(|error| PhysicsError::Solver {
-            plan: plan_index,
-            t: s.t,
-            error,
-        })?;
+        let outcome =
+            min_grip_force_from(&problem, &model, warm).map_err(|error| PhysicsError::Solver {
+                plan: plan_index,
+                t: s.t,
+                error,
+            })?;
         let theta_deg = (s.pose * p_init_inv).rotation.angle().to_degrees();
         let base = StateReport {
             point: s.point,
@@ -456,8 +458,12 @@ fn analyse(
     let all = rot_states(rot, plan_index, settings.substeps)?;
     let stride = settings.substeps + 1;
     let mut at_points = Vec::new();
+    let mut warm = WarmStart::default();
+    // The start each interval's states take: the optimum at the point that opens it.
+    let mut warm_at_points = Vec::new();
     for s in all.iter().step_by(stride) {
-        let report = solve(s)?;
+        let report = solve(s, &mut warm)?;
+        warm_at_points.push(warm.clone());
         let failed = report.status != StateStatus::Held;
         at_points.push(report);
         if failed && stop_at_failure {
@@ -487,8 +493,9 @@ fn analyse(
     for (k, report) in at_points.into_iter().enumerate() {
         states.push(report);
         if refined.get(k) == Some(&true) {
+            let mut warm = warm_at_points[k].clone();
             for s in &all[k * stride + 1..(k + 1) * stride] {
-                states.push(solve(s)?);
+                states.push(solve(s, &mut warm)?);
             }
         }
     }

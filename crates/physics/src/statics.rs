@@ -20,7 +20,10 @@ use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
-use nalgebra::{Point3, Vector3};
+use nalgebra::{DVector, Point3, Vector3};
+
+use crate::pivot::EdgeProblem;
+use crate::polish::{Cone, ConicProgram, PrimalDual};
 
 /// The two pads of a parallel gripper closed on the part.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -161,8 +164,77 @@ pub struct SolverError {
     pub status: String,
 }
 
-/// The smallest grip force that holds `problem` in equilibrium, or why none does.
+/// The smallest grip force that holds `problem` in equilibrium, or why none does: in closed
+/// form where the part rests on its edge and the support's friction does not limit the grip,
+/// else by the conic program — reduced to the edge's one balance equation where the part rests
+/// on two contacts ([`crate::pivot`]), the general one ([`min_grip_force_conic`]) otherwise.
 pub fn min_grip_force(
+    problem: &StaticProblem,
+    model: &ContactModel,
+) -> Result<StaticOutcome, SolverError> {
+    min_grip_force_from(problem, model, &mut WarmStart::default())
+}
+
+/// What one state's solution offers the next state of the same rotation: its optimum, from
+/// which Newton's method reaches a neighbouring state's optimum in a few steps where the same
+/// constraints are active ([`crate::polish`]; the result is checked to be an optimum, else the
+/// interior-point solver runs). The answers are those of [`min_grip_force`], to the solver's
+/// tolerance.
+#[derive(Clone, Debug, Default)]
+pub struct WarmStart(Option<PrimalDual>);
+
+/// [`min_grip_force`] started from a neighbouring state's `warm`, which it replaces with this
+/// state's.
+pub fn min_grip_force_from(
+    problem: &StaticProblem,
+    model: &ContactModel,
+    warm: &mut WarmStart,
+) -> Result<StaticOutcome, SolverError> {
+    check_model(problem, model);
+    let mu_s = model.mu_support;
+    let edge = (mu_s > 0.0)
+        .then(|| EdgeProblem::new(problem, model))
+        .flatten();
+    let Some(edge) = edge else {
+        return min_grip_force_conic(problem, model);
+    };
+    let w = problem.weight;
+    if let Some(eq) = edge.closed_form(w, mu_s) {
+        return Ok(StaticOutcome::Held(eq));
+    }
+    // Where the interior-point solver stalls on the reduced program (its columns can be worse
+    // scaled than the general program's), the general program decides.
+    on_edge(&edge, w, mu_s, warm).or_else(|_| {
+        warm.0 = None;
+        min_grip_force_conic(problem, model)
+    })
+}
+
+/// The reduced program of a part resting on its edge, started from `warm`.
+fn on_edge(
+    edge: &EdgeProblem,
+    w: f64,
+    mu_s: f64,
+    warm: &mut WarmStart,
+) -> Result<StaticOutcome, SolverError> {
+    Ok(match edge.conic(w, mu_s, warm.0.as_ref())? {
+        Some((eq, solution)) => {
+            warm.0 = Some(solution);
+            StaticOutcome::Held(eq)
+        }
+        // Would the support hold with (practically) unlimited friction?
+        None => match edge.conic(w, STICKY, None)? {
+            Some(_) => StaticOutcome::Slides,
+            None => StaticOutcome::CannotHold,
+        },
+    })
+}
+
+/// The support friction that stands for "unlimited" when telling sliding from not holding.
+const STICKY: f64 = 1e3;
+
+/// [`min_grip_force`] by the second-order cone program alone (Clarabel), whatever the contacts.
+pub fn min_grip_force_conic(
     problem: &StaticProblem,
     model: &ContactModel,
 ) -> Result<StaticOutcome, SolverError> {
@@ -171,7 +243,7 @@ pub fn min_grip_force(
         None if !problem.support.is_empty() => {
             // Diagnose: would the support hold with (practically) unlimited friction?
             let sticky = ContactModel {
-                mu_support: 1e3,
+                mu_support: STICKY,
                 ..*model
             };
             Ok(match solve(problem, &sticky)? {
@@ -183,14 +255,82 @@ pub fn min_grip_force(
     }
 }
 
+fn check_model(problem: &StaticProblem, model: &ContactModel) {
+    assert!(model.mu_pad > 0.0, "mu_pad must be > 0");
+    assert!(model.mu_support >= 0.0, "mu_support must be >= 0");
+    assert!(problem.weight > 0.0, "weight must be > 0");
+}
+
+/// [`run_clarabel`] on a dense program of [`crate::polish`]'s form (its objective is `x₀`).
+pub(crate) fn run_conic(program: &ConicProgram) -> Result<Option<PrimalDual>, SolverError> {
+    let (m, n) = program.a.shape();
+    let (mut ri, mut ci, mut vals) = (Vec::new(), Vec::new(), Vec::new());
+    for c in 0..n {
+        for r in 0..m {
+            let v = program.a[(r, c)];
+            if v != 0.0 {
+                ri.push(r);
+                ci.push(c);
+                vals.push(v);
+            }
+        }
+    }
+    let a = CscMatrix::new_from_triplets(m, n, ri, ci, vals);
+    let cones: Vec<SupportedConeT<f64>> = program
+        .cones
+        .iter()
+        .map(|c| match *c {
+            Cone::Zero(k) => SupportedConeT::ZeroConeT(k),
+            Cone::SecondOrder(k) => SupportedConeT::SecondOrderConeT(k),
+        })
+        .collect();
+    run_clarabel(&a, program.b.as_slice(), &cones)
+}
+
+/// Solves `min x₀ subject to A x + s = b, s ∈ cones` with Clarabel at this crate's tolerances;
+/// `None` when it is infeasible, else the optimal primal-dual point.
+fn run_clarabel(
+    a: &CscMatrix<f64>,
+    b: &[f64],
+    cones: &[SupportedConeT<f64>],
+) -> Result<Option<PrimalDual>, SolverError> {
+    let nvar = a.n;
+    let p = CscMatrix::zeros((nvar, nvar));
+    let mut q = vec![0.0; nvar];
+    q[0] = 1.0;
+    let settings = DefaultSettingsBuilder::default()
+        .verbose(false)
+        .tol_gap_abs(1e-11)
+        .tol_gap_rel(1e-11)
+        .tol_feas(1e-11)
+        .max_iter(200)
+        .build()
+        .expect("valid solver settings");
+    let mut solver =
+        DefaultSolver::new(&p, &q, a, b, cones, settings).map_err(|e| SolverError {
+            status: format!("{e:?}"),
+        })?;
+    solver.solve();
+    let sol = solver.solution;
+    match sol.status {
+        SolverStatus::Solved | SolverStatus::AlmostSolved => Ok(Some(PrimalDual {
+            x: DVector::from_vec(sol.x),
+            s: DVector::from_vec(sol.s),
+            z: DVector::from_vec(sol.z),
+        })),
+        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => Ok(None),
+        other => Err(SolverError {
+            status: format!("{other:?}"),
+        }),
+    }
+}
+
 /// Solves the SOCP; `None` when it is infeasible.
 fn solve(
     problem: &StaticProblem,
     model: &ContactModel,
 ) -> Result<Option<Equilibrium>, SolverError> {
-    assert!(model.mu_pad > 0.0, "mu_pad must be > 0");
-    assert!(model.mu_support >= 0.0, "mu_support must be >= 0");
-    assert!(problem.weight > 0.0, "weight must be > 0");
+    check_model(problem, model);
     let w = problem.weight;
     let x = problem.pads.closing_axis.normalize();
     // Tangent basis of the pads: u ⟂ x from the width axis, v = x × u.
@@ -277,33 +417,10 @@ fn solve(
         }
     }
     let a = CscMatrix::new_from_triplets(row, nvar, ri, ci, vals);
-    let p = CscMatrix::zeros((nvar, nvar));
-    let mut q = vec![0.0; nvar];
-    q[0] = 1.0;
-    let settings = DefaultSettingsBuilder::default()
-        .verbose(false)
-        .tol_gap_abs(1e-11)
-        .tol_gap_rel(1e-11)
-        .tol_feas(1e-11)
-        .max_iter(200)
-        .build()
-        .expect("valid solver settings");
-    let mut solver =
-        DefaultSolver::new(&p, &q, &a, &b, &cones, settings).map_err(|e| SolverError {
-            status: format!("{e:?}"),
-        })?;
-    solver.solve();
-    let sol = &solver.solution;
-    match sol.status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved => {}
-        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => return Ok(None),
-        other => {
-            return Err(SolverError {
-                status: format!("{other:?}"),
-            })
-        }
-    }
-    let xs = &sol.x;
+    let Some(solution) = run_clarabel(&a, &b, &cones)? else {
+        return Ok(None);
+    };
+    let xs = &solution.x;
     let pad_tangential = [0, 1].map(|k| w * (xs[pad_at(k)] * u + xs[pad_at(k) + 1] * v));
     let pad_torsion = [0, 1].map(|k| {
         if torsion {
