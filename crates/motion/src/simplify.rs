@@ -72,6 +72,7 @@ pub fn simplify<const D: usize, V: StateValidator<D> + ?Sized>(
 ///    `p_i … p_{j+1}` by `p_i → x → y → p_{j+1}` if that costs strictly less and the
 ///    three new edges are valid; where it does not (under a duration, every waypoint is a
 ///    stop), by the cheaper of `p_i → y → p_{j+1}` and `p_i → x → p_{j+1}` if that does.
+///    Drawn in batches, the best valid one of each applied ([`random_shortcut`]).
 /// 3. `rounds` partial shortcuts (seeded by `rng_seed + 1`): the same for one joint
 ///    only ([`partial_shortcut`]); this straightens joints that wander while another
 ///    joint must stay in a narrow passage.
@@ -123,7 +124,25 @@ pub fn greedy_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
     out
 }
 
-/// Step 2 of [`simplify_by`]: `rounds` seeded random shortcuts between points on edges.
+/// Random shortcuts are drawn in batches of this many: each batch's candidates are ranked by
+/// what they save and checked best first, and only the first valid one is applied.
+pub const SHORTCUT_BATCH: usize = 8;
+
+/// One drawn shortcut: replace `p_{i+1} … p_j` by `keep` (one or two states), saving `gain`.
+struct Candidate<const D: usize> {
+    gain: f64,
+    i: usize,
+    j: usize,
+    keep: [State<D>; 2],
+    len: usize,
+}
+
+/// Step 2 of [`simplify_by`]: `rounds` seeded random shortcuts between points on edges, drawn
+/// in batches of [`SHORTCUT_BATCH`] on the current path; in each batch the candidates that pay
+/// are checked from the largest saving down, and the first valid one is applied. A shortcut
+/// that is kept costs the certification of its new edges, usually long ones that graze what
+/// the path went around; ranking first spends that on the best of a batch rather than on each
+/// improvement in turn.
 pub fn random_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
     motion: &MotionValidator<D, V>,
     path: &mut Vec<State<D>>,
@@ -133,48 +152,70 @@ pub fn random_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
 ) {
     let space = motion.space;
     let mut rng = ChaCha8Rng::seed_from_u64(rng_seed);
-    for _ in 0..rounds {
+    let mut left = rounds;
+    let mut batch: Vec<Candidate<D>> = Vec::with_capacity(SHORTCUT_BATCH);
+    while left > 0 {
         let n = path.len().saturating_sub(1);
         if n < 2 {
             return;
         }
-        let mut i = rng.random_range(0..n);
-        let mut j = rng.random_range(0..n - 1);
-        if j >= i {
-            j += 1;
+        batch.clear();
+        for _ in 0..left.min(SHORTCUT_BATCH) {
+            let mut i = rng.random_range(0..n);
+            let mut j = rng.random_range(0..n - 1);
+            if j >= i {
+                j += 1;
+            }
+            if j < i {
+                std::mem::swap(&mut i, &mut j);
+            }
+            let x = space.interpolate(&path[i], &path[i + 1], rng.random());
+            let y = space.interpolate(&path[j], &path[j + 1], rng.random());
+            let old = cost.path(&path[i..=j + 1]);
+            let (p, q) = (path[i], path[j + 1]);
+            // p_i → x → y → p_{j+1}; where that does not pay (a stop costs time), the cheaper
+            // of p_i → y → p_{j+1} and p_i → x → p_{j+1}, if it does. Under length the first
+            // always pays when anything does (the triangle inequality).
+            let via_both = cost.edge(&p, &x) + cost.edge(&x, &y) + cost.edge(&y, &q);
+            let via_y = cost.edge(&p, &y) + cost.edge(&y, &q);
+            let via_x = cost.edge(&p, &x) + cost.edge(&x, &q);
+            let (new, keep, len) = if cheaper(via_both, old) {
+                (via_both, [x, y], 2)
+            } else if cheaper(via_y, old) && via_y <= via_x {
+                (via_y, [y, y], 1)
+            } else if cheaper(via_x, old) {
+                (via_x, [x, x], 1)
+            } else {
+                continue;
+            };
+            batch.push(Candidate {
+                gain: old - new,
+                i,
+                j,
+                keep,
+                len,
+            });
         }
-        if j < i {
-            std::mem::swap(&mut i, &mut j);
-        }
-        let x = space.interpolate(&path[i], &path[i + 1], rng.random());
-        let y = space.interpolate(&path[j], &path[j + 1], rng.random());
-        let old = cost.path(&path[i..=j + 1]);
-        let (p, q) = (path[i], path[j + 1]);
-        // p_i → x → y → p_{j+1}; where that does not pay (a stop costs time), the cheaper of
-        // p_i → y → p_{j+1} and p_i → x → p_{j+1}, if it does. Under length the first
-        // always pays when anything does (the triangle inequality).
-        let (both, only_y, only_x) = ([x, y], [y], [x]);
-        let via_both = cost.edge(&p, &x) + cost.edge(&x, &y) + cost.edge(&y, &q);
-        let via_y = cost.edge(&p, &y) + cost.edge(&y, &q);
-        let via_x = cost.edge(&p, &x) + cost.edge(&x, &q);
-        // The new edge first in each: it is the one likely to fail (the others lie along
-        // valid edges).
-        let keep: Option<&[State<D>]> = if cheaper(via_both, old) {
-            let valid =
-                motion.check_edge(&x, &y) && motion.check_edge(&p, &x) && motion.check_edge(&y, &q);
-            valid.then_some(&both)
-        } else if cheaper(via_y, old) && via_y <= via_x {
-            let valid = motion.check_edge(&p, &y) && motion.check_edge(&y, &q);
-            valid.then_some(&only_y)
-        } else if cheaper(via_x, old) {
-            let valid = motion.check_edge(&x, &q) && motion.check_edge(&p, &x);
-            valid.then_some(&only_x)
-        } else {
-            None
-        };
-        if let Some(keep) = keep {
-            // p_0 … p_i, keep…, p_{j+1} …
-            path.splice(i + 1..=j, keep.iter().copied());
+        left -= left.min(SHORTCUT_BATCH);
+        // Largest saving first; ties in the order drawn (a stable sort).
+        batch.sort_by(|a, b| b.gain.total_cmp(&a.gain));
+        for c in &batch {
+            let (p, q) = (path[c.i], path[c.j + 1]);
+            let keep = &c.keep[..c.len];
+            // The new edge first: it is the one likely to fail (the others lie along valid
+            // edges).
+            let valid = match keep {
+                [x, y] => {
+                    motion.check_edge(x, y) && motion.check_edge(&p, x) && motion.check_edge(y, &q)
+                }
+                [z] => motion.check_edge(&p, z) && motion.check_edge(z, &q),
+                _ => unreachable!("one or two states"),
+            };
+            if valid {
+                // p_0 … p_i, keep…, p_{j+1} …
+                path.splice(c.i + 1..=c.j, keep.iter().copied());
+                break;
+            }
         }
     }
 }

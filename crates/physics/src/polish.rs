@@ -67,13 +67,10 @@ impl ConicProgram {
             if r.amax() <= RESIDUAL_TOLERANCE * scale {
                 return self.in_cones(&p).then_some(p);
             }
-            let step = self.jacobian(&p).lu().solve(&(-r))?;
-            if !step.iter().all(|v| v.is_finite()) {
-                return None;
-            }
-            p.x += step.rows(0, n);
-            p.s += step.rows(n, m);
-            p.z += step.rows(n + m, m);
+            let (dx, ds, dz) = self.newton_step(&p, &r)?;
+            p.x += dx;
+            p.s += ds;
+            p.z += dz;
         }
         let done = self.residual(&p).amax() <= RESIDUAL_TOLERANCE * scale;
         (done && self.in_cones(&p)).then_some(p)
@@ -108,46 +105,65 @@ impl ConicProgram {
         r
     }
 
-    /// The derivative of [`Self::residual`] in `(x, s, z)`.
-    fn jacobian(&self, p: &PrimalDual) -> DMatrix<f64> {
+    /// Newton's step `(dx, ds, dz)` for the residual `r` at `p`: the linearised equations
+    ///
+    /// `Aᵀ dz = −r_d`, `A dx + ds = −r_p`, `arrow(z) ds + arrow(s) dz = −r_c`
+    ///
+    /// (`arrow(v) = [[v₀, v̄ᵀ], [v̄, v₀ I]]`, the derivative of the Jordan product; `ds = −s` on
+    /// a zero cone), solved with `ds = −r_p − A dx` eliminated: `n + m` unknowns instead of
+    /// `n + 2m`. `None` if the system is singular.
+    fn newton_step(
+        &self,
+        p: &PrimalDual,
+        r: &DVector<f64>,
+    ) -> Option<(DVector<f64>, DVector<f64>, DVector<f64>)> {
         let (m, n) = self.a.shape();
-        let mut j = DMatrix::zeros(n + 2 * m, n + 2 * m);
-        // Aᵀz + c: d/dz = Aᵀ.
-        j.view_mut((0, n + m), (n, m))
-            .copy_from(&self.a.transpose());
-        // A x + s − b: d/dx = A, d/ds = I.
-        j.view_mut((n, 0), (m, n)).copy_from(&self.a);
-        for i in 0..m {
-            j[(n + i, n + i)] = 1.0;
-        }
-        // s ∘ z: d/ds = arrow(z), d/dz = arrow(s) (the zero cone: d/ds = I).
-        let (ds, dz) = (n, n + m);
-        let row = n + m;
+        let (r_d, r_p, r_c) = (r.rows(0, n), r.rows(n, m), r.rows(n + m, m));
+        let mut k = DMatrix::zeros(n + m, n + m);
+        let mut rhs = DVector::zeros(n + m);
+        // Aᵀ dz = −r_d.
+        k.view_mut((0, n), (n, m)).tr_copy_from(&self.a);
+        rhs.rows_mut(0, n).copy_from(&(-r_d));
         let mut at = 0;
         for cone in &self.cones {
             match *cone {
-                Cone::Zero(k) => {
-                    for i in at..at + k {
-                        j[(row + i, ds + i)] = 1.0;
+                Cone::Zero(len) => {
+                    // ds = −s, so A dx = s − r_p.
+                    for i in at..at + len {
+                        k.view_mut((n + i, 0), (1, n)).copy_from(&self.a.row(i));
+                        rhs[n + i] = p.s[i] - r_p[i];
                     }
-                    at += k;
+                    at += len;
                 }
-                Cone::SecondOrder(k) => {
-                    for (col, v) in [(ds, &p.z), (dz, &p.s)] {
-                        // arrow(v) = [[v₀, v̄ᵀ], [v̄, v₀ I]].
-                        for i in 0..k {
-                            j[(row + at, col + at + i)] = v[at + i];
+                Cone::SecondOrder(len) => {
+                    // −arrow(z) A dx + arrow(s) dz = −r_c + arrow(z) r_p.
+                    let arrow = |v: &DVector<f64>| {
+                        let mut w = DMatrix::zeros(len, len);
+                        for i in 0..len {
+                            w[(0, i)] = v[at + i];
+                            w[(i, 0)] = v[at + i];
+                            w[(i, i)] = v[at];
                         }
-                        for i in 1..k {
-                            j[(row + at + i, col + at)] = v[at + i];
-                            j[(row + at + i, col + at + i)] = v[at];
-                        }
-                    }
-                    at += k;
+                        w
+                    };
+                    let (az, as_) = (arrow(&p.z), arrow(&p.s));
+                    let a_blk = self.a.rows(at, len);
+                    k.view_mut((n + at, 0), (len, n)).copy_from(&(-&az * a_blk));
+                    k.view_mut((n + at, n + at), (len, len)).copy_from(&as_);
+                    let b = -r_c.rows(at, len) + &az * r_p.rows(at, len);
+                    rhs.rows_mut(n + at, len).copy_from(&b);
+                    at += len;
                 }
             }
         }
-        j
+        let step = k.lu().solve(&rhs)?;
+        if !step.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        let dx = step.rows(0, n).into_owned();
+        let dz = step.rows(n, m).into_owned();
+        let ds = -r_p - &self.a * &dx;
+        Some((dx, ds, dz))
     }
 
     /// `s ∈ K` and `z ∈ K*`, up to [`CONE_TOLERANCE`].

@@ -2,6 +2,8 @@
 //! the collision world (support, object mesh, arms), P_init — shared read-only by every
 //! pipeline stage (so candidates can be evaluated in parallel without locks).
 
+use std::sync::OnceLock;
+
 use nalgebra::Isometry3;
 use pregrasp_collision::{
     closing_gap, ArmModel, CollisionWorld, Contact, GripFailure, ObjectPlacement, WorldState,
@@ -165,24 +167,60 @@ impl<'a> PlanningContext<'a> {
 
     /// Every IK solution of arm `arm` for a world flange pose, within limits, sorted by distance
     /// to the arm's start, that is collision-free with the gripper closed on the part to `gap`
-    /// at `object` (gripper–part contact allowed) and the other arm at its start configuration.
+    /// at `object` (gripper–part contact allowed) and the other arm at its start configuration —
+    /// checked one by one as they are asked for ([`IkSet::free`]).
     pub fn free_ik(
         &self,
         arm: usize,
         flange_world: &Isometry3<f64>,
         object: &Isometry3<f64>,
         gap: f64,
-    ) -> Vec<Joints> {
+    ) -> IkSet {
         let model = self.arm(arm);
         let target = model.base.inverse() * flange_world;
-        let starts = self.starts();
-        distinct_ik(&model.kin, &target, &starts[arm])
-            .into_iter()
-            .filter(|q| {
-                let moment = Moment::at_rest(starts, *object).holding(arm, *q, gap);
-                self.check_arm(arm, &moment).is_ok()
+        let solutions = distinct_ik(&model.kin, &target, &self.starts()[arm]);
+        IkSet {
+            arm,
+            object: *object,
+            gap,
+            free: solutions.iter().map(|_| OnceLock::new()).collect(),
+            solutions,
+        }
+    }
+}
+
+/// The IK solutions of one arm at one grasp with the part at a pose (the paper's `C_IK`),
+/// sorted by distance to the arm's start. Whether each is collision-free is decided when it is
+/// first asked for and remembered: the planner tries only the first few free ones, so the
+/// others are never checked.
+#[derive(Clone, Debug)]
+pub struct IkSet {
+    arm: usize,
+    object: Isometry3<f64>,
+    gap: f64,
+    solutions: Vec<Joints>,
+    free: Vec<OnceLock<bool>>,
+}
+
+impl IkSet {
+    /// The collision-free solutions, in order (see [`PlanningContext::free_ik`]).
+    pub fn free<'a>(&'a self, ctx: &'a PlanningContext) -> impl Iterator<Item = &'a Joints> + 'a {
+        self.solutions
+            .iter()
+            .zip(&self.free)
+            .filter(move |(q, free)| {
+                *free.get_or_init(|| {
+                    let moment =
+                        Moment::at_rest(ctx.starts(), self.object).holding(self.arm, **q, self.gap);
+                    ctx.check_arm(self.arm, &moment).is_ok()
+                })
             })
-            .collect()
+            .map(|(q, _)| q)
+    }
+
+    /// Whether no solution is collision-free.
+    pub fn none_free(&self, ctx: &PlanningContext) -> bool {
+        self.free(ctx).next().is_none()
     }
 }
 

@@ -88,7 +88,7 @@ pub fn integrated_path<T, E>(
         reason: String::from("no support-grasp IK solution"),
     };
 
-    'support: for c_ik_s in pose.support_ik.iter().take(MAX_IK_TRIES) {
+    'support: for c_ik_s in pose.support_ik.free(ctx).take(MAX_IK_TRIES) {
         let mut rot = match ctx
             .clock
             .time(Stage::Rot, || rotation_path(ctx, candidate, pose, c_ik_s))
@@ -145,7 +145,7 @@ pub fn integrated_path<T, E>(
         let mas1_scene =
             Moment::at_rest(starts, pose.p_obj).holding(sup, last, ctx.support_gap(sup));
 
-        'master: for c_ik_p in pose.power_ik[mas].iter().take(MAX_IK_TRIES) {
+        'master: for c_ik_p in pose.power_ik[mas].free(ctx).take(MAX_IK_TRIES) {
             let mas1_query = ReachQuery {
                 arm: mas,
                 scene: &mas1_scene,
@@ -170,7 +170,7 @@ pub fn integrated_path<T, E>(
             let sup2_scene =
                 Moment::at_rest(starts, pose.p_obj).holding(mas, *c_ik_p, ctx.power_gap(mas));
 
-            for goal in pose.power_ik[sup].iter().take(MAX_IK_TRIES) {
+            for goal in pose.power_ik[sup].free(ctx).take(MAX_IK_TRIES) {
                 // Both grippers end closed on the part: the final state must be free.
                 let end = sup2_scene.clone().holding(sup, *goal, ctx.power_gap(sup));
                 if let Err(c) = ctx.check(&end) {

@@ -13,10 +13,10 @@
 
 use nalgebra::Isometry3;
 use pregrasp_collision::GripFailure;
-use pregrasp_robot::{GripperState, Joints};
+use pregrasp_robot::GripperState;
 
 use crate::axes::RotationAxisCandidate;
-use crate::context::{PlanningContext, FINE_PLANNING_MARGIN};
+use crate::context::{IkSet, PlanningContext, FINE_PLANNING_MARGIN};
 use crate::dummies::lowest_point;
 
 /// Tolerance on d_g1 > d_g2 when choosing the master arm (plan-format.md).
@@ -35,10 +35,11 @@ pub struct PowerGraspPose {
     pub master: usize,
     /// Index of R_sup.
     pub supportive: usize,
-    /// C_IK^p: collision-free IK solutions of each arm at its power grasp at P_obj.
-    pub power_ik: [Vec<Joints>; 2],
-    /// C_IK^s: collision-free IK solutions of the supportive arm at G_s at P_obj.
-    pub support_ik: Vec<Joints>,
+    /// C_IK^p: IK solutions of each arm at its power grasp at P_obj (collision-free ones:
+    /// [`IkSet::free`]; each set has at least one).
+    pub power_ik: [IkSet; 2],
+    /// C_IK^s: IK solutions of the supportive arm at G_s at P_obj (at least one free).
+    pub support_ik: IkSet,
 }
 
 /// Why Algorithm 2 found no pose for a candidate.
@@ -199,7 +200,7 @@ pub fn object_pose_for_power_grasp(
         ctx.free_ik(arm, &tool, &p_obj, ctx.power_gap(arm))
     });
     for (arm, solutions) in power_ik.iter().enumerate() {
-        if solutions.is_empty() {
+        if solutions.none_free(ctx) {
             return Err(PoseRejection::PowerGraspUnreachable { arm });
         }
     }
@@ -213,7 +214,7 @@ pub fn object_pose_for_power_grasp(
     }
     let tool = p_obj * grasps.support * ctx.arm(supportive).gripper.precision_point().inverse();
     let support_ik = ctx.free_ik(supportive, &tool, &p_obj, ctx.support_gap(supportive));
-    if support_ik.is_empty() {
+    if support_ik.none_free(ctx) {
         return Err(PoseRejection::SupportGraspUnreachable { arm: supportive });
     }
 

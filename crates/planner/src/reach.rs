@@ -85,9 +85,11 @@ pub struct ReachLines {
 }
 
 /// Shortcutting rounds after RRT-Connect (seeded; the greedy pass and waypoint removal run
-/// regardless). A shortcut is tried only where it makes the transit faster as it is timed
-/// (rest to rest per edge, [`RestToRest`]), so most rounds cost no collision check.
-pub const SHORTCUT_ROUNDS: usize = 4;
+/// regardless): one batch ([`pregrasp_motion::simplify::SHORTCUT_BATCH`]) whose candidates
+/// are ranked by how much faster they make the transit as it is timed (rest to rest per edge,
+/// [`RestToRest`]) and checked best first, the first valid one applied. A candidate that does
+/// not pay costs no collision check.
+pub const SHORTCUT_ROUNDS: usize = 8;
 
 impl ReachQuery<'_> {
     /// This arm's states with everything else as in the query, with or without contact
