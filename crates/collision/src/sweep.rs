@@ -235,12 +235,52 @@ impl CollisionWorld {
             return None;
         }
         let path = PathBounds::new(self, states);
+        self.first_contact_along(only, states, &path, false)
+    }
+
+    /// [`first_contact_in`](Self::first_contact_in) (`first_contact`) and, per arm,
+    /// [`closest_grasp_to_support`](Self::closest_grasp_to_support) (`closest_grasp`) over the
+    /// same states, from one pass of motion bounds. Where every grasping gripper stays above
+    /// the grasp clearance at its closest, no state can fail that pair and its per-state test
+    /// is skipped.
+    pub fn check_states(&self, only: Option<usize>, states: &[WorldState]) -> StatesCheck {
+        if states.is_empty() {
+            return StatesCheck::default();
+        }
+        let path = PathBounds::new(self, states);
+        let closest_grasp = [0, 1].map(|arm| {
+            (self.is_active(arm) && self.support_height().is_some())
+                .then(|| self.closest_grasp_along(arm, states, &path))
+                .flatten()
+        });
+        let margin = self.grasp_support_margin();
+        let clear = (0..2)
+            .filter(|&i| only.is_none_or(|o| o == i))
+            .all(|i| closest_grasp[i].is_none_or(|d| d - margin > 0.0));
+        StatesCheck {
+            first_contact: self.first_contact_along(only, states, &path, clear),
+            closest_grasp,
+        }
+    }
+
+    /// [`first_contact_in`](Self::first_contact_in) with the bounds of `states` (not empty);
+    /// `grasps_clear`: no grasping gripper comes within the grasp clearance of the support.
+    fn first_contact_along(
+        &self,
+        only: Option<usize>,
+        states: &[WorldState],
+        path: &PathBounds,
+        grasps_clear: bool,
+    ) -> Option<usize> {
         // The grasping grippers vs the support first: cheap, and they work nearest.
-        let limit = self
-            .grasp_support_fails(only, states, &path, 0, states.len() - 1)
-            .unwrap_or(states.len());
+        let limit = if grasps_clear {
+            states.len()
+        } else {
+            self.grasp_support_fails(only, states, path, 0, states.len() - 1)
+                .unwrap_or(states.len())
+        };
         if limit > 0 {
-            if let Some(k) = self.certify(only, states, &path, 0, limit - 1) {
+            if let Some(k) = self.certify(only, states, path, 0, limit - 1) {
                 return Some(k);
             }
         }
@@ -257,6 +297,15 @@ impl CollisionWorld {
             return None;
         }
         let path = PathBounds::new(self, states);
+        self.closest_grasp_along(arm, states, &path)
+    }
+
+    fn closest_grasp_along(
+        &self,
+        arm: usize,
+        states: &[WorldState],
+        path: &PathBounds,
+    ) -> Option<f64> {
         let mut best = f64::INFINITY;
         let mut stack = vec![(0, states.len() - 1)];
         while let Some((lo, hi)) = stack.pop() {
@@ -273,7 +322,8 @@ impl CollisionWorld {
                 continue;
             }
             let bound = if path.run[lo] == path.run[hi] {
-                if !state.grasping[arm] {
+                // An arm that does not move over the range is as high at every state of it.
+                if !state.grasping[arm] || path.still(arm, lo, hi) {
                     continue;
                 }
                 d - self.gripper_vertical_sweep(arm, &path.reach(arm, lo, mid, hi))
@@ -397,6 +447,16 @@ impl CollisionWorld {
     }
 }
 
+/// What [`CollisionWorld::check_states`] finds.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StatesCheck {
+    /// The first state in contact.
+    pub first_contact: Option<usize>,
+    /// Per arm, the smallest height of its gripper above the support over the states in which
+    /// it grasps (`None`: it grasps in none, or there is no support).
+    pub closest_grasp: [Option<f64>; 2],
+}
+
 /// The largest motion bound (m) a swept check is tried for: past a few centimetres the
 /// arms' own links (a wrist beside its forearm) and the part rarely leave room, and a check
 /// with wide margins costs the most. Wider ranges are split without trying.
@@ -469,6 +529,11 @@ impl PathBounds {
             run.push(r);
         }
         PathBounds { q, object, run }
+    }
+
+    /// Whether arm `i` keeps its joints over states `lo..=hi` (no joint moved at all).
+    fn still(&self, i: usize, lo: usize, hi: usize) -> bool {
+        self.q[lo][i] == self.q[hi][i]
     }
 
     /// How far each joint of arm `i` may be from state `mid` in states `lo..=hi` (rad).

@@ -103,6 +103,18 @@ fn a_motion_checked_by_ranges_finds_the_state_checking_one_by_one_finds() {
                 "{} states, only {only:?}",
                 states.len()
             );
+            // The one-pass check of a segment finds the same state, and the same closest
+            // grasping gripper as the minimum over the states.
+            let both = world.check_states(only, &states);
+            assert_eq!(both.first_contact, one_by_one);
+            for arm in 0..2 {
+                let brute = states
+                    .iter()
+                    .filter(|s| s.grasping[arm])
+                    .map(|s| world.gripper_support_distance(arm, s))
+                    .reduce(f64::min);
+                assert_eq!(both.closest_grasp[arm], brute, "arm {arm}");
+            }
             match one_by_one {
                 Some(k) if k > 20 => collided += 1,
                 Some(_) => {}

@@ -707,13 +707,13 @@ impl<'a> PlanCheck<'a> {
     /// Rule 2 at every queued state of a segment in which arm `moving` moves, in order: the
     /// first in contact is reported as `what` at its point `(k, f)`, and the closest the
     /// moving gripper came to the support while grasping is recorded. Both are exact over the
-    /// states, found by ranges ([`CollisionWorld::first_contact_in`],
-    /// [`CollisionWorld::closest_grasp_to_support`]).
+    /// states, found by ranges in one pass ([`CollisionWorld::check_states`]).
     fn collide_all(&mut self, moving: usize, queue: &Queued, what: impl Fn(usize, f64) -> String) {
-        if let Some(d) = self.world.closest_grasp_to_support(moving, &queue.states) {
+        let found = self.world.check_states(None, &queue.states);
+        if let Some(d) = found.closest_grasp[moving] {
             *self.finger_support = self.finger_support.min(d);
         }
-        if let Some(i) = self.world.first_contact_in(None, &queue.states) {
+        if let Some(i) = found.first_contact {
             let c = self
                 .world
                 .check(&queue.states[i])
