@@ -2,7 +2,7 @@
 //! stool (§VII) — as parametric triangle meshes with ready-to-plan scene files.
 //!
 //! Each part is a planar outline with holes (its bars merged in 2-D by construction)
-//! extruded by its thickness ([`extrude`]); the meshes are closed and outward oriented. Object
+//! extruded by its thickness ([`extrude()`]); the meshes are closed and outward oriented. Object
 //! frame: the part lies in its `x-y` plane, `z = 0` is its bottom face and `z = thickness` its
 //! top; metres. Each scene places the part flat on the table in front of two UR5e arms with
 //! its intended rotation axis (the longest bottom hull edge, which Algorithm 1 ranks first)

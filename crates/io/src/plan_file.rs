@@ -146,7 +146,7 @@ pub struct AutoGraspsJson {
     pub planned: usize,
     /// Index of the chosen set among the tried ones (best plan score), if any planned.
     pub chosen: Option<usize>,
-    /// Bar widths (m) across the chosen grasps: support, power[0], power[1].
+    /// Bar widths (m) across the chosen grasps: support, `power[0]`, `power[1]`.
     pub widths: [f64; 3],
     /// Which grasps the scene pinned.
     pub support_pinned: bool,

@@ -119,24 +119,24 @@ pub struct RobotSpec {
     pub power_point_z: f64,
 }
 
-/// `[planner]`, SI units (angles in radians). Paper symbols in brackets.
+/// `[planner]`, SI units (angles in radians). Paper symbols in code spans.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlannerParams {
-    /// [Δd_s] max distance of a hull edge's endpoints from the support at P_init (m).
+    /// `Δd_s`: max distance of a hull edge's endpoints from the support at P_init (m).
     pub support_distance: f64,
-    /// [Δl] shorter hull edges are not rotation axes (m).
+    /// `Δl`: shorter hull edges are not rotation axes (m).
     pub min_axis_length: f64,
-    /// [Δφ] rotation increment (rad), > 0.
+    /// `Δφ`: rotation increment (rad), > 0.
     pub step: f64,
-    /// [φ_obj] limit angle of a rotation (rad), > 0.
+    /// `φ_obj`: limit angle of a rotation (rad), > 0.
     pub max_angle: f64,
-    /// [ω_l] score per metre of axis length.
+    /// `ω_l`: score per metre of axis length.
     pub weight_length: f64,
-    /// [ω_m] score per radian of θ_max.
+    /// `ω_m`: score per radian of θ_max.
     pub weight_angle: f64,
-    /// [n_ext] rotations past the first collision-free step.
+    /// `n_ext`: rotations past the first collision-free step.
     pub extra_steps: u32,
-    /// [Δd_a] skip an axis when a power grasp's origin is closer than this to the axis line (m).
+    /// `Δd_a`: skip an axis when a power grasp's origin is closer than this to the axis line (m).
     pub min_grasp_axis_distance: f64,
     /// P_init = object pose raised by this much along world `z` (m).
     pub lift: f64,

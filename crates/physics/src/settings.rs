@@ -19,9 +19,9 @@ use pregrasp_io::scene::{check_physics_value, PhysicsParams, Scene};
 
 use crate::statics::ContactModel;
 
-/// Coulomb coefficient pad–part: the 2F-85's silicone pads on wood or painted metal [C].
+/// Coulomb coefficient pad–part: the 2F-85's silicone pads on wood or painted metal \[C\].
 pub const DEFAULT_MU_PAD: f64 = 0.8;
-/// Coulomb coefficient part–support: wood on a laminated or steel table top [C].
+/// Coulomb coefficient part–support: wood on a laminated or steel table top \[C\].
 pub const DEFAULT_MU_SUPPORT: f64 = 0.4;
 /// Recommended grip force = this × the largest N_min along the rotation.
 pub const DEFAULT_SAFETY_FACTOR: f64 = 2.0;

@@ -1,6 +1,8 @@
 //! One quasi-static state: the part under gravity, pinched by two pads and resting on point
 //! contacts with the support. [`min_grip_force`] finds the smallest grip force that keeps it in
-//! equilibrium without slipping anywhere, as a second-order cone program solved by Clarabel.
+//! equilibrium without slipping anywhere: a second-order cone program, solved in closed form or
+//! by Newton's method from the previous state where the part rests on its edge
+//! (module `pivot`), else by Clarabel.
 //!
 //! Variables (forces in units of the part's weight `W`, so the problem is well scaled):
 //!
@@ -167,7 +169,7 @@ pub struct SolverError {
 /// The smallest grip force that holds `problem` in equilibrium, or why none does: in closed
 /// form where the part rests on its edge and the support's friction does not limit the grip,
 /// else by the conic program — reduced to the edge's one balance equation where the part rests
-/// on two contacts ([`crate::pivot`]), the general one ([`min_grip_force_conic`]) otherwise.
+/// on two contacts (module `pivot`), the general one ([`min_grip_force_conic`]) otherwise.
 pub fn min_grip_force(
     problem: &StaticProblem,
     model: &ContactModel,
@@ -177,9 +179,9 @@ pub fn min_grip_force(
 
 /// What one state's solution offers the next state of the same rotation: its optimum, from
 /// which Newton's method reaches a neighbouring state's optimum in a few steps where the same
-/// constraints are active ([`crate::polish`]; the result is checked to be an optimum, else the
-/// interior-point solver runs). The answers are those of [`min_grip_force`], to the solver's
-/// tolerance.
+/// constraints are active (module `polish`; the result is checked to be an optimum, else the
+/// interior-point solver runs). Whatever it holds, the answer is the program's optimum, to the
+/// solvers' tolerance; only the time to it depends on the start.
 #[derive(Clone, Debug, Default)]
 pub struct WarmStart(Option<PrimalDual>);
 

@@ -7,7 +7,7 @@
 //!    and rotate with the part in steps of Δφ until neither comes within the planning margin of
 //!    the support, then n_ext further steps, each still clear. That pose is P_obj, the angle
 //!    θ_goal. Never beyond θ_max.
-//! 3. Roles (§V-B): robot[0] is the master R_mas if d_g1 > d_g2 (+1 µm), otherwise robot[1].
+//! 3. Roles (§V-B): `robot[0]` is the master R_mas if d_g1 > d_g2 (+1 µm), otherwise `robot[1]`.
 //! 4. IK: every collision-free solution of each arm at its power grasp on the part at P_obj
 //!    (C_IK^p), and of the supportive arm's precision point at G_s (C_IK^s).
 

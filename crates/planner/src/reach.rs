@@ -284,7 +284,7 @@ pub fn reach_transit(
     })
 }
 
-/// Plans a whole reach motion: [retreat], transit, approach.
+/// Plans a whole reach motion: (retreat), transit, approach.
 pub fn reach(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachMotion, ReachFailure> {
     let lines = reach_lines(ctx, query)?;
     reach_transit(ctx, query, &lines)

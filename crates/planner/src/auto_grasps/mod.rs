@@ -54,7 +54,7 @@ pub const SUPPORT_TIP_HEIGHT: f64 = 0.003;
 pub struct GraspSet {
     pub support: Isometry3<f64>,
     pub power: [Isometry3<f64>; 2],
-    /// Bar widths across support, power[0], power[1] (m; 0 for a pinned grasp).
+    /// Bar widths across support, `power[0]`, `power[1]` (m; 0 for a pinned grasp).
     pub widths: [f64; 3],
     /// The Algorithm 1 candidate the set was built around.
     pub axis: usize,
