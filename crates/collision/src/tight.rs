@@ -11,7 +11,10 @@
 //! link surface (a few millimetres at most, see `crates/robot/data/PROVENANCE.md`), so this is
 //! where near-contact outcomes are decided.
 
+use std::cell::Cell;
 use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::OnceLock;
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::query::details::{
@@ -26,16 +29,295 @@ use crate::shape::{parry_cylinder, Bounded, Placed};
 type P = Point3<f64>;
 
 /// A convex polytope as the convex hull of its vertices (link frame); its support point in a
-/// direction is the vertex farthest along it.
-#[derive(Clone, Debug)]
+/// direction is the vertex farthest along it, the first in order where several are.
+///
+/// The pieces have 40–410 vertices, and GJK asks for a support point a few times per query, so
+/// a scan over all of them is most of a near-contact test. A polytope asked often enough
+/// ([`BUILD_AFTER`] scans) builds its hull's vertex graph ([`Graph`]) and from then on climbs it;
+/// the answer is the scan's, vertex for vertex, so when the graph is built does not show.
+#[derive(Debug)]
 pub struct Polytope {
     points: Vec<P>,
+    scans: AtomicU32,
+    graph: OnceLock<Option<Graph>>,
+}
+
+/// Scans of a polytope before it builds its vertex graph: building costs about what a few
+/// hundred scans of its vertices cost, so a part asked a few times never pays for it and one
+/// asked often pays at most twice what it would with the graph from the start.
+pub const BUILD_AFTER: u32 = 1024;
+
+impl Clone for Polytope {
+    fn clone(&self) -> Self {
+        Polytope {
+            points: self.points.clone(),
+            scans: AtomicU32::new(self.scans.load(Ordering::Relaxed)),
+            graph: self.graph.clone(),
+        }
+    }
+}
+
+impl Polytope {
+    /// The polytope spanned by `points`.
+    pub fn new(points: Vec<P>) -> Self {
+        Polytope {
+            points,
+            scans: AtomicU32::new(0),
+            graph: OnceLock::new(),
+        }
+    }
+
+    /// The hull's vertex graph once the polytope has been asked [`BUILD_AFTER`] times (`None`
+    /// before, or where no graph answers like the scan: see [`Graph::new`]).
+    #[inline]
+    fn graph(&self) -> Option<&Graph> {
+        if let Some(g) = self.graph.get() {
+            return g.as_ref();
+        }
+        // A count, not an exact one: threads may lose each other's increments, and a plain
+        // load and store cost no locked instruction on the scans' path.
+        let scans = self.scans.load(Ordering::Relaxed);
+        if scans < BUILD_AFTER {
+            self.scans.store(scans + 1, Ordering::Relaxed);
+            return None;
+        }
+        self.graph.get_or_init(|| Graph::new(&self.points)).as_ref()
+    }
+
+    /// The index of the first vertex farthest along `dir`, by a scan over all vertices.
+    #[inline]
+    fn scan(&self, dir: &Vector3<f64>) -> u32 {
+        parry3d_f64::utils::point_cloud_support_point_id(dir, &self.points) as u32
+    }
+
+    /// The index of the support point along `dir`, climbing from `from` where the graph is
+    /// built and the start given.
+    #[inline]
+    fn support_id(&self, dir: &Vector3<f64>, from: Option<u32>) -> u32 {
+        match self.graph() {
+            Some(g) => g
+                .climb(
+                    &self.points,
+                    dir,
+                    from.unwrap_or_else(|| g.start(&self.points, dir)),
+                )
+                .unwrap_or_else(|| self.scan(dir)),
+            None => self.scan(dir),
+        }
+    }
 }
 
 impl SupportMap for Polytope {
     #[inline]
     fn local_support_point(&self, dir: &Vector3<f64>) -> P {
-        parry3d_f64::utils::point_cloud_support_point(dir, &self.points)
+        self.points[self.support_id(dir, None) as usize]
+    }
+}
+
+/// A polytope asked for support points by one GJK run (or a run of them): each climb starts
+/// where the last one ended, since GJK's directions change little from one step to the next.
+pub(crate) struct Climb<'a> {
+    poly: &'a Polytope,
+    at: Cell<Option<u32>>,
+}
+
+impl<'a> Climb<'a> {
+    #[inline]
+    pub fn new(poly: &'a Polytope) -> Self {
+        Climb {
+            poly,
+            at: Cell::new(None),
+        }
+    }
+}
+
+impl SupportMap for Climb<'_> {
+    #[inline]
+    fn local_support_point(&self, dir: &Vector3<f64>) -> P {
+        let k = self.poly.support_id(dir, self.at.get());
+        self.at.set(Some(k));
+        self.poly.points[k as usize]
+    }
+}
+
+/// The vertex graph of a polytope's hull, over the polytope's own vertex indices: for each
+/// vertex, the vertices it shares a hull edge with (compressed rows; none for a vertex that
+/// repeats an earlier one).
+///
+/// A linear function `d·x` on a convex polytope has no local maximum but the global one along
+/// the hull's edges: if no edge from vertex `v` rises (`d·(w − v) ≤ 0` for every neighbour `w`),
+/// the whole polytope lies in the cone of those edges at `v`, so below `d·v`. Climbing from
+/// any vertex to a better neighbour until none is better thus ends at a support point, after
+/// a few steps from a vertex near it instead of a scan of all.
+#[derive(Clone, Debug)]
+struct Graph {
+    /// Neighbours of vertex `k`: `adjacent[offsets[k]..offsets[k + 1]]`.
+    offsets: Vec<u32>,
+    adjacent: Vec<u32>,
+    /// The vertices farthest along `±x`, `±y`, `±z`: the climbs without a previous point start
+    /// from the best of them.
+    extremes: [u32; 6],
+}
+
+impl Graph {
+    /// The graph of the hull of `points`, if it answers exactly like a scan: parry builds the
+    /// hull, every point is one of its vertices, repeats an earlier point, lies inside it or on
+    /// one of its faces (then joined to that face's vertices), and every hull vertex has at least
+    /// three neighbours. Otherwise `None`.
+    fn new(points: &[P]) -> Option<Graph> {
+        let n = points.len();
+        if n < 4 || n >= u32::MAX as usize {
+            return None;
+        }
+        let (verts, triangles) = parry3d_f64::transformation::try_convex_hull(points).ok()?;
+        // Hull vertex → the first point with its coordinates.
+        let key = |p: &P| p.coords.map(f64::to_bits);
+        let mut first = std::collections::HashMap::with_capacity(n);
+        for (k, p) in points.iter().enumerate() {
+            first.entry(key(p)).or_insert(k as u32);
+        }
+        let index: Vec<u32> = verts
+            .iter()
+            .map(|v| first.get(&key(v)).copied())
+            .collect::<Option<_>>()?;
+        let mut edges: Vec<(u32, u32)> = Vec::with_capacity(6 * triangles.len() + 6);
+        for t in &triangles {
+            let [a, b, c] = t.map(|i| index[i as usize]);
+            for (u, v) in [(a, b), (b, c), (c, a)] {
+                edges.push((u, v));
+                edges.push((v, u));
+            }
+        }
+        if index.len() != first.len() {
+            // Points the hull left out: inside it they are never a support point alone; on a
+            // face they join that face's vertices, so that a climb sees them tie; outside it
+            // (the hull's tolerance) the graph would miss them.
+            let mut on_hull = vec![false; n];
+            for &k in &index {
+                on_hull[k as usize] = true;
+            }
+            let centre =
+                verts.iter().fold(Vector3::zeros(), |c, v| c + v.coords) / verts.len() as f64;
+            let faces: Vec<([u32; 3], Vector3<f64>, f64)> = triangles
+                .iter()
+                .filter_map(|t| {
+                    let [a, b, c] = t.map(|i| verts[i as usize]);
+                    let mut normal = (b - a).cross(&(c - a)).try_normalize(0.0)?;
+                    if normal.dot(&(centre - a.coords)) > 0.0 {
+                        normal = -normal;
+                    }
+                    Some((t.map(|i| index[i as usize]), normal, normal.dot(&a.coords)))
+                })
+                .collect();
+            const ON: f64 = 1e-12;
+            for (k, p) in points.iter().enumerate() {
+                if on_hull[k] || first[&key(p)] != k as u32 {
+                    continue;
+                }
+                let outside = faces
+                    .iter()
+                    .map(|(_, nrm, off)| nrm.dot(&p.coords) - off)
+                    .fold(f64::NEG_INFINITY, f64::max);
+                if outside > ON {
+                    return None;
+                }
+                if outside < -ON {
+                    continue;
+                }
+                let face = faces.iter().find(|(t, nrm, off)| {
+                    (nrm.dot(&p.coords) - off).abs() <= ON && {
+                        let [a, b, c] = t.map(|i| points[i as usize]);
+                        // Inside the triangle: on the inner side of each edge, in its plane.
+                        [(a, b), (b, c), (c, a)]
+                            .iter()
+                            .all(|(u, v)| (v - u).cross(&(p - u)).dot(nrm) >= -ON)
+                    }
+                })?;
+                for v in face.0 {
+                    edges.push((k as u32, v));
+                    edges.push((v, k as u32));
+                }
+            }
+        }
+        edges.sort_unstable();
+        edges.dedup();
+        let mut offsets = vec![0u32; n + 1];
+        for &(a, _) in &edges {
+            offsets[a as usize + 1] += 1;
+        }
+        for k in 0..n {
+            offsets[k + 1] += offsets[k];
+        }
+        if index
+            .iter()
+            .any(|&k| offsets[k as usize + 1] - offsets[k as usize] < 3)
+        {
+            return None;
+        }
+        let axis = |d: Vector3<f64>| parry3d_f64::utils::point_cloud_support_point_id(&d, points);
+        let extremes = [
+            axis(Vector3::x()),
+            axis(-Vector3::x()),
+            axis(Vector3::y()),
+            axis(-Vector3::y()),
+            axis(Vector3::z()),
+            axis(-Vector3::z()),
+        ]
+        .map(|k| k as u32);
+        Some(Graph {
+            offsets,
+            adjacent: edges.iter().map(|&(_, b)| b).collect(),
+            extremes,
+        })
+    }
+
+    /// The best of the axis extremes along `dir`: a start a few edges from the support point.
+    #[inline]
+    fn start(&self, points: &[P], dir: &Vector3<f64>) -> u32 {
+        let i = if dir.x >= 0.0 { 0 } else { 1 };
+        let j = if dir.y >= 0.0 { 2 } else { 3 };
+        let k = if dir.z >= 0.0 { 4 } else { 5 };
+        let value = |v: u32| points[v as usize].coords.dot(dir);
+        let mut best = self.extremes[i];
+        for v in [self.extremes[j], self.extremes[k]] {
+            if value(v) > value(best) {
+                best = v;
+            }
+        }
+        best
+    }
+
+    /// From vertex `from`, the steepest rising neighbour until none rises: the vertex farthest
+    /// along `dir`. `None` where a neighbour ties with it (then which of the tied vertices the
+    /// scan returns is left to the scan), or the direction is not a number.
+    #[inline]
+    fn climb(&self, points: &[P], dir: &Vector3<f64>, from: u32) -> Option<u32> {
+        let mut at = from as usize;
+        // The same expression as the scan's, so that the values compare exactly.
+        let value = |k: usize| points[k].coords.dot(dir);
+        let mut best = value(at);
+        if best.is_nan() {
+            return None;
+        }
+        loop {
+            let (lo, hi) = (self.offsets[at] as usize, self.offsets[at + 1] as usize);
+            let mut next = at;
+            let mut tie = false;
+            for &w in &self.adjacent[lo..hi] {
+                let v = value(w as usize);
+                if v > best {
+                    best = v;
+                    next = w as usize;
+                    tie = false;
+                } else if v == best {
+                    tie = true;
+                }
+            }
+            if next == at {
+                return if tie { None } else { Some(at as u32) };
+            }
+            at = next;
+        }
     }
 }
 
@@ -74,9 +356,7 @@ impl Tight {
                 let center = nalgebra::center(&lo, &hi);
                 let radius = pts.iter().map(|p| (p - center).norm()).fold(0.0, f64::max);
                 Some(Piece {
-                    poly: Polytope {
-                        points: pts.clone(),
-                    },
+                    poly: Polytope::new(pts.clone()),
                     center,
                     radius,
                     lo,
@@ -172,7 +452,7 @@ impl<'a> Part<'a> {
                             continue;
                         }
                     }
-                    f(frame, &piece.poly, 0.0)?;
+                    f(frame, &Climb::new(&piece.poly), 0.0)?;
                 }
                 ControlFlow::Continue(())
             }
@@ -273,14 +553,14 @@ pub(crate) fn distance(s1: &Part, s2: &Part) -> f64 {
 pub(crate) fn any_piece_in(
     t: &Posed,
     mesh_pose: &Isometry3<f64>,
-    mut f: impl FnMut(&Isometry3<f64>, &Polytope, (P, P)) -> bool,
+    mut f: impl FnMut(&Isometry3<f64>, &Climb, (P, P)) -> bool,
 ) -> bool {
     let rel = mesh_pose.inv_mul(t.frame);
     let m = rel.rotation.to_rotation_matrix().matrix().abs();
     t.tight.pieces.iter().any(|piece| {
         let c = rel * nalgebra::center(&piece.lo, &piece.hi);
         let ext: Vector3<f64> = m * (0.5 * (piece.hi - piece.lo));
-        f(&rel, &piece.poly, (c - ext, c + ext))
+        f(&rel, &Climb::new(&piece.poly), (c - ext, c + ext))
     })
 }
 
@@ -288,7 +568,7 @@ pub(crate) fn any_piece_in(
 #[inline]
 pub(crate) fn piece_near_triangle(
     pose: &Isometry3<f64>,
-    poly: &Polytope,
+    poly: &Climb,
     tri: &Triangle,
     margin: f64,
 ) -> bool {
@@ -297,11 +577,7 @@ pub(crate) fn piece_near_triangle(
 
 /// Distance from the polytope at `pose` to the triangle (both in one frame; `0` in contact).
 #[inline]
-pub(crate) fn piece_triangle_distance(
-    pose: &Isometry3<f64>,
-    poly: &Polytope,
-    tri: &Triangle,
-) -> f64 {
+pub(crate) fn piece_triangle_distance(pose: &Isometry3<f64>, poly: &Climb, tri: &Triangle) -> f64 {
     distance_support_map_support_map(&pose.inverse(), poly, tri).max(0.0)
 }
 
@@ -312,6 +588,76 @@ mod tests {
     use parry3d_f64::shape::{Capsule as PCapsule, ConvexPolyhedron};
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
+
+    /// Climbing the hull graph finds the vertex a scan finds, for every piece of every UR model,
+    /// cold and warm started, in random and axis-aligned directions (where vertices tie).
+    #[test]
+    fn climbs_find_the_scans_support_points() {
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let (mut pieces, mut graphs) = (0, 0);
+        for model in pregrasp_robot::UrModel::ALL {
+            let geometry = pregrasp_robot::arm_geometry(model);
+            for link in &geometry.links {
+                let Some(src) = link.pieces else { continue };
+                for pts in &src.pieces {
+                    let poly = Polytope::new(pts.clone());
+                    let graph = Graph::new(pts);
+                    pieces += 1;
+                    graphs += usize::from(graph.is_some());
+                    let _ = poly.graph.set(graph);
+                    let warm = Climb::new(&poly);
+                    for k in 0..200 {
+                        let dir = if k < 6 {
+                            let mut d = Vector3::zeros();
+                            d[k / 2] = if k % 2 == 0 { 1.0 } else { -1.0 };
+                            d
+                        } else {
+                            Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0))
+                        };
+                        let want = parry3d_f64::utils::point_cloud_support_point(&dir, pts);
+                        assert_eq!(
+                            poly.local_support_point(&dir),
+                            want,
+                            "{model} {}",
+                            link.name
+                        );
+                        assert_eq!(
+                            warm.local_support_point(&dir),
+                            want,
+                            "{model} {}",
+                            link.name
+                        );
+                    }
+                }
+            }
+        }
+        assert!(pieces > 300, "{pieces} pieces");
+        assert!(
+            graphs * 10 > pieces * 9,
+            "{graphs} graphs of {pieces} pieces"
+        );
+    }
+
+    /// A polytope builds its graph after [`BUILD_AFTER`] scans, not before.
+    #[test]
+    fn the_graph_is_built_once_asked_often() {
+        let cube: Vec<P> = (0..8)
+            .map(|k| P::new((k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64))
+            .collect();
+        let poly = Polytope::new(cube);
+        let dir = Vector3::new(0.3, 0.2, 0.1);
+        for _ in 0..BUILD_AFTER {
+            assert_eq!(poly.local_support_point(&dir), P::new(1.0, 1.0, 1.0));
+            assert!(poly.graph.get().is_none());
+        }
+        assert_eq!(poly.local_support_point(&dir), P::new(1.0, 1.0, 1.0));
+        assert!(matches!(poly.graph.get(), Some(Some(_))));
+        // A cube's faces tie along the axes: the scan's answer, the first vertex.
+        assert_eq!(
+            poly.local_support_point(&Vector3::x()),
+            P::new(1.0, 0.0, 0.0)
+        );
+    }
 
     /// The support-map GJK on raw vertices agrees with parry's own polyhedron (built as the
     /// hull of the same vertices) against capsules, rounded cylinders, boxes and other pieces:

@@ -139,22 +139,8 @@ impl<'a, const D: usize, V: StateValidator<D> + ?Sized> MotionValidator<'a, D, V
             let edge = Edge { a, b, n };
             return self.certify(&edge, 1, n - 1, limit, states_checked);
         }
-        // Bisection order without a queue: with M = 2^K ≥ n, the states
-        // k(i) = ⌊i n / M⌋ for i = 1..M cover every k in 1..n; enumerating i in
-        // bit-reversed order visits midpoints level by level (n/2, n/4, 3n/4, …). Since
-        // n/M > 1/2, at most two neighbouring i share a k; one of them is odd and comes
-        // later in that order, so an odd i whose neighbour shares its k is skipped.
-        let m = n.next_power_of_two() as u64;
-        let shift = u64::BITS - m.trailing_zeros();
-        let n64 = n as u64;
-        let k_of = |i: u64| i * n64 / m;
         let inv_n = 1.0 / n as f64;
-        for j in 1..m {
-            let i = j.reverse_bits() >> shift;
-            let k = k_of(i);
-            if k == 0 || (i % 2 == 1 && (k_of(i - 1) == k || k_of(i + 1) == k)) {
-                continue;
-            }
+        for k in spread(n) {
             *states_checked += 1;
             let q = self.space.interpolate(a, b, k as f64 * inv_n);
             if !self.validator.is_valid(&q) {
@@ -164,11 +150,14 @@ impl<'a, const D: usize, V: StateValidator<D> + ?Sized> MotionValidator<'a, D, V
         true
     }
 
-    /// Whether the states `k/n`, `k ∈ lo..=hi`, of `edge` are all valid. Ranges are taken
-    /// breadth first (coarse to fine, like the bisection order): a range whose box about its
-    /// middle state is small enough to be worth asking about is accepted by one box check;
-    /// otherwise, or where the box fails, the middle state is checked exactly and both halves
-    /// are queued.
+    /// Whether the states `k/n`, `k ∈ lo..=hi`, of `edge` are all valid.
+    ///
+    /// The range is cut into the fewest chunks whose boxes (about their middle states) are small
+    /// enough to be worth asking about, visited in bisection order so that an obstacle anywhere
+    /// along the edge is met early. A chunk is accepted by one box check; where the box fails,
+    /// its middle state is checked exactly and both halves are queued (breadth first, coarse to
+    /// fine). Too long a range is thus never checked at its middle state before its boxes are
+    /// asked: on an edge through free space that check would be spent for nothing.
     fn certify(
         &self,
         edge: &Edge<D>,
@@ -179,8 +168,23 @@ impl<'a, const D: usize, V: StateValidator<D> + ?Sized> MotionValidator<'a, D, V
     ) -> bool {
         let inv_n = 1.0 / edge.n as f64;
         let length = self.space.motion_bound(edge.a, edge.b);
-        let mut queue = std::collections::VecDeque::with_capacity(16);
-        queue.push_back((lo, hi));
+        // A box reaching `s` states either side of its middle spans at most `s / n · length`.
+        let half = if length > 0.0 {
+            ((limit / (inv_n * length)).floor() as usize).min(hi - lo)
+        } else {
+            hi - lo
+        };
+        let per = 2 * half + 1;
+        let chunks = (hi - lo + 1).div_ceil(per);
+        let mut queue = std::collections::VecDeque::with_capacity(chunks.min(64) + 16);
+        if chunks == 1 {
+            queue.push_back((lo, hi));
+        } else {
+            for c in spread(chunks + 1) {
+                let from = lo + (c - 1) * per;
+                queue.push_back((from, (from + per - 1).min(hi)));
+            }
+        }
         while let Some((lo, hi)) = queue.pop_front() {
             let mid = lo + (hi - lo) / 2;
             let q = self.space.interpolate(edge.a, edge.b, mid as f64 * inv_n);
@@ -225,6 +229,29 @@ impl<'a, const D: usize, V: StateValidator<D> + ?Sized> MotionValidator<'a, D, V
             ..*self
         }
     }
+}
+
+/// The integers `1..n`, each once, in bisection order: `n/2`, then `n/4` and `3n/4`, … (the
+/// midpoints of coarser levels first), so that something anywhere in `1..n` is met after few.
+///
+/// With `M = 2^K ≥ n`, the values `k(i) = ⌊i n / M⌋` for `i = 1..M` cover every `k` in `1..n`;
+/// enumerating `i` in bit-reversed order visits the midpoints level by level. Since
+/// `n / M > 1/2`, at most two neighbouring `i` share a `k`; one of them is odd and comes later in
+/// that order, so an odd `i` whose neighbour shares its `k` is skipped.
+fn spread(n: usize) -> impl Iterator<Item = usize> {
+    let m = n.max(1).next_power_of_two() as u64;
+    let shift = u64::BITS - m.trailing_zeros();
+    let n64 = n as u64;
+    let k_of = move |i: u64| i * n64 / m;
+    (1..m).filter_map(move |j| {
+        let i = j.reverse_bits() >> shift;
+        let k = k_of(i);
+        if k == 0 || (i % 2 == 1 && (k_of(i - 1) == k || k_of(i + 1) == k)) {
+            None
+        } else {
+            Some(k as usize)
+        }
+    })
 }
 
 #[cfg(test)]
@@ -277,6 +304,19 @@ mod tests {
             assert_eq!(ks[0], n, "end state first");
             ks.sort_unstable();
             assert_eq!(ks, (1..=n).collect::<Vec<_>>(), "n = {n}");
+        }
+    }
+
+    #[test]
+    fn spread_visits_each_once_coarse_first() {
+        for n in 1..=300usize {
+            let ks: Vec<usize> = spread(n).collect();
+            let mut sorted = ks.clone();
+            sorted.sort_unstable();
+            assert_eq!(sorted, (1..n).collect::<Vec<_>>(), "n = {n}");
+            if n >= 4 {
+                assert_eq!(ks[0], n / 2, "n = {n}: the midpoint first");
+            }
         }
     }
 
