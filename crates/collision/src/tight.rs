@@ -33,7 +33,7 @@ type P = Point3<f64>;
 ///
 /// The pieces have 40–410 vertices, and GJK asks for a support point a few times per query, so
 /// a scan over all of them is most of a near-contact test. A polytope asked often enough
-/// ([`BUILD_AFTER`] scans) builds its hull's vertex graph ([`Graph`]) and from then on climbs it;
+/// ([`BUILD_AFTER`] scans) builds its hull's vertex graph (`Graph`) and from then on climbs it;
 /// the answer is the scan's, vertex for vertex, so when the graph is built does not show.
 #[derive(Debug)]
 pub struct Polytope {
