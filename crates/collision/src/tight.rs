@@ -31,7 +31,7 @@ type P = Point3<f64>;
 /// A convex polytope as the convex hull of its vertices (link frame); its support point in a
 /// direction is the vertex farthest along it, the first in order where several are.
 ///
-/// The pieces have 40–410 vertices, and GJK asks for a support point a few times per query, so
+/// The pieces have 37–410 vertices, and GJK asks for a support point a few times per query, so
 /// a scan over all of them is most of a near-contact test. A polytope asked often enough
 /// ([`BUILD_AFTER`] scans) builds its hull's vertex graph (`Graph`) and from then on climbs it;
 /// the answer is the scan's, vertex for vertex, so when the graph is built does not show.
