@@ -12,6 +12,7 @@
 //! where near-contact outcomes are decided.
 
 use std::cell::Cell;
+use std::collections::HashMap;
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::OnceLock;
@@ -59,7 +60,7 @@ impl Clone for Polytope {
 
 impl Polytope {
     /// The polytope spanned by `points`.
-    pub fn new(points: Vec<P>) -> Self {
+    pub(crate) fn new(points: Vec<P>) -> Self {
         Polytope {
             points,
             scans: AtomicU32::new(0),
@@ -107,15 +108,9 @@ impl Polytope {
     }
 }
 
-impl SupportMap for Polytope {
-    #[inline]
-    fn local_support_point(&self, dir: &Vector3<f64>) -> P {
-        self.points[self.support_id(dir, None) as usize]
-    }
-}
-
-/// A polytope asked for support points by one GJK run (or a run of them): each climb starts
-/// where the last one ended, since GJK's directions change little from one step to the next.
+/// A polytope as GJK asks it for support points, in one run or a run of them: each climb starts
+/// where the last one ended, since GJK's directions change little from one step to the next
+/// (the first at the best of the axis extremes).
 pub(crate) struct Climb<'a> {
     poly: &'a Polytope,
     at: Cell<Option<u32>>,
@@ -171,14 +166,13 @@ impl Graph {
         }
         let (verts, triangles) = parry3d_f64::transformation::try_convex_hull(points).ok()?;
         // Hull vertex → the first point with its coordinates.
-        let key = |p: &P| p.coords.map(f64::to_bits);
-        let mut first = std::collections::HashMap::with_capacity(n);
+        let mut first = HashMap::with_capacity(n);
         for (k, p) in points.iter().enumerate() {
-            first.entry(key(p)).or_insert(k as u32);
+            first.entry(coordinate_key(p)).or_insert(k as u32);
         }
         let index: Vec<u32> = verts
             .iter()
-            .map(|v| first.get(&key(v)).copied())
+            .map(|v| first.get(&coordinate_key(v)).copied())
             .collect::<Option<_>>()?;
         let mut edges: Vec<(u32, u32)> = Vec::with_capacity(6 * triangles.len() + 6);
         for t in &triangles {
@@ -189,55 +183,7 @@ impl Graph {
             }
         }
         if index.len() != first.len() {
-            // Points the hull left out: inside it they are never a support point alone; on a
-            // face they join that face's vertices, so that a climb sees them tie; outside it
-            // (the hull's tolerance) the graph would miss them.
-            let mut on_hull = vec![false; n];
-            for &k in &index {
-                on_hull[k as usize] = true;
-            }
-            let centre =
-                verts.iter().fold(Vector3::zeros(), |c, v| c + v.coords) / verts.len() as f64;
-            let faces: Vec<([u32; 3], Vector3<f64>, f64)> = triangles
-                .iter()
-                .filter_map(|t| {
-                    let [a, b, c] = t.map(|i| verts[i as usize]);
-                    let mut normal = (b - a).cross(&(c - a)).try_normalize(0.0)?;
-                    if normal.dot(&(centre - a.coords)) > 0.0 {
-                        normal = -normal;
-                    }
-                    Some((t.map(|i| index[i as usize]), normal, normal.dot(&a.coords)))
-                })
-                .collect();
-            const ON: f64 = 1e-12;
-            for (k, p) in points.iter().enumerate() {
-                if on_hull[k] || first[&key(p)] != k as u32 {
-                    continue;
-                }
-                let outside = faces
-                    .iter()
-                    .map(|(_, nrm, off)| nrm.dot(&p.coords) - off)
-                    .fold(f64::NEG_INFINITY, f64::max);
-                if outside > ON {
-                    return None;
-                }
-                if outside < -ON {
-                    continue;
-                }
-                let face = faces.iter().find(|(t, nrm, off)| {
-                    (nrm.dot(&p.coords) - off).abs() <= ON && {
-                        let [a, b, c] = t.map(|i| points[i as usize]);
-                        // Inside the triangle: on the inner side of each edge, in its plane.
-                        [(a, b), (b, c), (c, a)]
-                            .iter()
-                            .all(|(u, v)| (v - u).cross(&(p - u)).dot(nrm) >= -ON)
-                    }
-                })?;
-                for v in face.0 {
-                    edges.push((k as u32, v));
-                    edges.push((v, k as u32));
-                }
-            }
+            join_left_out(points, &verts, &triangles, &index, &first, &mut edges)?;
         }
         edges.sort_unstable();
         edges.dedup();
@@ -319,6 +265,73 @@ impl Graph {
             at = next;
         }
     }
+}
+
+/// Adds to `edges` the points of `points` that the hull (`verts`, `triangles`, hull vertex
+/// `i` being point `index[i]`) left out: inside it they are never a support point alone and get
+/// no edge; on a face they join that face's vertices, so that a climb sees them tie. `None` where
+/// one lies outside (within the hull's tolerance), where the graph would miss it. `first` maps a
+/// point's coordinates to the first point with them.
+fn join_left_out(
+    points: &[P],
+    verts: &[P],
+    triangles: &[[u32; 3]],
+    index: &[u32],
+    first: &HashMap<[u64; 3], u32>,
+    edges: &mut Vec<(u32, u32)>,
+) -> Option<()> {
+    const ON: f64 = 1e-12;
+    let mut on_hull = vec![false; points.len()];
+    for &k in index {
+        on_hull[k as usize] = true;
+    }
+    let centre = verts.iter().fold(Vector3::zeros(), |c, v| c + v.coords) / verts.len() as f64;
+    let faces: Vec<([u32; 3], Vector3<f64>, f64)> = triangles
+        .iter()
+        .filter_map(|t| {
+            let [a, b, c] = t.map(|i| verts[i as usize]);
+            let mut normal = (b - a).cross(&(c - a)).try_normalize(0.0)?;
+            if normal.dot(&(centre - a.coords)) > 0.0 {
+                normal = -normal;
+            }
+            Some((t.map(|i| index[i as usize]), normal, normal.dot(&a.coords)))
+        })
+        .collect();
+    for (k, p) in points.iter().enumerate() {
+        if on_hull[k] || first[&coordinate_key(p)] != k as u32 {
+            continue;
+        }
+        let outside = faces
+            .iter()
+            .map(|(_, nrm, off)| nrm.dot(&p.coords) - off)
+            .fold(f64::NEG_INFINITY, f64::max);
+        if outside > ON {
+            return None;
+        }
+        if outside < -ON {
+            continue;
+        }
+        let face = faces.iter().find(|(t, nrm, off)| {
+            (nrm.dot(&p.coords) - off).abs() <= ON && {
+                let [a, b, c] = t.map(|i| points[i as usize]);
+                // Inside the triangle: on the inner side of each edge, in its plane.
+                [(a, b), (b, c), (c, a)]
+                    .iter()
+                    .all(|(u, v)| (v - u).cross(&(p - u)).dot(nrm) >= -ON)
+            }
+        })?;
+        for v in face.0 {
+            edges.push((k as u32, v));
+            edges.push((v, k as u32));
+        }
+    }
+    Some(())
+}
+
+/// A point's coordinates as bits: equal keys, equal points.
+#[inline]
+fn coordinate_key(p: &P) -> [u64; 3] {
+    p.coords.map(f64::to_bits).into()
 }
 
 /// One convex piece, ready for GJK: the polytope in its link frame, its box and a bounding
@@ -616,7 +629,7 @@ mod tests {
                         };
                         let want = parry3d_f64::utils::point_cloud_support_point(&dir, pts);
                         assert_eq!(
-                            poly.local_support_point(&dir),
+                            Climb::new(&poly).local_support_point(&dir),
                             want,
                             "{model} {}",
                             link.name
@@ -647,14 +660,16 @@ mod tests {
         let poly = Polytope::new(cube);
         let dir = Vector3::new(0.3, 0.2, 0.1);
         for _ in 0..BUILD_AFTER {
-            assert_eq!(poly.local_support_point(&dir), P::new(1.0, 1.0, 1.0));
+            let cold = Climb::new(&poly);
+            assert_eq!(cold.local_support_point(&dir), P::new(1.0, 1.0, 1.0));
             assert!(poly.graph.get().is_none());
         }
-        assert_eq!(poly.local_support_point(&dir), P::new(1.0, 1.0, 1.0));
+        let climb = Climb::new(&poly);
+        assert_eq!(climb.local_support_point(&dir), P::new(1.0, 1.0, 1.0));
         assert!(matches!(poly.graph.get(), Some(Some(_))));
         // A cube's faces tie along the axes: the scan's answer, the first vertex.
         assert_eq!(
-            poly.local_support_point(&Vector3::x()),
+            climb.local_support_point(&Vector3::x()),
             P::new(1.0, 0.0, 0.0)
         );
     }

@@ -177,13 +177,9 @@ impl<'a, const D: usize, V: StateValidator<D> + ?Sized> MotionValidator<'a, D, V
         let per = 2 * half + 1;
         let chunks = (hi - lo + 1).div_ceil(per);
         let mut queue = std::collections::VecDeque::with_capacity(chunks.min(64) + 16);
-        if chunks == 1 {
-            queue.push_back((lo, hi));
-        } else {
-            for c in spread(chunks + 1) {
-                let from = lo + (c - 1) * per;
-                queue.push_back((from, (from + per - 1).min(hi)));
-            }
+        for c in spread(chunks + 1) {
+            let from = lo + (c - 1) * per;
+            queue.push_back((from, (from + per - 1).min(hi)));
         }
         while let Some((lo, hi)) = queue.pop_front() {
             let mid = lo + (hi - lo) / 2;
