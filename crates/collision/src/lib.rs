@@ -38,6 +38,6 @@ pub use error::CollisionError;
 pub use grip::{closing_gap, GripFailure};
 pub use object::ObjectGeometry;
 pub use shape::Placed;
-pub use sweep::{StatesCheck, Sweep, SWEEP_LIMIT};
+pub use sweep::{StatesCheck, Sweep, BOX_LIMIT, SWEEP_LIMIT};
 pub use validity::{attached_reach, joint_space, joint_space_with_payload, ArmValidity};
 pub use world::{CollisionWorld, Contact, ObjectPlacement, Obstacle, WorldState};

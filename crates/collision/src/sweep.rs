@@ -33,6 +33,7 @@
 //! own first, with the gripper posed by its flange only and ranges passed where the gripper's
 //! height above the clearance exceeds how far it may move vertically.
 
+use pregrasp_motion::Doubts;
 use pregrasp_robot::{GripperState, Joints, SHAPE_GROUPS};
 
 use crate::arm::{ArmModel, PosedArm};
@@ -197,6 +198,29 @@ impl CollisionWorld {
         let mut sweep = Sweep::default();
         sweep.reach[arm] = *reach;
         self.free_within(Some(arm), state, &sweep, false)
+    }
+
+    /// [`is_arm_free_within`](Self::is_arm_free_within) asked only about the pairs `among`
+    /// (all when `None`), naming those that do not keep room for the box: `Some` of them
+    /// (empty: the box is free), or `None` when more fail than [`Doubts`] holds. A pair named
+    /// is one of `among`; a pair not named keeps apart in every state of the box.
+    pub fn is_arm_doubted_within(
+        &self,
+        arm: usize,
+        state: &WorldState,
+        reach: &Joints,
+        among: Option<&Doubts>,
+    ) -> Option<Doubts> {
+        let mut sweep = Sweep::default();
+        sweep.reach[arm] = *reach;
+        self.with_posed(state, |posed| {
+            let grows = Grows::new(self, state, &sweep, false, &posed);
+            let mut sink = FirstContact::swept(self.margin(), &grows)
+                .among(among)
+                .collecting();
+            let _ = self.visit_posed(Some(arm), state, posed, &mut sink);
+            sink.doubts()
+        })
     }
 
     fn free_within(
@@ -461,6 +485,13 @@ pub struct StatesCheck {
 /// arms' own links (a wrist beside its forearm) and the part rarely leave room, and a check
 /// with wide margins costs the most. Wider ranges are split without trying.
 pub const SWEEP_LIMIT: f64 = 0.16;
+
+/// The largest motion bound (m, in the joint space's metric) of a joint box asked about as a
+/// whole when an edge is certified ([`crate::ArmValidity`]'s `around_limit`). Smaller than
+/// [`SWEEP_LIMIT`]: the boxes hand the pairs they could not show to their halves, so a failed
+/// box costs little and a small one passes more often (bench reach: 0.16 → 0.12 m, −2 % of
+/// the instructions; 0.10 is as good on the whole set, 5 % worse on the direct edges).
+pub const BOX_LIMIT: f64 = 0.12;
 
 /// The half-width (states) of the first swept check of a sequence.
 const FIRST_HALF_WIDTH: usize = 8;

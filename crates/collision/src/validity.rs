@@ -21,7 +21,7 @@
 //! A part attached to the moving flange reaches farther than the gripper: its radius is
 //! not in `w_i`. [`joint_space_with_payload`] adds the attached part's reach to every weight.
 
-use pregrasp_motion::{JointSpace, State, StateValidator};
+use pregrasp_motion::{Doubts, JointSpace, State, StateValidator};
 use pregrasp_robot::joint_sweep_radii;
 
 use crate::arm::ArmModel;
@@ -46,6 +46,15 @@ impl<'a> ArmValidity<'a> {
         }
     }
 
+    /// Whether `q` is within the arm's joint limits.
+    #[inline]
+    fn within_limits(&self, q: &State<6>) -> bool {
+        let limits = self.world.arms()[self.arm].model().joint_limits();
+        q.iter()
+            .zip(limits.iter())
+            .all(|(x, (lo, hi))| *x >= *lo && *x <= *hi)
+    }
+
     /// The full world state with arm `arm` at `q`.
     #[inline]
     pub fn state_at(&self, q: &State<6>) -> WorldState {
@@ -58,15 +67,7 @@ impl<'a> ArmValidity<'a> {
 impl StateValidator<6> for ArmValidity<'_> {
     #[inline]
     fn is_valid(&self, q: &State<6>) -> bool {
-        let limits = self.world.arms()[self.arm].model().joint_limits();
-        if !q
-            .iter()
-            .zip(limits.iter())
-            .all(|(x, (lo, hi))| *x >= *lo && *x <= *hi)
-        {
-            return false;
-        }
-        self.world.is_arm_free(self.arm, &self.state_at(q))
+        self.within_limits(q) && self.world.is_arm_free(self.arm, &self.state_at(q))
     }
 
     /// The joint box about `q` is free ([`CollisionWorld::is_arm_free_within`]).
@@ -77,7 +78,29 @@ impl StateValidator<6> for ArmValidity<'_> {
     }
 
     fn around_limit(&self) -> f64 {
-        crate::sweep::SWEEP_LIMIT
+        crate::sweep::BOX_LIMIT
+    }
+
+    /// The pairs of bodies that do not keep room for the box
+    /// ([`CollisionWorld::is_arm_doubted_within`]).
+    #[inline]
+    fn doubts_around(
+        &self,
+        q: &State<6>,
+        reach: &State<6>,
+        among: Option<&Doubts>,
+    ) -> Option<Doubts> {
+        self.world
+            .is_arm_doubted_within(self.arm, &self.state_at(q), reach, among)
+    }
+
+    /// Joint limits and the pairs `among` ([`CollisionWorld::is_arm_free_among`]).
+    #[inline]
+    fn is_valid_among(&self, q: &State<6>, among: &Doubts) -> bool {
+        self.within_limits(q)
+            && self
+                .world
+                .is_arm_free_among(self.arm, &self.state_at(q), among)
     }
 }
 

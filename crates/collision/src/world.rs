@@ -18,6 +18,7 @@ use std::ops::ControlFlow;
 
 use nalgebra::{Isometry3, Vector3};
 use pregrasp_geometry::Mesh;
+use pregrasp_motion::Doubts;
 use pregrasp_robot::{GripperState, Joints};
 
 use crate::arm::{ArmModel, PosedArm};
@@ -347,6 +348,15 @@ impl CollisionWorld {
                 (sink.best, c.a, c.b)
             }
         }
+    }
+
+    /// [`is_arm_free`](Self::is_arm_free) asked only about the pairs `among` (as
+    /// [`is_arm_doubted_within`](Self::is_arm_doubted_within) names them): the rest are known
+    /// to keep apart at `state`.
+    pub fn is_arm_free_among(&self, arm: usize, state: &WorldState, among: &Doubts) -> bool {
+        let mut sink = FirstContact::new(self.margin).among(Some(among));
+        let _ = self.visit(Some(arm), state, &mut sink);
+        sink.ids.is_none()
     }
 
     fn first_contact(&self, only: Option<usize>, state: &WorldState) -> Option<(Id, Id)> {
@@ -710,6 +720,11 @@ pub(crate) struct FirstContact<'g> {
     /// any pair.
     pub cull: f64,
     pub grow: Option<&'g Grows<'g>>,
+    /// Only these pairs are tested (by [`pair_code`]); every pair when `None`.
+    pub among: Option<&'g Doubts>,
+    /// Collecting: every pair in contact goes here (the query goes on) until it is full.
+    pub found: Option<Doubts>,
+    /// The last pair found in contact (with `found`: the one that did not fit, if any).
     pub ids: Option<(Id, Id)>,
 }
 
@@ -720,6 +735,8 @@ impl<'g> FirstContact<'g> {
             margin,
             cull: margin,
             grow: None,
+            among: None,
+            found: None,
             ids: None,
         }
     }
@@ -727,20 +744,63 @@ impl<'g> FirstContact<'g> {
     /// A swept query: every pair's clearance grows by the motion bounds of its two sides.
     pub fn swept(margin: f64, grow: &'g Grows<'g>) -> Self {
         FirstContact {
-            margin,
             cull: margin + grow.most_pair(),
             grow: Some(grow),
-            ids: None,
+            ..Self::new(margin)
+        }
+    }
+
+    /// Only the pairs `among` are tested (all when `None`).
+    pub fn among(self, among: Option<&'g Doubts>) -> Self {
+        FirstContact { among, ..self }
+    }
+
+    /// Every pair in contact is collected (up to [`Doubts::CAPACITY`]) instead of stopping at
+    /// the first.
+    pub fn collecting(self) -> Self {
+        FirstContact {
+            found: Some(Doubts::default()),
+            ..self
+        }
+    }
+
+    /// Whether a pair whose primitive comes within its clearance counts as a contact without
+    /// its exact pieces being asked: so in a collecting query about every pair, whose
+    /// contacts are doubts handed to smaller boxes (that ask the pieces) rather than answers.
+    /// A box near many things thus fails for the price of its primitives.
+    #[inline(always)]
+    fn by_primitives(&self) -> bool {
+        self.found.is_some() && self.among.is_none()
+    }
+
+    /// Whether the pair `ids` is tested at all.
+    #[inline(always)]
+    fn wanted(&self, ids: (Id, Id)) -> bool {
+        match self.among {
+            None => true,
+            Some(among) => pair_code(ids).is_none_or(|c| among.contains(c)),
         }
     }
 
     #[inline]
     fn hit(&mut self, hit: bool, ids: (Id, Id)) -> ControlFlow<()> {
-        if hit {
-            self.ids = Some(ids);
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
+        if !hit {
+            return ControlFlow::Continue(());
+        }
+        if let Some(found) = &mut self.found {
+            if pair_code(ids).is_some_and(|c| found.insert(c)) {
+                return ControlFlow::Continue(());
+            }
+        }
+        self.ids = Some(ids);
+        ControlFlow::Break(())
+    }
+
+    /// What a collecting query found: the pairs in contact, or `None` when they did not fit.
+    pub fn doubts(&self) -> Option<Doubts> {
+        match self.ids {
+            Some(_) => None,
+            None => self.found,
         }
     }
 
@@ -754,10 +814,32 @@ impl<'g> FirstContact<'g> {
     }
 }
 
+/// A pair of bodies as one number (for [`Doubts`]): each side in 16 bits, an arm shape as
+/// `arm << 14 | shape`, an obstacle as `2 << 14 | index`, the support and the part as the
+/// two largest codes. `None` for whole groups (never reported) and indices too large to
+/// code, which are then always tested.
+#[inline(always)]
+pub(crate) fn pair_code((a, b): (Id, Id)) -> Option<u32> {
+    const LOW: usize = (1 << 14) - 2;
+    let side = |id: Id| -> Option<u32> {
+        match id {
+            Id::Arm(i, k) if i < 2 && k < LOW => Some(((i as u32) << 14) | k as u32),
+            Id::Obstacle(o) if o < LOW => Some((2 << 14) | o as u32),
+            Id::Support => Some(0xFFFF),
+            Id::Object => Some(0xFFFE),
+            _ => None,
+        }
+    };
+    Some((side(a)? << 16) | side(b)?)
+}
+
 impl Sink for FirstContact<'_> {
     #[inline]
     fn skip_spheres(&self, s1: &Bounded, s2: &Bounded, ids: (Id, Id)) -> bool {
-        !s1.spheres_near(s2, self.margin_of(self.margin, ids))
+        // Apart by more than any pair's clearance: no need to work out this pair's.
+        !s1.spheres_near(s2, self.cull)
+            || !self.wanted(ids)
+            || self.grow.is_some() && !s1.spheres_near(s2, self.margin_of(self.margin, ids))
     }
     #[inline]
     fn skip_object_box(
@@ -785,17 +867,26 @@ impl Sink for FirstContact<'_> {
     /// where that finds contact (every `FirstContact` test below has this shape).
     #[inline]
     fn plane(&mut self, s: Part, height: f64, margin: f64, ids: (Id, Id)) -> ControlFlow<()> {
+        if !self.wanted(ids) {
+            return ControlFlow::Continue(());
+        }
         let margin = self.margin_of(margin, ids);
         let near = plane_distance(s.shape(), height) <= margin + s.slack();
-        let hit = near && s.plane_distance(height).is_none_or(|d| d <= margin);
+        let hit =
+            near && (self.by_primitives() || s.plane_distance(height).is_none_or(|d| d <= margin));
         self.hit(hit, ids)
     }
     #[inline]
     fn pair(&mut self, s1: Part, s2: Part, ids: (Id, Id)) -> ControlFlow<()> {
+        if !self.wanted(ids) {
+            return ControlFlow::Continue(());
+        }
         let margin = self.margin_of(self.margin, ids);
         let near = pair_intersects(s1.shape(), s2.shape(), margin + s1.slack() + s2.slack());
         let hit = near
-            && (s1.tight().is_none() && s2.tight().is_none() || tight::within(&s1, &s2, margin));
+            && (s1.tight().is_none() && s2.tight().is_none()
+                || self.by_primitives()
+                || tight::within(&s1, &s2, margin));
         self.hit(hit, ids)
     }
     #[inline]
@@ -806,11 +897,15 @@ impl Sink for FirstContact<'_> {
         s: Part,
         ids: (Id, Id),
     ) -> ControlFlow<()> {
+        if !self.wanted(ids) {
+            return ControlFlow::Continue(());
+        }
         let margin = self.margin_of(self.margin, ids);
         let near = obj.intersects(pose, s.bounded, margin + s.slack());
         let hit = near
-            && s.tight()
-                .is_none_or(|t| obj.pieces_intersect(pose, &t, margin));
+            && (self.by_primitives()
+                || s.tight()
+                    .is_none_or(|t| obj.pieces_intersect(pose, &t, margin)));
         self.hit(hit, ids)
     }
 }

@@ -240,6 +240,66 @@ fn a_certified_joint_box_holds_no_state_in_contact() {
 }
 
 #[test]
+fn a_box_names_every_pair_that_may_fail_in_it() {
+    // Where a box is not free, the pairs it names are the only ones to ask about at any of its
+    // states (and the boxes within it name fewer): checking a state among them gives the full
+    // check's answer.
+    let world = cell();
+    let mut rng = ChaCha8Rng::seed_from_u64(24);
+    let (mut named, mut free, mut too_many, mut failing) = (0, 0, 0, 0);
+    for _ in 0..200 {
+        let other = random_q(&mut rng);
+        let q = random_q(&mut rng);
+        let state = WorldState {
+            q: [q, other],
+            gripper: [GripperState::Closed { gap: 0.02 }, GripperState::Open],
+            object: if rng.random_bool(0.3) {
+                ObjectPlacement::Attached {
+                    arm: 0,
+                    flange_to_object: Isometry3::translation(0.0, 0.0, 0.2),
+                }
+            } else {
+                ObjectPlacement::Fixed(part_pose(0.2))
+            },
+            grasping: [rng.random_bool(0.5), false],
+        };
+        let reach: Joints = std::array::from_fn(|_| rng.random_range(0.0..0.08));
+        let Some(doubts) = world.is_arm_doubted_within(0, &state, &reach, None) else {
+            too_many += 1;
+            continue;
+        };
+        if doubts.is_empty() {
+            free += 1;
+            assert!(world.is_arm_free_within(0, &state, &reach));
+            continue;
+        }
+        named += 1;
+        // A box within it, about another centre, asked about its doubts only.
+        let half: Joints = std::array::from_fn(|j| 0.5 * reach[j]);
+        let mut inner = state;
+        inner.q[0] = std::array::from_fn(|j| q[j] + half[j] * rng.random_range(-1.0..1.0));
+        let fewer = world.is_arm_doubted_within(0, &inner, &half, Some(&doubts));
+        let fewer = fewer.expect("never more than it was asked about");
+        assert!(fewer.as_slice().iter().all(|c| doubts.contains(*c)));
+        for _ in 0..40 {
+            let mut s = state;
+            s.q[0] = std::array::from_fn(|j| q[j] + reach[j] * rng.random_range(-1.0..1.0));
+            let full = world.check_arm(0, &s).is_ok();
+            failing += usize::from(!full);
+            assert_eq!(world.is_arm_free_among(0, &s, &doubts), full, "{s:?}");
+            let mut t = inner;
+            t.q[0] = std::array::from_fn(|j| inner.q[0][j] + half[j] * rng.random_range(-1.0..1.0));
+            let full = world.check_arm(0, &t).is_ok();
+            assert_eq!(world.is_arm_free_among(0, &t, &fewer), full, "{t:?}");
+        }
+    }
+    assert!(
+        named > 60 && free > 20 && failing > 300,
+        "{named} named, {free} free, {too_many} too many, {failing} failing states"
+    );
+}
+
+#[test]
 fn edges_checked_by_boxes_agree_with_edges_checked_state_by_state() {
     let world = cell();
     let space = joint_space(&world.arms()[0]);

@@ -52,4 +52,4 @@ pub use space::{JointSpace, JointSpaceError, State};
 pub use timing::{
     rest_to_rest_duration, time_parameterize, try_time_parameterize, TimedPath, TimingError,
 };
-pub use validity::{MotionValidator, StateValidator};
+pub use validity::{Doubts, MotionValidator, StateValidator};

@@ -30,6 +30,82 @@ pub trait StateValidator<const D: usize>: Sync {
     fn around_limit(&self) -> f64 {
         0.0
     }
+
+    /// [`is_valid_around`](Self::is_valid_around) asked only about the constraints `among`
+    /// (every constraint when `None`), naming those it could not show: `Some(doubts)`, a
+    /// subset of `among`, empty when the whole box is valid; `None` when more failed than
+    /// [`Doubts`] holds (or the validator does not name its constraints).
+    ///
+    /// A validator is a conjunction of constraints (pairs of bodies that must keep apart,
+    /// say) that it numbers as it likes. What a box shows for one constraint holds for every
+    /// state in the box, so the states of a box that failed need only be asked about its
+    /// doubts ([`is_valid_among`](Self::is_valid_among)), and so do the smaller boxes within
+    /// it. The default names nothing: a box is shown whole or not at all.
+    fn doubts_around(
+        &self,
+        q: &State<D>,
+        reach: &State<D>,
+        among: Option<&Doubts>,
+    ) -> Option<Doubts> {
+        if self.is_valid_around(q, reach) {
+            Some(Doubts::default())
+        } else {
+            among.copied()
+        }
+    }
+
+    /// Whether `q` satisfies the constraints `among`, all others being known to hold there
+    /// (a box about it showed them, see [`doubts_around`](Self::doubts_around)). The default
+    /// checks the whole state.
+    fn is_valid_among(&self, q: &State<D>, _among: &Doubts) -> bool {
+        self.is_valid(q)
+    }
+}
+
+/// The constraints a box check could not show (see [`StateValidator::doubts_around`]), in
+/// the validator's own numbering: at most [`Doubts::CAPACITY`] of them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Doubts {
+    ids: [u32; Doubts::CAPACITY],
+    len: u8,
+}
+
+impl Doubts {
+    /// The most constraints a `Doubts` names: past a dozen a box is near too much for the
+    /// names to save work.
+    pub const CAPACITY: usize = 12;
+
+    /// Adds `id` (once); `false` when it is full and `id` is not in it.
+    #[inline]
+    pub fn insert(&mut self, id: u32) -> bool {
+        if self.contains(id) {
+            return true;
+        }
+        if self.len as usize == Self::CAPACITY {
+            return false;
+        }
+        self.ids[self.len as usize] = id;
+        self.len += 1;
+        true
+    }
+
+    /// Whether `id` is one of them.
+    #[inline]
+    pub fn contains(&self, id: u32) -> bool {
+        self.as_slice().contains(&id)
+    }
+
+    /// The constraints, in the order they were added.
+    #[inline]
+    pub fn as_slice(&self) -> &[u32] {
+        &self.ids[..self.len as usize]
+    }
+
+    /// Whether there are none.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
 }
 
 impl<const D: usize, F: Fn(&State<D>) -> bool + Sync> StateValidator<D> for F {
@@ -56,7 +132,10 @@ const MAX_EDGE_STEPS: usize = 1 << 30;
 /// With a validator that [certifies boxes](StateValidator::around_limit), a range of
 /// states is accepted at once when the box about its middle state that holds them all is
 /// valid, and split in halves (middle state checked) otherwise: the answer is the same,
-/// and an edge far from obstacles costs a few checks instead of one per step.
+/// and an edge far from obstacles costs a few checks instead of one per step. Where the
+/// validator names the constraints a box failed ([`StateValidator::doubts_around`]), the
+/// middle state and the halves are asked about those alone: the box showed the rest for
+/// every state in it.
 pub struct MotionValidator<'a, const D: usize, V: StateValidator<D> + ?Sized> {
     /// The joint space (bounds and metric).
     pub space: &'a JointSpace<D>,
@@ -157,7 +236,8 @@ impl<'a, const D: usize, V: StateValidator<D> + ?Sized> MotionValidator<'a, D, V
     /// along the edge is met early. A chunk is accepted by one box check; where the box fails,
     /// its middle state is checked exactly and both halves are queued (breadth first, coarse to
     /// fine). Too long a range is thus never checked at its middle state before its boxes are
-    /// asked: on an edge through free space that check would be spent for nothing.
+    /// asked: on an edge through free space that check would be spent for nothing. A failed
+    /// box hands its doubts down: its middle state and both halves are asked about them only.
     fn certify(
         &self,
         edge: &Edge<D>,
@@ -179,29 +259,36 @@ impl<'a, const D: usize, V: StateValidator<D> + ?Sized> MotionValidator<'a, D, V
         let mut queue = std::collections::VecDeque::with_capacity(chunks.min(64) + 16);
         for c in spread(chunks + 1) {
             let from = lo + (c - 1) * per;
-            queue.push_back((from, (from + per - 1).min(hi)));
+            queue.push_back((from, (from + per - 1).min(hi), None));
         }
-        while let Some((lo, hi)) = queue.pop_front() {
+        // Each range carries the constraints its enclosing boxes left in doubt (`None`: all).
+        while let Some((lo, hi, among)) = queue.pop_front() {
             let mid = lo + (hi - lo) / 2;
             let q = self.space.interpolate(edge.a, edge.b, mid as f64 * inv_n);
             let span = (mid - lo).max(hi - mid) as f64 * inv_n;
+            let mut doubts: Option<Doubts> = among;
             if hi > lo && span * length <= limit {
                 let reach: State<D> =
                     std::array::from_fn(|i| (edge.b[i] - edge.a[i]).abs() * span + REACH_ROUNDING);
                 *states_checked += 1;
-                if self.validator.is_valid_around(&q, &reach) {
+                doubts = self.validator.doubts_around(&q, &reach, among.as_ref());
+                if doubts.is_some_and(|d| d.is_empty()) {
                     continue;
                 }
             }
             *states_checked += 1;
-            if !self.validator.is_valid(&q) {
+            let valid = match &doubts {
+                None => self.validator.is_valid(&q),
+                Some(d) => self.validator.is_valid_among(&q, d),
+            };
+            if !valid {
                 return false;
             }
             if mid > lo {
-                queue.push_back((lo, mid - 1));
+                queue.push_back((lo, mid - 1, doubts));
             }
             if mid < hi {
-                queue.push_back((mid + 1, hi));
+                queue.push_back((mid + 1, hi, doubts));
             }
         }
         true
@@ -395,6 +482,122 @@ mod tests {
             }
         }
         assert!(fewer > 10);
+    }
+
+    /// Several walls on a line, each a constraint of its own, counting how often each is asked.
+    struct Walls {
+        walls: Vec<(f64, f64)>,
+        asked: Mutex<usize>,
+    }
+
+    impl Walls {
+        fn free(&self, w: usize, q: f64, r: f64) -> bool {
+            *self.asked.lock().unwrap() += 1;
+            let (from, to) = self.walls[w];
+            q + r <= from || q - r >= to
+        }
+    }
+
+    impl StateValidator<1> for Walls {
+        fn is_valid(&self, q: &State<1>) -> bool {
+            (0..self.walls.len()).all(|w| self.free(w, q[0], 0.0))
+        }
+        fn is_valid_around(&self, q: &State<1>, r: &State<1>) -> bool {
+            (0..self.walls.len()).all(|w| self.free(w, q[0], r[0]))
+        }
+        fn around_limit(&self) -> f64 {
+            0.2
+        }
+        fn doubts_around(
+            &self,
+            q: &State<1>,
+            r: &State<1>,
+            among: Option<&Doubts>,
+        ) -> Option<Doubts> {
+            let mut doubts = Doubts::default();
+            for w in 0..self.walls.len() {
+                let asked = among.is_none_or(|d| d.contains(w as u32));
+                if asked && !self.free(w, q[0], r[0]) && !doubts.insert(w as u32) {
+                    return None;
+                }
+            }
+            Some(doubts)
+        }
+        fn is_valid_among(&self, q: &State<1>, among: &Doubts) -> bool {
+            among
+                .as_slice()
+                .iter()
+                .all(|&w| self.free(w as usize, q[0], 0.0))
+        }
+    }
+
+    /// The same walls, box checks whole (the default `doubts_around`).
+    struct Whole<'a>(&'a Walls);
+
+    impl StateValidator<1> for Whole<'_> {
+        fn is_valid(&self, q: &State<1>) -> bool {
+            self.0.is_valid(q)
+        }
+        fn is_valid_around(&self, q: &State<1>, r: &State<1>) -> bool {
+            self.0.is_valid_around(q, r)
+        }
+        fn around_limit(&self) -> f64 {
+            self.0.around_limit()
+        }
+    }
+
+    #[test]
+    fn doubts_handed_down_give_the_same_answers_for_fewer_questions() {
+        let space = JointSpace::new([-10.0], [10.0], [1.0]).unwrap();
+        let mut rng_state = 7u64;
+        let mut next = || {
+            rng_state = rng_state.wrapping_mul(6364136223846793005).wrapping_add(1);
+            (rng_state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut named, mut whole) = (0, 0);
+        for case in 0..200 {
+            // Up to 20 thin walls, some grazed by the edge, some across it.
+            let count = 1 + case % 20;
+            let walls = Walls {
+                walls: (0..count)
+                    .map(|_| {
+                        let from = next() * 4.0 - 1.0;
+                        (from, from + 0.001 + 0.02 * next())
+                    })
+                    .collect(),
+                asked: Mutex::new(0),
+            };
+            let (a, b) = (next() * 3.0 - 1.0, next() * 3.0 - 1.0);
+            let plain = |q: &State<1>| walls.walls.iter().all(|&(f, t)| q[0] <= f || q[0] >= t);
+            for resolution in [0.002, 0.01] {
+                let truth = MotionValidator::new(&space, &plain, resolution).check_edge(&[a], &[b]);
+                *walls.asked.lock().unwrap() = 0;
+                let by_doubts =
+                    MotionValidator::new(&space, &walls, resolution).check_edge(&[a], &[b]);
+                named += *walls.asked.lock().unwrap();
+                *walls.asked.lock().unwrap() = 0;
+                let by_boxes =
+                    MotionValidator::new(&space, &Whole(&walls), resolution).check_edge(&[a], &[b]);
+                whole += *walls.asked.lock().unwrap();
+                assert_eq!(by_doubts, truth, "case {case}: {a} → {b} at {resolution}");
+                assert_eq!(by_boxes, truth, "case {case}: {a} → {b} at {resolution}");
+            }
+        }
+        // Walls asked about: a box near one wall no longer asks the others again.
+        assert!(2 * named < whole, "{named} with doubts, {whole} without");
+    }
+
+    #[test]
+    fn doubts_hold_each_constraint_once_up_to_capacity() {
+        let mut d = Doubts::default();
+        assert!(d.is_empty());
+        for id in 0..Doubts::CAPACITY as u32 {
+            assert!(d.insert(id));
+            assert!(d.insert(id), "already in");
+        }
+        assert_eq!(d.as_slice().len(), Doubts::CAPACITY);
+        assert!(!d.insert(99), "full");
+        assert!(d.contains(3) && !d.contains(99));
     }
 
     #[test]
