@@ -128,6 +128,20 @@ impl Bounded {
         }
     }
 
+    /// Squared distance from the sphere's centre to the box `|x_i| ≤ half_i` in the frame
+    /// `pose` (`0` inside): the sphere comes within `m` of the box iff it is at most
+    /// `(radius + m)²`. Far tighter than the box's own bounding sphere for a flat box (a table).
+    #[inline]
+    pub fn centre_box_gap_sq(&self, pose: &Isometry3<f64>, half: &V) -> f64 {
+        let local = pose.inverse_transform_point(&self.center);
+        (0..3)
+            .map(|i| {
+                let e = (local[i].abs() - half[i]).max(0.0);
+                e * e
+            })
+            .sum()
+    }
+
     /// Whether the bounding spheres are within `margin` of each other.
     #[inline]
     pub fn spheres_near(&self, other: &Bounded, margin: f64) -> bool {
@@ -550,6 +564,20 @@ fn capsule_cuboid_intersects(a: &P, b: &P, r: f64, pose: &Isometry3<f64>, half: 
     if point_box_sq(&c) > reach * reach {
         return false;
     }
+    // The box grown by `r` (its Minkowski sum with the ball) lies within the box `half + r`
+    // and holds the three boxes grown by `r` along one axis each: a segment that misses the
+    // first misses the capsule's box, one that meets any of the others meets it. Only a
+    // segment through a rounded edge or corner region is left to GJK.
+    if !segment_meets_box(&la, &lb, &(half + V::repeat(r + SLAB_ROUNDING))) {
+        return false;
+    }
+    if (0..3).any(|i| {
+        let mut grown = *half;
+        grown[i] += r;
+        segment_meets_box(&la, &lb, &grown)
+    }) {
+        return true;
+    }
     let cap = PCapsule::new(la, lb, r);
     query::intersection_test(
         &Isometry3::identity(),
@@ -558,6 +586,37 @@ fn capsule_cuboid_intersects(a: &P, b: &P, r: f64, pose: &Isometry3<f64>, half: 
         &PCuboid::new(*half),
     )
     .unwrap_or(true)
+}
+
+/// Added to a box before a segment that misses it is taken to miss the capsule: the clipping
+/// is computed in floating point.
+const SLAB_ROUNDING: f64 = 1e-12;
+
+/// Whether the segment `[p, q]` meets the closed box `|x_i| ≤ half_i` (Liang–Barsky clipping:
+/// the parameter interval of the segment within each slab, intersected).
+#[inline]
+fn segment_meets_box(p: &P, q: &P, half: &V) -> bool {
+    let d = q - p;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for i in 0..3 {
+        if d[i] == 0.0 {
+            if p[i].abs() > half[i] {
+                return false;
+            }
+            continue;
+        }
+        let inv = 1.0 / d[i];
+        let (mut ta, mut tb) = ((-half[i] - p[i]) * inv, (half[i] - p[i]) * inv);
+        if ta > tb {
+            std::mem::swap(&mut ta, &mut tb);
+        }
+        t0 = t0.max(ta);
+        t1 = t1.min(tb);
+        if t0 > t1 {
+            return false;
+        }
+    }
+    true
 }
 
 #[cfg(test)]
@@ -628,6 +687,72 @@ mod tests {
                 "case {i}: d = {d}"
             );
         }
+    }
+
+    #[test]
+    fn capsule_cuboid_agrees_with_gjk_distance_on_random_pairs() {
+        // Segments through faces, past edges and corners, parallel to faces, points.
+        let mut seed = 11u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut hits, mut misses) = (0, 0);
+        for case in 0..20_000 {
+            let pose = Isometry3::from_parts(
+                nalgebra::Translation3::new(next() * 0.1, next() * 0.1, next() * 0.1),
+                UnitQuaternion::from_euler_angles(next() * 3.0, next() * 1.5, next() * 3.0),
+            );
+            let half = V::new(0.02 + 0.2 * next().abs(), 0.02 + 0.1 * next().abs(), 0.01);
+            let a = P::new(next() * 0.3, next() * 0.3, next() * 0.3);
+            let b = match case % 4 {
+                0 => a,
+                1 => a + V::new(next() * 0.5, 0.0, 0.0),
+                _ => P::new(next() * 0.3, next() * 0.3, next() * 0.3),
+            };
+            let r = 0.005 + 0.08 * next().abs();
+            let cub = Placed::Cuboid { pose, half };
+            let capsule = Placed::Capsule { a, b, radius: r };
+            // The truth: the segment's distance from the box (parry's GJK) against the radius.
+            let segment = PCapsule::new(a, b, 0.0);
+            let id = Isometry3::identity();
+            let d = query::distance(&id, &segment, &pose, &PCuboid::new(half)).unwrap() - r;
+            if d.abs() < 1e-9 {
+                continue;
+            }
+            let got = pair_intersects(&capsule, &cub, 0.0);
+            assert_eq!(got, d <= 0.0, "case {case}: distance {d}");
+            if got {
+                hits += 1;
+            } else {
+                misses += 1;
+            }
+        }
+        assert!(hits > 3000 && misses > 3000, "{hits} hits, {misses} misses");
+    }
+
+    #[test]
+    fn segments_meet_boxes_as_clipping_says() {
+        let half = V::new(1.0, 0.5, 0.25);
+        let meets = |p: [f64; 3], q: [f64; 3]| segment_meets_box(&P::from(p), &P::from(q), &half);
+        assert!(meets([0.0; 3], [0.0; 3]), "a point inside");
+        assert!(meets([-2.0, 0.0, 0.0], [2.0, 0.0, 0.0]), "through");
+        assert!(
+            meets([1.0, 0.5, 0.25], [3.0, 3.0, 3.0]),
+            "touching a corner"
+        );
+        assert!(!meets([1.1, 0.0, 0.0], [3.0, 0.0, 0.0]), "beyond a face");
+        assert!(
+            !meets([0.0, 0.6, -1.0], [0.0, 0.6, 1.0]),
+            "parallel, outside"
+        );
+        assert!(
+            !meets([2.0, 0.0, 0.0], [0.0, 2.0, 0.0]),
+            "past the corner region"
+        );
+        assert!(meets([1.4, 0.0, 0.0], [0.0, 1.4, 0.0]), "across the corner");
     }
 
     fn cyl(a: [f64; 3], b: [f64; 3], r: f64) -> Placed {

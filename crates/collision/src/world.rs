@@ -492,18 +492,24 @@ impl CollisionWorld {
                     }
                 }
             }
-            // 3. Static cuboids.
+            // 3. Static cuboids, culled by the spheres' distances from the boxes themselves.
             for (o, obs) in self.obstacles.iter().enumerate() {
+                let (pose, half) = obs.cuboid();
                 for (g, members) in set.group_members.iter().enumerate() {
-                    let ids = (Id::Group(i, g), Id::Obstacle(o));
-                    if members.is_empty() || sink.skip_spheres(pi.group_sphere(g), &obs.shape, ids)
+                    let (sg, ids) = (pi.group_sphere(g), (Id::Group(i, g), Id::Obstacle(o)));
+                    if members.is_empty()
+                        || sink.skip_spheres(sg, &obs.shape, ids)
+                        || sink.skip_cuboid(&pose, &half, sg, ids)
                     {
                         continue;
                     }
                     for &k in members {
                         let (k, s) = (k as usize, &shapes[k as usize]);
                         let ids = (Id::Arm(i, k), Id::Obstacle(o));
-                        if !arm.is_base_part(k) && !sink.skip_spheres(s, &obs.shape, ids) {
+                        if !arm.is_base_part(k)
+                            && !sink.skip_spheres(s, &obs.shape, ids)
+                            && !sink.skip_cuboid(&pose, &half, s, ids)
+                        {
                             sink.pair(pi.part(set, k), Part::plain(&obs.shape), ids)?;
                         }
                     }
@@ -686,6 +692,17 @@ pub(crate) trait Sink {
     ) -> bool {
         false
     }
+    /// Whether a body (`ids.0`) in the sphere `s` cannot matter against the cuboid `half` at
+    /// `pose` (a static obstacle).
+    fn skip_cuboid(
+        &self,
+        _pose: &Isometry3<f64>,
+        _half: &Vector3<f64>,
+        _s: &Bounded,
+        _ids: (Id, Id),
+    ) -> bool {
+        false
+    }
     /// Whether a group whose boxes are `sqrt(gap_sq)` apart cannot matter.
     fn skip_gap_sq(&self, gap_sq: f64) -> bool;
     /// Whether the arms are tested against the part before anything else (a swept check, whose
@@ -852,6 +869,18 @@ impl Sink for FirstContact<'_> {
         !obj.sphere_near_box(pose, s, self.margin_of(self.margin, ids))
     }
     #[inline]
+    fn skip_cuboid(
+        &self,
+        pose: &Isometry3<f64>,
+        half: &Vector3<f64>,
+        s: &Bounded,
+        ids: (Id, Id),
+    ) -> bool {
+        let gap_sq = s.centre_box_gap_sq(pose, half);
+        let far = |margin: f64| gap_sq > (s.radius + margin) * (s.radius + margin);
+        far(self.cull) || self.grow.is_some() && far(self.margin_of(self.margin, ids))
+    }
+    #[inline]
     fn skip_gap_sq(&self, gap_sq: f64) -> bool {
         gap_sq > self.cull * self.cull
     }
@@ -928,6 +957,15 @@ impl MinDistance {
 impl Sink for MinDistance {
     fn skip_spheres(&self, s1: &Bounded, s2: &Bounded, _ids: (Id, Id)) -> bool {
         (s1.center - s2.center).norm() - s1.radius - s2.radius >= self.best
+    }
+    fn skip_cuboid(
+        &self,
+        pose: &Isometry3<f64>,
+        half: &Vector3<f64>,
+        s: &Bounded,
+        _ids: (Id, Id),
+    ) -> bool {
+        s.centre_box_gap_sq(pose, half).sqrt() - s.radius >= self.best
     }
     fn skip_gap_sq(&self, gap_sq: f64) -> bool {
         gap_sq.sqrt() >= self.best
