@@ -215,10 +215,11 @@ impl CollisionWorld {
         sweep.reach[arm] = *reach;
         self.with_posed(state, |posed| {
             let grows = Grows::new(self, state, &sweep, false, &posed);
-            let mut sink = FirstContact::swept(self.margin(), &grows)
-                .among(among)
-                .collecting();
-            let _ = self.visit_posed(Some(arm), state, posed, &mut sink);
+            let mut sink = FirstContact::swept(self.margin(), &grows).collecting(among.is_none());
+            let _ = match among {
+                Some(among) => self.visit_among(state, posed, among, &mut sink),
+                None => self.visit_posed(Some(arm), state, posed, &mut sink),
+            };
             sink.doubts()
         })
     }

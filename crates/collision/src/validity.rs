@@ -94,13 +94,10 @@ impl StateValidator<6> for ArmValidity<'_> {
             .is_arm_doubted_within(self.arm, &self.state_at(q), reach, among)
     }
 
-    /// Joint limits and the pairs `among` ([`CollisionWorld::is_arm_free_among`]).
+    /// Joint limits and the pairs `among` ([`CollisionWorld::is_free_among`]).
     #[inline]
     fn is_valid_among(&self, q: &State<6>, among: &Doubts) -> bool {
-        self.within_limits(q)
-            && self
-                .world
-                .is_arm_free_among(self.arm, &self.state_at(q), among)
+        self.within_limits(q) && self.world.is_free_among(&self.state_at(q), among)
     }
 }
 

@@ -350,12 +350,15 @@ impl CollisionWorld {
         }
     }
 
-    /// [`is_arm_free`](Self::is_arm_free) asked only about the pairs `among` (as
-    /// [`is_arm_doubted_within`](Self::is_arm_doubted_within) names them): the rest are known
-    /// to keep apart at `state`.
-    pub fn is_arm_free_among(&self, arm: usize, state: &WorldState, among: &Doubts) -> bool {
-        let mut sink = FirstContact::new(self.margin).among(Some(among));
-        let _ = self.visit(Some(arm), state, &mut sink);
+    /// Whether the pairs `among` keep apart at `state` (as
+    /// [`is_arm_doubted_within`](Self::is_arm_doubted_within) named them for a box holding
+    /// it): what [`is_arm_free`](Self::is_arm_free) answers where a box showed every other
+    /// pair.
+    pub fn is_free_among(&self, state: &WorldState, among: &Doubts) -> bool {
+        let mut sink = FirstContact::new(self.margin);
+        let _ = self.with_posed(state, |posed| {
+            self.visit_among(state, posed, among, &mut sink)
+        });
         sink.ids.is_none()
     }
 
@@ -390,6 +393,60 @@ impl CollisionWorld {
         sink: &mut impl Sink,
     ) -> ControlFlow<()> {
         self.with_posed(state, |posed| self.visit_posed(only, state, posed, sink))
+    }
+
+    /// The pairs `among` (as [`pair_code`] names them, each found by an earlier visit of a
+    /// state that differs from `state` in one arm's joints at most), fed to `sink` directly:
+    /// each with the test and clearance [`visit_posed`](Self::visit_posed) gives it, none of
+    /// the culls that lead there.
+    pub(crate) fn visit_among(
+        &self,
+        state: &WorldState,
+        posed: [Option<&PosedArm>; 2],
+        among: &Doubts,
+        sink: &mut impl Sink,
+    ) -> ControlFlow<()> {
+        let object = self
+            .object
+            .as_ref()
+            .zip(self.object_pose_posed(state, &posed));
+        for &code in among.as_slice() {
+            let ids = pair_ids(code);
+            let part = |id: Id| match id {
+                Id::Arm(i, k) => posed[i].map(|p| p.part(self.arms[i].set(), k)),
+                Id::Obstacle(o) => Some(Part::plain(&self.obstacles[o].shape)),
+                _ => None,
+            };
+            match ids {
+                (Id::Arm(i, k), Id::Support) => {
+                    let (Some(h), Some(p)) = (self.support, part(ids.0)) else {
+                        continue;
+                    };
+                    let margin = if state.grasping[i] && self.arms[i].set().is_gripper[k] {
+                        if !sink.grasp_support() {
+                            continue;
+                        }
+                        self.grasp_support_margin
+                    } else {
+                        self.margin
+                    };
+                    sink.plane(p, h, margin, ids)?;
+                }
+                (_, Id::Object) | (Id::Object, _) => {
+                    let (Some((obj, pose)), Some(p)) = (object, part(ids.0).or(part(ids.1))) else {
+                        continue;
+                    };
+                    sink.object(obj, &pose, p, ids)?;
+                }
+                (Id::Arm(..), Id::Arm(..) | Id::Obstacle(_)) => {
+                    if let (Some(a), Some(b)) = (part(ids.0), part(ids.1)) {
+                        sink.pair(a, b, ids)?;
+                    }
+                }
+                _ => unreachable!("not a pair a visit reports: {ids:?}"),
+            }
+        }
+        ControlFlow::Continue(())
     }
 
     /// Calls `f` with both active arms posed at `state` (from the per-thread buffers).
@@ -737,10 +794,11 @@ pub(crate) struct FirstContact<'g> {
     /// any pair.
     pub cull: f64,
     pub grow: Option<&'g Grows<'g>>,
-    /// Only these pairs are tested (by [`pair_code`]); every pair when `None`.
-    pub among: Option<&'g Doubts>,
     /// Collecting: every pair in contact goes here (the query goes on) until it is full.
     pub found: Option<Doubts>,
+    /// A pair whose primitive comes within its clearance counts as a contact without its
+    /// exact pieces being asked (see [`collecting`](Self::collecting)).
+    pub by_primitives: bool,
     /// The last pair found in contact (with `found`: the one that did not fit, if any).
     pub ids: Option<(Id, Id)>,
 }
@@ -752,8 +810,8 @@ impl<'g> FirstContact<'g> {
             margin,
             cull: margin,
             grow: None,
-            among: None,
             found: None,
+            by_primitives: false,
             ids: None,
         }
     }
@@ -767,35 +825,15 @@ impl<'g> FirstContact<'g> {
         }
     }
 
-    /// Only the pairs `among` are tested (all when `None`).
-    pub fn among(self, among: Option<&'g Doubts>) -> Self {
-        FirstContact { among, ..self }
-    }
-
     /// Every pair in contact is collected (up to [`Doubts::CAPACITY`]) instead of stopping at
-    /// the first.
-    pub fn collecting(self) -> Self {
+    /// the first; `by_primitives`: by their primitives alone. So a box asked about every pair
+    /// names its doubts: they go to smaller boxes, which ask the pieces, and a box near many
+    /// things fails for the price of its primitives.
+    pub fn collecting(self, by_primitives: bool) -> Self {
         FirstContact {
             found: Some(Doubts::default()),
+            by_primitives,
             ..self
-        }
-    }
-
-    /// Whether a pair whose primitive comes within its clearance counts as a contact without
-    /// its exact pieces being asked: so in a collecting query about every pair, whose
-    /// contacts are doubts handed to smaller boxes (that ask the pieces) rather than answers.
-    /// A box near many things thus fails for the price of its primitives.
-    #[inline(always)]
-    fn by_primitives(&self) -> bool {
-        self.found.is_some() && self.among.is_none()
-    }
-
-    /// Whether the pair `ids` is tested at all.
-    #[inline(always)]
-    fn wanted(&self, ids: (Id, Id)) -> bool {
-        match self.among {
-            None => true,
-            Some(among) => pair_code(ids).is_none_or(|c| among.contains(c)),
         }
     }
 
@@ -831,6 +869,20 @@ impl<'g> FirstContact<'g> {
     }
 }
 
+/// The pair [`pair_code`] gave `code`.
+fn pair_ids(code: u32) -> (Id, Id) {
+    let side = |c: u32| -> Id {
+        let low = (c & 0x3FFF) as usize;
+        match c >> 14 {
+            0 | 1 => Id::Arm((c >> 14) as usize, low),
+            2 => Id::Obstacle(low),
+            _ if c == 0xFFFF => Id::Support,
+            _ => Id::Object,
+        }
+    };
+    (side(code >> 16), side(code & 0xFFFF))
+}
+
 /// A pair of bodies as one number (for [`Doubts`]): each side in 16 bits, an arm shape as
 /// `arm << 14 | shape`, an obstacle as `2 << 14 | index`, the support and the part as the
 /// two largest codes. `None` for whole groups (never reported) and indices too large to
@@ -855,7 +907,6 @@ impl Sink for FirstContact<'_> {
     fn skip_spheres(&self, s1: &Bounded, s2: &Bounded, ids: (Id, Id)) -> bool {
         // Apart by more than any pair's clearance: no need to work out this pair's.
         !s1.spheres_near(s2, self.cull)
-            || !self.wanted(ids)
             || self.grow.is_some() && !s1.spheres_near(s2, self.margin_of(self.margin, ids))
     }
     #[inline]
@@ -896,25 +947,19 @@ impl Sink for FirstContact<'_> {
     /// where that finds contact (every `FirstContact` test below has this shape).
     #[inline]
     fn plane(&mut self, s: Part, height: f64, margin: f64, ids: (Id, Id)) -> ControlFlow<()> {
-        if !self.wanted(ids) {
-            return ControlFlow::Continue(());
-        }
         let margin = self.margin_of(margin, ids);
         let near = plane_distance(s.shape(), height) <= margin + s.slack();
         let hit =
-            near && (self.by_primitives() || s.plane_distance(height).is_none_or(|d| d <= margin));
+            near && (self.by_primitives || s.plane_distance(height).is_none_or(|d| d <= margin));
         self.hit(hit, ids)
     }
     #[inline]
     fn pair(&mut self, s1: Part, s2: Part, ids: (Id, Id)) -> ControlFlow<()> {
-        if !self.wanted(ids) {
-            return ControlFlow::Continue(());
-        }
         let margin = self.margin_of(self.margin, ids);
         let near = pair_intersects(s1.shape(), s2.shape(), margin + s1.slack() + s2.slack());
         let hit = near
             && (s1.tight().is_none() && s2.tight().is_none()
-                || self.by_primitives()
+                || self.by_primitives
                 || tight::within(&s1, &s2, margin));
         self.hit(hit, ids)
     }
@@ -926,13 +971,10 @@ impl Sink for FirstContact<'_> {
         s: Part,
         ids: (Id, Id),
     ) -> ControlFlow<()> {
-        if !self.wanted(ids) {
-            return ControlFlow::Continue(());
-        }
         let margin = self.margin_of(self.margin, ids);
         let near = obj.intersects(pose, s.bounded, margin + s.slack());
         let hit = near
-            && (self.by_primitives()
+            && (self.by_primitives
                 || s.tight()
                     .is_none_or(|t| obj.pieces_intersect(pose, &t, margin)));
         self.hit(hit, ids)

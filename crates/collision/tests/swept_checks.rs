@@ -286,11 +286,11 @@ fn a_box_names_every_pair_that_may_fail_in_it() {
             s.q[0] = std::array::from_fn(|j| q[j] + reach[j] * rng.random_range(-1.0..1.0));
             let full = world.check_arm(0, &s).is_ok();
             failing += usize::from(!full);
-            assert_eq!(world.is_arm_free_among(0, &s, &doubts), full, "{s:?}");
+            assert_eq!(world.is_free_among(&s, &doubts), full, "{s:?}");
             let mut t = inner;
             t.q[0] = std::array::from_fn(|j| inner.q[0][j] + half[j] * rng.random_range(-1.0..1.0));
             let full = world.check_arm(0, &t).is_ok();
-            assert_eq!(world.is_arm_free_among(0, &t, &fewer), full, "{t:?}");
+            assert_eq!(world.is_free_among(&t, &fewer), full, "{t:?}");
         }
     }
     assert!(
