@@ -215,7 +215,10 @@ impl CollisionWorld {
         sweep.reach[arm] = *reach;
         self.with_posed(state, |posed| {
             let grows = Grows::new(self, state, &sweep, false, &posed);
-            let mut sink = FirstContact::swept(self.margin(), &grows).collecting(among.is_none());
+            let mut sink = FirstContact {
+                loose_filter: among.is_some(),
+                ..FirstContact::swept(self.margin(), &grows).collecting(among.is_none())
+            };
             let _ = match among {
                 Some(among) => self.visit_among(state, posed, among, &mut sink),
                 None => self.visit_posed(Some(arm), state, posed, &mut sink),

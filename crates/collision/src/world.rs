@@ -25,7 +25,9 @@ use crate::arm::{ArmModel, PosedArm};
 use crate::distance::aabb_aabb_sq;
 use crate::error::CollisionError;
 use crate::object::ObjectGeometry;
-use crate::shape::{pair_distance, pair_intersects, plane_distance, Bounded, Placed};
+use crate::shape::{
+    pair_distance, pair_intersects, pair_may_intersect, plane_distance, Bounded, Placed,
+};
 use crate::sweep::Grows;
 use crate::tight::{self, Part};
 
@@ -355,7 +357,10 @@ impl CollisionWorld {
     /// it): what [`is_arm_free`](Self::is_arm_free) answers where a box showed every other
     /// pair.
     pub fn is_free_among(&self, state: &WorldState, among: &Doubts) -> bool {
-        let mut sink = FirstContact::new(self.margin);
+        let mut sink = FirstContact {
+            loose_filter: true,
+            ..FirstContact::new(self.margin)
+        };
         let _ = self.with_posed(state, |posed| {
             self.visit_among(state, posed, among, &mut sink)
         });
@@ -799,6 +804,11 @@ pub(crate) struct FirstContact<'g> {
     /// A pair whose primitive comes within its clearance counts as a contact without its
     /// exact pieces being asked (see [`collecting`](Self::collecting)).
     pub by_primitives: bool,
+    /// The primitives of a pair with exact pieces filter it loosely (cylinders as their
+    /// enclosing capsules, [`pair_may_intersect`]): for pairs known to be near (a box's
+    /// doubts), whose exact cylinder test would cost about what the pieces' does and let them
+    /// through anyway.
+    pub loose_filter: bool,
     /// The last pair found in contact (with `found`: the one that did not fit, if any).
     pub ids: Option<(Id, Id)>,
 }
@@ -812,6 +822,7 @@ impl<'g> FirstContact<'g> {
             grow: None,
             found: None,
             by_primitives: false,
+            loose_filter: false,
             ids: None,
         }
     }
@@ -956,11 +967,15 @@ impl Sink for FirstContact<'_> {
     #[inline]
     fn pair(&mut self, s1: Part, s2: Part, ids: (Id, Id)) -> ControlFlow<()> {
         let margin = self.margin_of(self.margin, ids);
-        let near = pair_intersects(s1.shape(), s2.shape(), margin + s1.slack() + s2.slack());
-        let hit = near
-            && (s1.tight().is_none() && s2.tight().is_none()
-                || self.by_primitives
-                || tight::within(&s1, &s2, margin));
+        let plain = s1.tight().is_none() && s2.tight().is_none();
+        let (a, b, grown) = (s1.shape(), s2.shape(), margin + s1.slack() + s2.slack());
+        // Where the pieces decide, the primitives only filter them (see `by_primitives`).
+        let near = if plain || !self.loose_filter {
+            pair_intersects(a, b, grown)
+        } else {
+            pair_may_intersect(a, b, grown)
+        };
+        let hit = near && (plain || self.by_primitives || tight::within(&s1, &s2, margin));
         self.hit(hit, ids)
     }
     #[inline]
