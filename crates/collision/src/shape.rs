@@ -447,9 +447,14 @@ pub fn pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
             capsule_cuboid_intersects(a, b, radius + margin, pose, half)
         }
         (Placed::Cuboid { pose: p1, half: h1 }, Placed::Cuboid { pose: p2, half: h2 }) => {
-            // Margin by growing one box (conservative at its edges and corners), then SAT.
-            let (c1, c2) = (PCuboid::new(h1 + V::repeat(margin)), PCuboid::new(*h2));
-            query::intersection_test(p1, &c1, p2, &c2).unwrap_or(true)
+            // SAT with one box grown by the margin along its axes: a miss is a miss, a hit
+            // may be a corner or edge of the grown box only, so the distance decides.
+            let (c1, c2) = (PCuboid::new(*h1), PCuboid::new(*h2));
+            let grown = PCuboid::new(h1 + V::repeat(margin));
+            query::intersection_test(p1, &grown, p2, &c2).unwrap_or(true)
+                && (margin <= 0.0
+                    || query::intersection_test(p1, &c1, p2, &c2).unwrap_or(true)
+                    || query::distance(p1, &c1, p2, &c2).unwrap_or(0.0) <= margin)
         }
         _ => unreachable!("cylinder pairs are handled above"),
     }
@@ -754,7 +759,9 @@ mod tests {
     fn the_loose_filter_passes_every_pair_that_meets() {
         let mut seed = 5u64;
         let mut next = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
         };
         let (mut meet, mut filtered) = (0, 0);
@@ -788,7 +795,56 @@ mod tests {
             meet += usize::from(exact);
             filtered += usize::from(!may);
         }
-        assert!(meet > 1000 && filtered > 1000, "{meet} meet, {filtered} filtered out");
+        assert!(
+            meet > 1000 && filtered > 1000,
+            "{meet} meet, {filtered} filtered out"
+        );
+    }
+
+    #[test]
+    fn boxes_meet_within_a_margin_exactly_when_their_distance_says() {
+        let mut seed = 3u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut corners, mut cases) = (0, 0);
+        for case in 0..5000 {
+            let mut cuboid = |spread: f64| Placed::Cuboid {
+                pose: Isometry3::from_parts(
+                    nalgebra::Translation3::new(next() * spread, next() * spread, next() * spread),
+                    UnitQuaternion::from_euler_angles(next() * 3.0, next() * 1.5, next() * 3.0),
+                ),
+                half: V::new(0.02 + 0.05 * next().abs(), 0.01 + 0.03 * next().abs(), 0.02),
+            };
+            let (b1, b2) = (cuboid(0.12), cuboid(0.0));
+            let margin = 0.03 * next().abs();
+            let d = pair_distance(&b1, &b2);
+            if (d - margin).abs() < 1e-9 {
+                continue;
+            }
+            cases += 1;
+            assert_eq!(
+                pair_intersects(&b1, &b2, margin),
+                d <= margin,
+                "case {case}: {d}"
+            );
+            // Past a face's slab of the grown box, where growing it along its axes would hit.
+            let grown = match b1 {
+                Placed::Cuboid { pose, half } => Placed::Cuboid {
+                    pose,
+                    half: half + V::repeat(margin),
+                },
+                _ => unreachable!(),
+            };
+            corners += usize::from(d > margin && pair_distance(&grown, &b2) <= 0.0);
+        }
+        assert!(
+            cases > 4000 && corners > 20,
+            "{cases} cases, {corners} at corners"
+        );
     }
 
     #[test]
