@@ -33,10 +33,12 @@
 //! own first, with the gripper posed by its flange only and ranges passed where the gripper's
 //! height above the clearance exceeds how far it may move vertically.
 
+use nalgebra::{Point3, Vector3};
 use pregrasp_motion::Doubts;
 use pregrasp_robot::{GripperState, Joints, SHAPE_GROUPS};
 
 use crate::arm::{ArmModel, PosedArm};
+use crate::shape::Bounded;
 use crate::validity::attached_reach;
 use crate::world::{CollisionWorld, FirstContact, Id, ObjectPlacement, WorldState};
 
@@ -71,7 +73,15 @@ pub(crate) struct Grows<'w> {
     object_after: [f64; 7],
     /// Grasping grippers vs the support are left to a test at every state.
     pub grasp_support_apart: bool,
+    /// Per arm that moves: its joint axes at the checked state (origin and direction of DH
+    /// frame `j`'s `z`), how far each joint may turn, and the configuration-free lever bounds.
+    axes: [Option<JointAxes>; 2],
+    reach: [Joints; 2],
+    radii: [&'w [[f64; SHAPE_GROUPS]; 6]; 2],
 }
+
+/// Per joint `j`, a point of its axis and its direction (DH frame `j`'s origin and `z`).
+type JointAxes = [(Point3<f64>, Vector3<f64>); 6];
 
 impl<'w> Grows<'w> {
     fn new(
@@ -83,6 +93,7 @@ impl<'w> Grows<'w> {
     ) -> Self {
         let mut after = [[[0.0; SHAPE_GROUPS]; 7]; 2];
         let mut tilting = [0; 2];
+        let mut axes = [None; 2];
         for i in 0..2 {
             let model = &world.arms()[i];
             let reach = &sweep.reach[i];
@@ -90,6 +101,15 @@ impl<'w> Grows<'w> {
             if reach.iter().all(|r| *r == 0.0) {
                 continue;
             }
+            axes[i] = posed[i].map(|p| {
+                std::array::from_fn(|j| {
+                    let frame = p.frame(j);
+                    (
+                        Point3::from(frame.translation.vector),
+                        frame.rotation * Vector3::z(),
+                    )
+                })
+            });
             let levers = match posed[i] {
                 Some(p) => levers(&model.set().group_radii, reach, p),
                 None => model.set().group_radii,
@@ -123,7 +143,61 @@ impl<'w> Grows<'w> {
             attached,
             object_after,
             grasp_support_apart,
+            axes,
+            reach: sweep.reach,
+            radii: [
+                &world.arms()[0].set().group_radii,
+                &world.arms()[1].set().group_radii,
+            ],
         }
+    }
+
+    /// How far a point of one shape (in the sphere `s`, of group `g` of arm `i`) may move
+    /// relative to DH frame `from`: as the group's bound in [`Grows::new`], with the shape's
+    /// own sphere for the group's — `Σ_{j ≥ from} L_j·reach_j`, `L_j` the sphere's distance
+    /// from axis `j` plus its radius plus how far the later joints may move it, never more
+    /// than `R[j][g]`. A gripper pad lies much nearer the wrist axes than the gripper's far
+    /// side. `∞` where the axes are not known (the group bound then stands).
+    fn shape_after(&self, i: usize, g: usize, s: &Bounded, from: usize) -> f64 {
+        let Some(axes) = &self.axes[i] else {
+            return f64::INFINITY;
+        };
+        let (reach, radii) = (&self.reach[i], self.radii[i]);
+        let (mut total, mut drift) = (0.0, 0.0);
+        for j in (from..6).rev() {
+            if reach[j] > 0.0 && radii[j][g] > 0.0 {
+                let (origin, axis) = &axes[j];
+                let v = s.center - origin;
+                let off_axis = (v - v.dot(axis) * axis).norm();
+                total += radii[j][g].min(off_axis + s.radius + drift) * reach[j];
+            }
+            drift += radii[j][g] * reach[j];
+        }
+        total
+    }
+
+    /// [`pair`](Self::pair) for two shapes in the spheres `sa`, `sb`: the shapes' own levers
+    /// where they are tighter than their groups' (an arm shape against its own arm, the
+    /// support or a static box).
+    #[inline]
+    pub fn shapes_pair(&self, a: Id, b: Id, sa: &Bounded, sb: &Bounded) -> f64 {
+        let group = self.pair(a, b);
+        let shape = match (a, b) {
+            (Id::Arm(i, _), Id::Arm(j, _)) if i == j => {
+                let (ga, gb) = (self.group(i, a), self.group(j, b));
+                if ga.min(6) <= gb.min(6) {
+                    self.shape_after(i, gb, sb, ga.min(6))
+                } else {
+                    self.shape_after(i, ga, sa, gb.min(6))
+                }
+            }
+            (Id::Arm(i, _), Id::Support) => {
+                self.shape_after(i, self.group(i, a), sa, self.tilting[i])
+            }
+            (Id::Arm(i, _), Id::Obstacle(_)) => self.shape_after(i, self.group(i, a), sa, 0),
+            _ => return group,
+        };
+        shape.min(group)
     }
 
     /// The shape group of an arm body.

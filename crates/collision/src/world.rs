@@ -870,6 +870,16 @@ impl<'g> FirstContact<'g> {
         }
     }
 
+    /// [`margin_of`](Self::margin_of) for two shapes in the spheres `sa`, `sb`, by their own
+    /// levers where those are tighter ([`Grows::shapes_pair`]).
+    #[inline]
+    fn margin_of_shapes(&self, margin: f64, (a, b): (Id, Id), sa: &Bounded, sb: &Bounded) -> f64 {
+        match self.grow {
+            None => margin,
+            Some(g) => margin + g.shapes_pair(a, b, sa, sb),
+        }
+    }
+
     /// The clearance pair `ids` must keep: `margin` plus both sides' growth.
     #[inline]
     fn margin_of(&self, margin: f64, (a, b): (Id, Id)) -> f64 {
@@ -958,15 +968,21 @@ impl Sink for FirstContact<'_> {
     /// where that finds contact (every `FirstContact` test below has this shape).
     #[inline]
     fn plane(&mut self, s: Part, height: f64, margin: f64, ids: (Id, Id)) -> ControlFlow<()> {
-        let margin = self.margin_of(margin, ids);
-        let near = plane_distance(s.shape(), height) <= margin + s.slack();
+        let bound = plane_distance(s.shape(), height);
+        // The group's clearance first (no sphere cull came before); where that comes near, the
+        // shape's own.
+        if bound > self.margin_of(margin, ids) + s.slack() {
+            return ControlFlow::Continue(());
+        }
+        let margin = self.margin_of_shapes(margin, ids, s.bounded, s.bounded);
+        let near = bound <= margin + s.slack();
         let hit =
             near && (self.by_primitives || s.plane_distance(height).is_none_or(|d| d <= margin));
         self.hit(hit, ids)
     }
     #[inline]
     fn pair(&mut self, s1: Part, s2: Part, ids: (Id, Id)) -> ControlFlow<()> {
-        let margin = self.margin_of(self.margin, ids);
+        let margin = self.margin_of_shapes(self.margin, ids, s1.bounded, s2.bounded);
         let plain = s1.tight().is_none() && s2.tight().is_none();
         let (a, b, grown) = (s1.shape(), s2.shape(), margin + s1.slack() + s2.slack());
         // Where the pieces decide, the primitives only filter them (see `by_primitives`).
