@@ -85,6 +85,11 @@ impl Polytope {
         self.graph.get_or_init(|| Graph::new(&self.points)).as_ref()
     }
 
+    /// Builds the vertex graph now rather than after [`BUILD_AFTER`] scans.
+    fn prepare(&self) {
+        self.graph.get_or_init(|| Graph::new(&self.points));
+    }
+
     /// The index of the first vertex farthest along `dir`, by a scan over all vertices.
     #[inline]
     fn scan(&self, dir: &Vector3<f64>) -> u32 {
@@ -353,6 +358,14 @@ pub struct Tight {
 }
 
 impl Tight {
+    /// Builds every piece's vertex graph now (see [`Polytope`]): for a world that will serve
+    /// many queries. Answers do not change.
+    pub fn prepare(&self) {
+        for piece in &self.pieces {
+            piece.poly.prepare();
+        }
+    }
+
     /// The pieces of `src`; `None` if a piece has fewer than four vertices.
     pub fn new(src: &ConvexPieces) -> Option<Tight> {
         let pieces = src
@@ -671,6 +684,14 @@ mod tests {
         assert_eq!(
             climb.local_support_point(&Vector3::x()),
             P::new(1.0, 0.0, 0.0)
+        );
+        // Prepared, a polytope climbs from its first question.
+        let prepared = Polytope::new(poly.points.clone());
+        prepared.prepare();
+        assert!(matches!(prepared.graph.get(), Some(Some(_))));
+        assert_eq!(
+            Climb::new(&prepared).local_support_point(&dir),
+            P::new(1.0, 1.0, 1.0)
         );
     }
 

@@ -211,6 +211,17 @@ impl CollisionWorld {
         self
     }
 
+    /// Builds now what the queries would otherwise build on their first heavy use (the link
+    /// pieces' hull graphs, shared by every world of the same robot model): for a world that
+    /// is to serve many queries, so none of them pays for it. Answers do not change.
+    pub fn prepare(&self) {
+        for arm in &self.arms {
+            for tight in arm.set().tight.iter().flatten() {
+                tight.prepare();
+            }
+        }
+    }
+
     /// Safety margin (m) for [`check`](Self::check) and [`check_arm`](Self::check_arm):
     /// a pair collides when its distance is at most `margin`. Clearance ignores it.
     ///

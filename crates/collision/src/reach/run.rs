@@ -59,9 +59,11 @@ impl ReachPlanner {
         Self::for_world(set.world(), settings)
     }
 
-    /// The planner for arm 0 of any world (the other arm and part held as in a default state).
+    /// The planner for arm 0 of any world (the other arm and part held as in a default state),
+    /// its geometry prepared for many queries ([`CollisionWorld::prepare`]).
     pub fn for_world(world: CollisionWorld, settings: ReachSettings) -> Self {
         let world = world.with_margin(settings.margin);
+        world.prepare();
         let space = joint_space(&world.arms()[0]);
         ReachPlanner {
             world,
