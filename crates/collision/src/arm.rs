@@ -18,6 +18,9 @@ use crate::tight::{Lookup, Part, Tight};
 /// fixed-size buffer so that a collision check never touches the heap.
 pub const MAX_ARM_SHAPES: usize = 34;
 
+// `PosedArm::placed` holds one bit per shape.
+const _: () = assert!(MAX_ARM_SHAPES <= 64);
+
 /// Self-collision pairs of link shapes (indices) between two DH frames `(frame_a, frame_b)`.
 pub(crate) type PairGroup = ((u8, u8), Vec<(u8, u8)>);
 
@@ -236,50 +239,84 @@ impl ArmModel {
 
     /// [`pose`](Self::pose) into an existing buffer (no copy of the posed arm).
     pub(crate) fn pose_into(&self, q: &Joints, state: GripperState, posed: &mut PosedArm) {
+        self.pose_frames_into(q, state, posed);
+        self.place_into(posed, u64::MAX);
+    }
+
+    /// The frames, frame spheres and gripper sphere at `q`; no shape placed yet
+    /// ([`place_into`](Self::place_into) places them).
+    pub(crate) fn pose_frames_into(&self, q: &Joints, state: GripperState, posed: &mut PosedArm) {
         let set = &self.shapes;
         let local = self.kin.fk_frames(q);
         let mut frames = [Isometry3::identity(); 7];
         for (f, l) in frames.iter_mut().zip(local.iter()) {
             *f = self.base * l;
         }
-        let n_links = set.parts.len();
         let (gc, gr) = set.gripper_sphere;
         posed.len = set.names.len();
-        posed.links = n_links;
+        posed.links = set.parts.len();
         posed.frames = frames;
         posed.gripper = Bounded::sphere(frames[6] * gc, gr);
         for (f, slot) in posed.frame_spheres.iter_mut().enumerate() {
             let (c, r) = set.frame_spheres[f];
             *slot = Bounded::sphere(frames[f] * c, r);
         }
-        for ((slot, (frame, _)), local) in posed
-            .shapes
-            .iter_mut()
-            .zip(set.parts.iter())
-            .zip(set.local_parts.iter())
-        {
-            *slot = local.place(&frames[*frame]);
+        posed.gripper_state = state;
+        posed.placed = 0;
+    }
+
+    /// Places the shapes in `mask` (bit `k`: shape `k`) that are not placed yet.
+    pub(crate) fn place_into(&self, posed: &mut PosedArm, mask: u64) {
+        let set = &self.shapes;
+        let all = if posed.len >= 64 {
+            u64::MAX
+        } else {
+            (1u64 << posed.len) - 1
+        };
+        let mut todo = mask & all & !posed.placed;
+        if todo == 0 {
+            return;
         }
-        let flange = frames[6];
-        let slots = &mut posed.shapes[n_links..];
-        match state {
-            GripperState::Open => {
-                for (slot, local) in slots.iter_mut().zip(&set.open_local) {
-                    *slot = local.place(&flange);
-                }
+        let (n_links, flange) = (posed.links, posed.frames[6]);
+        if todo == all {
+            // Every shape: link by link, then the gripper (as one loop each).
+            for ((slot, (frame, _)), local) in posed.shapes[..n_links]
+                .iter_mut()
+                .zip(set.parts.iter())
+                .zip(set.local_parts.iter())
+            {
+                *slot = local.place(&posed.frames[*frame]);
             }
-            GripperState::Closed { gap } => {
-                match set.closed_grippers.iter().find(|(g, _, _)| *g == gap) {
-                    Some((_, _, locals)) => {
-                        for (slot, local) in slots.iter_mut().zip(locals) {
-                            *slot = local.place(&flange);
-                        }
-                    }
-                    None => self.gripper.for_each_shape(state, |k, _, prim| {
-                        slots[k] = Bounded::new(place(&flange, &prim));
-                    }),
-                }
-            }
+            todo = all & !((1u64 << n_links) - 1);
+            posed.placed |= (1u64 << n_links) - 1;
+        }
+        let closed = match posed.gripper_state {
+            GripperState::Open => Some(&set.open_local[..]),
+            GripperState::Closed { gap } => set
+                .closed_grippers
+                .iter()
+                .find(|(g, _, _)| *g == gap)
+                .map(|(_, _, locals)| &locals[..]),
+        };
+        if closed.is_none() && todo >> n_links != 0 {
+            // A gap without prepared shapes: the gripper is placed whole.
+            let slots = &mut posed.shapes[n_links..];
+            self.gripper
+                .for_each_shape(posed.gripper_state, |k, _, prim| {
+                    slots[k] = Bounded::new(place(&flange, &prim));
+                });
+            posed.placed |= all & !((1u64 << n_links) - 1);
+            todo &= (1u64 << n_links) - 1;
+        }
+        while todo != 0 {
+            let k = todo.trailing_zeros() as usize;
+            todo &= todo - 1;
+            posed.shapes[k] = if k < n_links {
+                set.local_parts[k].place(&posed.frames[set.parts[k].0])
+            } else {
+                closed.expect("prepared gripper shapes")[k - n_links].place(&flange)
+            };
+            posed.placed |= 1 << k;
         }
     }
 
@@ -524,6 +561,10 @@ pub(crate) struct PosedArm {
     frames: [Isometry3<f64>; 7],
     /// A sphere holding the whole gripper.
     gripper: Bounded,
+    /// The gripper's state the shapes are placed for.
+    gripper_state: GripperState,
+    /// Bit `k`: shape `k` is placed (a query about a few pairs places only their shapes).
+    placed: u64,
 }
 
 impl PosedArm {
@@ -535,6 +576,8 @@ impl PosedArm {
         frame_spheres: [Bounded::EMPTY; 7],
         frames: [IDENTITY; 7],
         gripper: Bounded::EMPTY,
+        gripper_state: GripperState::Open,
+        placed: 0,
     };
 }
 

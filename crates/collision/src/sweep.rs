@@ -40,7 +40,7 @@ use pregrasp_robot::{GripperState, Joints, SHAPE_GROUPS};
 use crate::arm::{ArmModel, PosedArm};
 use crate::shape::Bounded;
 use crate::validity::attached_reach;
-use crate::world::{CollisionWorld, FirstContact, Id, ObjectPlacement, WorldState};
+use crate::world::{shapes_among, CollisionWorld, FirstContact, Id, ObjectPlacement, WorldState};
 
 /// How far each body may move from a checked state: per arm, how far each joint may turn
 /// (rad); a part at a fixed pose, how far any of its points may move (m). A part attached to a
@@ -287,7 +287,7 @@ impl CollisionWorld {
     ) -> Option<Doubts> {
         let mut sweep = Sweep::default();
         sweep.reach[arm] = *reach;
-        self.with_posed(state, |posed| {
+        self.with_posed_shapes(state, among.map_or([u64::MAX; 2], shapes_among), |posed| {
             let grows = Grows::new(self, state, &sweep, false, &posed);
             let mut sink = FirstContact {
                 loose_filter: among.is_some(),

@@ -372,7 +372,7 @@ impl CollisionWorld {
             loose_filter: true,
             ..FirstContact::new(self.margin)
         };
-        let _ = self.with_posed(state, |posed| {
+        let _ = self.with_posed_shapes(state, shapes_among(among), |posed| {
             self.visit_among(state, posed, among, &mut sink)
         });
         sink.ids.is_none()
@@ -471,6 +471,18 @@ impl CollisionWorld {
         state: &WorldState,
         f: impl FnOnce([Option<&PosedArm>; 2]) -> R,
     ) -> R {
+        self.with_posed_shapes(state, [u64::MAX; 2], f)
+    }
+
+    /// [`with_posed`](Self::with_posed) with, of each arm `i`, only the shapes in `shapes[i]`
+    /// (bit `k`: shape `k`) sure to be placed: for a query about a few pairs. The frames and
+    /// bounding spheres are always posed.
+    pub(crate) fn with_posed_shapes<R>(
+        &self,
+        state: &WorldState,
+        shapes: [u64; 2],
+        f: impl FnOnce([Option<&PosedArm>; 2]) -> R,
+    ) -> R {
         // Both active arms are posed: in a single-arm query the other one is an obstacle.
         POSED.with_borrow_mut(|(keys, buffers)| {
             for i in 0..2 {
@@ -478,10 +490,12 @@ impl CollisionWorld {
                     continue;
                 }
                 let key = self.pose_key(i, state);
+                let arm = &self.arms[i];
                 if keys[i] != Some(key) {
-                    self.arms[i].pose_into(&state.q[i], state.gripper[i], &mut buffers[i]);
+                    arm.pose_frames_into(&state.q[i], state.gripper[i], &mut buffers[i]);
                     keys[i] = Some(key);
                 }
+                arm.place_into(&mut buffers[i], shapes[i]);
             }
             let [b0, b1] = &*buffers;
             f([self.active[0].then_some(b0), self.active[1].then_some(b1)])
@@ -901,18 +915,33 @@ impl<'g> FirstContact<'g> {
     }
 }
 
+/// Per arm, the shapes the pairs `among` name (bit `k`: shape `k`).
+pub(crate) fn shapes_among(among: &Doubts) -> [u64; 2] {
+    let mut masks = [0u64; 2];
+    for &code in among.as_slice() {
+        for side in [code >> 16, code & 0xFFFF] {
+            if let Id::Arm(i, k) = side_id(side) {
+                masks[i] |= 1 << k;
+            }
+        }
+    }
+    masks
+}
+
 /// The pair [`pair_code`] gave `code`.
 fn pair_ids(code: u32) -> (Id, Id) {
-    let side = |c: u32| -> Id {
-        let low = (c & 0x3FFF) as usize;
-        match c >> 14 {
-            0 | 1 => Id::Arm((c >> 14) as usize, low),
-            2 => Id::Obstacle(low),
-            _ if c == 0xFFFF => Id::Support,
-            _ => Id::Object,
-        }
-    };
-    (side(code >> 16), side(code & 0xFFFF))
+    (side_id(code >> 16), side_id(code & 0xFFFF))
+}
+
+/// One side of a [`pair_code`] (its 16 bits).
+fn side_id(c: u32) -> Id {
+    let low = (c & 0x3FFF) as usize;
+    match c >> 14 {
+        0 | 1 => Id::Arm((c >> 14) as usize, low),
+        2 => Id::Obstacle(low),
+        _ if c == 0xFFFF => Id::Support,
+        _ => Id::Object,
+    }
 }
 
 /// A pair of bodies as one number (for [`Doubts`]): each side in 16 bits, an arm shape as
