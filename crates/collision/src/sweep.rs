@@ -84,12 +84,16 @@ pub(crate) struct Grows<'w> {
 type JointAxes = [(Point3<f64>, Vector3<f64>); 6];
 
 impl<'w> Grows<'w> {
+    /// The growths of `sweep` about `state`, the levers worked out at the posed configuration
+    /// for the shape groups in `groups[i]` (bit `g`) of each arm `i` — the others keep their
+    /// configuration-free bounds (a query about a few pairs needs few groups).
     fn new(
         world: &'w CollisionWorld,
         state: &WorldState,
         sweep: &Sweep,
         grasp_support_apart: bool,
         posed: &[Option<&PosedArm>; 2],
+        groups: [u8; 2],
     ) -> Self {
         let mut after = [[[0.0; SHAPE_GROUPS]; 7]; 2];
         let mut tilting = [0; 2];
@@ -110,9 +114,11 @@ impl<'w> Grows<'w> {
                     )
                 })
             });
-            let levers = match posed[i] {
-                Some(p) => levers(&model.set().group_radii, reach, p),
-                None => model.set().group_radii,
+            let levers = match (posed[i], &axes[i]) {
+                (Some(p), Some(axes)) => {
+                    levers(&model.set().group_radii, reach, p, axes, groups[i])
+                }
+                _ => model.set().group_radii,
             };
             // Suffix sums over the joints, from the wrist down.
             for f in (0..6).rev() {
@@ -288,7 +294,8 @@ impl CollisionWorld {
         let mut sweep = Sweep::default();
         sweep.reach[arm] = *reach;
         self.with_posed_shapes(state, among.map_or([u64::MAX; 2], shapes_among), |posed| {
-            let grows = Grows::new(self, state, &sweep, false, &posed);
+            let groups = among.map_or([u8::MAX; 2], |d| groups_among(self, d));
+            let grows = Grows::new(self, state, &sweep, false, &posed, groups);
             let mut sink = FirstContact {
                 loose_filter: among.is_some(),
                 ..FirstContact::swept(self.margin(), &grows).collecting(among.is_none())
@@ -309,7 +316,14 @@ impl CollisionWorld {
         grasp_support_apart: bool,
     ) -> bool {
         self.with_posed(state, |posed| {
-            let grows = Grows::new(self, state, sweep, grasp_support_apart, &posed);
+            let grows = Grows::new(
+                self,
+                state,
+                sweep,
+                grasp_support_apart,
+                &posed,
+                [u8::MAX; 2],
+            );
             let mut sink = FirstContact::swept(self.margin(), &grows);
             let _ = self.visit_posed(only, state, posed, &mut sink);
             sink.ids.is_none()
@@ -683,24 +697,41 @@ fn levers(
     radii: &[[f64; SHAPE_GROUPS]; 6],
     reach: &Joints,
     p: &PosedArm,
+    axes: &JointAxes,
+    groups: u8,
 ) -> [[f64; SHAPE_GROUPS]; 6] {
     let mut out = *radii;
-    for g in 0..SHAPE_GROUPS {
+    for g in (0..SHAPE_GROUPS).filter(|g| groups >> g & 1 == 1) {
         let sphere = p.group_sphere(g);
         // Σ_{k > j} R[k][g]·reach_k, from the wrist down.
         let mut drift = 0.0;
         for j in (0..6).rev() {
             if radii[j][g] > 0.0 {
-                let frame = p.frame(j);
-                let axis = frame.rotation * nalgebra::Vector3::z();
-                let v = sphere.center - nalgebra::Point3::from(frame.translation.vector);
-                let off_axis = (v - v.dot(&axis) * axis).norm();
+                let (origin, axis) = &axes[j];
+                let v = sphere.center - origin;
+                let off_axis = (v - v.dot(axis) * axis).norm();
                 out[j][g] = radii[j][g].min(off_axis + sphere.radius + drift);
             }
             drift += radii[j][g] * reach[j];
         }
     }
     out
+}
+
+/// Per arm, the shape groups of the shapes the pairs `among` name (bit `g`: group `g`).
+fn groups_among(world: &CollisionWorld, among: &Doubts) -> [u8; 2] {
+    let shapes = shapes_among(among);
+    std::array::from_fn(|i| {
+        let group_of = &world.arms()[i].set().group_of;
+        let mut bits = shapes[i];
+        let mut groups = 0u8;
+        while bits != 0 {
+            let k = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            groups |= 1 << group_of[k];
+        }
+        groups
+    })
 }
 
 /// The first joint whose motion can move a point of the arm up or down: 1 when the base
