@@ -5,7 +5,8 @@
 //!
 //! - [`space`]: [`State`], [`JointSpace`] (`contains`, `motion_bound`, `interpolate`, `sample`).
 //! - [`validity`]: [`StateValidator`], [`MotionValidator`] — edges checked every
-//!   `resolution` metres of arm-point travel, coarse-to-fine, first failure stops.
+//!   `resolution` metres of arm-point travel, coarse-to-fine, first failure stops; whole boxes
+//!   of states at once where the validator can, a failed box handing its [`Doubts`] down.
 //! - [`rrt_connect`](mod@rrt_connect): [`rrt_connect()`] with [`RrtConnectSettings`];
 //!   the outcome is a [`PlanResult`] with a [`PlanStatus`] and [`PlanStats`], never an error.
 //! - [`simplify`](mod@simplify): [`simplify()`] / [`simplify_by`] — greedy, seeded random
