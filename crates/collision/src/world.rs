@@ -947,7 +947,7 @@ fn side_id(c: u32) -> Id {
 /// A pair of bodies as one number (for [`Doubts`]): each side in 16 bits, an arm shape as
 /// `arm << 14 | shape`, an obstacle as `2 << 14 | index`, the support and the part as the
 /// two largest codes. `None` for whole groups (never reported) and indices too large to
-/// code, which are then always tested.
+/// code: a collecting query that finds such a pair in contact names none (all stay in doubt).
 #[inline(always)]
 pub(crate) fn pair_code((a, b): (Id, Id)) -> Option<u32> {
     const LOW: usize = (1 << 14) - 2;
