@@ -9,7 +9,8 @@
 //! solid's own pieces or primitive. A piece needs no faces at run time: GJK only asks for its
 //! support point `argmax_v d·v`, so loading a model builds no hulls. The pieces hug the real
 //! link surface (a few millimetres at most, see `crates/robot/data/PROVENANCE.md`), so this is
-//! where near-contact outcomes are decided.
+//! where near-contact outcomes are decided. A pair GJK found apart remembers the separating
+//! axis, and the next test of that pair (the next state of a motion) tries it first.
 
 use std::cell::Cell;
 use std::collections::HashMap;
@@ -17,10 +18,13 @@ use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::OnceLock;
 
+use nalgebra::Unit;
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::query::details::{
-    closest_points_support_map_support_map, distance_support_map_support_map,
+    closest_points_support_map_support_map, closest_points_support_map_support_map_with_params,
+    distance_support_map_support_map,
 };
+use parry3d_f64::query::gjk::{CSOPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::query::ClosestPoints;
 use parry3d_f64::shape::{Cuboid as PCuboid, Segment, SupportMap, Triangle};
 use pregrasp_robot::ConvexPieces;
@@ -464,6 +468,36 @@ impl<'a> Part<'a> {
     /// when it breaks: the pieces (inflation 0) whose bounding sphere comes within `reach` of
     /// the sphere `(c, r)`, or the primitive itself (capsule: its segment inflated by the
     /// radius; rounded cylinder: its core inflated by the border).
+    /// [`each_convex`](Self::each_convex), each body with a key of its own (its piece's address,
+    /// or the primitive's).
+    fn each_convex_keyed(
+        &self,
+        near: Option<(&P, f64)>,
+        mut f: impl FnMut(usize, &Isometry3<f64>, &dyn SupportMap, f64) -> ControlFlow<()>,
+    ) -> ControlFlow<()> {
+        match self.tight() {
+            Some(Posed { tight, frame }) => {
+                for piece in &tight.pieces {
+                    if let Some((c, reach)) = near {
+                        let d = reach + piece.radius;
+                        if (frame * piece.center - c).norm_squared() > d * d {
+                            continue;
+                        }
+                    }
+                    let key = piece as *const Piece as usize;
+                    f(key, frame, &Climb::new(&piece.poly), 0.0)?;
+                }
+                ControlFlow::Continue(())
+            }
+            None => {
+                let key = self.bounded as *const Bounded as usize;
+                with_primitive(self.shape(), |pose, shape, inflation| {
+                    f(key, pose, shape, inflation)
+                })
+            }
+        }
+    }
+
     fn each_convex(
         &self,
         near: Option<(&P, f64)>,
@@ -546,12 +580,80 @@ fn near(
     )
 }
 
+/// [`near`] for two convex bodies named `key`, trying first the axis that last separated
+/// them on this thread ([`SEPARATORS`]): along a motion the pairs change little between
+/// checks, and an axis that still shows them apart by more than `dist` settles the question
+/// with one support point each — GJK's own test of an axis, so the answer is GJK's (a
+/// remembered axis only speaks where the gap exceeds `dist` by [`SEPARATION_GUARD`], well past
+/// where GJK's bounds agree). Where it does not, GJK runs from its usual start.
+fn near_keyed(
+    key: (usize, usize),
+    p1: &Isometry3<f64>,
+    g1: &dyn SupportMap,
+    p2: &Isometry3<f64>,
+    g2: &dyn SupportMap,
+    dist: f64,
+) -> bool {
+    let pos12 = p1.inv_mul(p2);
+    let slot = separator_slot(key);
+    let cached = SEPARATORS.with(|s| {
+        let (k, dir) = s[slot].get();
+        (k == key).then_some(dir)
+    });
+    if let Some(dir) = cached {
+        // GJK's own test of an axis: the shapes are farther apart along it than `dist`.
+        let cso = CSOPoint::from_shapes(&pos12, g1, g2, &dir);
+        if -dir.dot(&cso.point.coords) > dist + SEPARATION_GUARD {
+            return false;
+        }
+    }
+    match closest_points_support_map_support_map_with_params(
+        &pos12,
+        g1,
+        g2,
+        dist,
+        &mut VoronoiSimplex::new(),
+        None,
+    ) {
+        GJKResult::NoIntersection(dir) => {
+            SEPARATORS.with(|s| s[slot].set((key, dir)));
+            false
+        }
+        _ => true,
+    }
+}
+
+/// How much farther apart than asked an axis must show two shapes to be taken as separated
+/// without GJK (m): GJK itself stops once its bounds agree to a few 1e-9 m.
+const SEPARATION_GUARD: f64 = 1e-7;
+
+/// A pair of convex bodies (their keys) and the axis that last separated them.
+type Separator = ((usize, usize), Unit<Vector3<f64>>);
+
+/// Slots of [`SEPARATORS`] (pairs hashed into them).
+const SEPARATOR_SLOTS: usize = 1024;
+
+thread_local! {
+    /// Per pair of convex bodies (by address: a piece, or a primitive in the posed buffers or
+    /// the world), the axis GJK last separated them along, in the first one's frame. A slot
+    /// holds one pair; a stale or foreign axis costs one support point each and decides
+    /// nothing.
+    static SEPARATORS: [Cell<Separator>; SEPARATOR_SLOTS] =
+        std::array::from_fn(|_| Cell::new(((0, 0), Vector3::x_axis())));
+}
+
+/// The slot of a pair of keys.
+fn separator_slot((a, b): (usize, usize)) -> usize {
+    let h = (a as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (b as u64).rotate_left(29);
+    (h.wrapping_mul(0xBF58_476D_1CE4_E5B9) >> 54) as usize % SEPARATOR_SLOTS
+}
+
 /// Whether the exact solids of `s1` and `s2` come within `margin` of each other.
 pub(crate) fn within(s1: &Part, s2: &Part, margin: f64) -> bool {
     let (b1, b2) = (s1.bounded, s2.bounded);
-    s1.each_convex(Some((&b2.center, b2.radius + margin)), |p1, g1, e1| {
-        s2.each_convex(Some((&b1.center, b1.radius + margin)), |p2, g2, e2| {
-            if near(p1, g1, p2, g2, margin + e1 + e2) {
+    s1.each_convex_keyed(Some((&b2.center, b2.radius + margin)), |k1, p1, g1, e1| {
+        s2.each_convex_keyed(Some((&b1.center, b1.radius + margin)), |k2, p2, g2, e2| {
+            if near_keyed((k1, k2), p1, g1, p2, g2, margin + e1 + e2) {
                 ControlFlow::Break(())
             } else {
                 ControlFlow::Continue(())
@@ -614,6 +716,53 @@ mod tests {
     use parry3d_f64::shape::{Capsule as PCapsule, ConvexPolyhedron};
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
+
+    /// A remembered separating axis only ever answers what GJK answers: every piece of the
+    /// UR5e against a box moved step by step towards, through and away from it, the box's
+    /// clearance asked at a few margins, with and without the axis of the last step.
+    #[test]
+    fn remembered_axes_answer_as_gjk_does() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let (mut asked, mut near_count, mut by_axis) = (0, 0, 0);
+        let geometry = pregrasp_robot::arm_geometry(pregrasp_robot::UrModel::Ur5e);
+        let boxed = PCuboid::new(Vector3::new(0.03, 0.05, 0.02));
+        for (l, link) in geometry.links.iter().enumerate() {
+            let Some(src) = link.pieces else { continue };
+            for (k, pts) in src.pieces.iter().enumerate() {
+                let poly = Polytope::new(pts.clone());
+                poly.prepare();
+                let climb = Climb::new(&poly);
+                let c = pts.iter().fold(Vector3::zeros(), |a, p| a + p.coords) / pts.len() as f64;
+                let from = Vector3::from_fn(|_, _| rng.random_range(-0.2..0.2)) + c;
+                let to = c - (from - c);
+                let turn = Vector3::from_fn(|_, _| rng.random_range(-0.2..0.2));
+                for step in 0..60 {
+                    let t = step as f64 / 59.0;
+                    let pose = Isometry3::new(from + (to - from) * t, turn * t);
+                    for margin in [0.0, 0.005, 0.03] {
+                        let key = (1000 * l + k, usize::from(margin > 0.0) + 1);
+                        let p1 = Isometry3::identity();
+                        let cold = near(&p1, &climb, &pose, &boxed, margin);
+                        let slot = separator_slot(key);
+                        let known = SEPARATORS.with(|s| s[slot].get().0 == key);
+                        let keyed = near_keyed(key, &p1, &climb, &pose, &boxed, margin);
+                        assert_eq!(
+                            keyed, cold,
+                            "{} piece {k} step {step} margin {margin}",
+                            link.name
+                        );
+                        asked += 1;
+                        near_count += usize::from(cold);
+                        by_axis += usize::from(known && !cold);
+                    }
+                }
+            }
+        }
+        assert!(
+            near_count > asked / 10 && by_axis > asked / 3,
+            "{asked} asked, {near_count} near, {by_axis} apart with a remembered axis"
+        );
+    }
 
     /// Climbing the hull graph finds the vertex a scan finds, for every piece of every UR model,
     /// cold and warm started, in random and axis-aligned directions (where vertices tie).
