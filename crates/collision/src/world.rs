@@ -1025,8 +1025,12 @@ impl Sink for FirstContact<'_> {
         let margin = self.margin_of_shapes(self.margin, ids, s1.bounded, s2.bounded);
         let plain = s1.tight().is_none() && s2.tight().is_none();
         let (a, b, grown) = (s1.shape(), s2.shape(), margin + s1.slack() + s2.slack());
-        // Where the pieces decide, the primitives only filter them (see `by_primitives`).
-        let near = if plain || !self.loose_filter {
+        // Where the pieces decide, the primitives only filter them (see `by_primitives`). Two
+        // boxes go to GJK, which remembers the axis that last kept them apart.
+        let boxes = matches!((a, b), (Placed::Cuboid { .. }, Placed::Cuboid { .. }));
+        let near = if boxes && plain {
+            tight::within(&s1, &s2, grown)
+        } else if plain || !self.loose_filter {
             pair_intersects(a, b, grown)
         } else {
             pair_may_intersect(a, b, grown)
