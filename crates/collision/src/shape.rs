@@ -133,13 +133,7 @@ impl Bounded {
     /// `(radius + m)²`. Far tighter than the box's own bounding sphere for a flat box (a table).
     #[inline]
     pub fn centre_box_gap_sq(&self, pose: &Isometry3<f64>, half: &V) -> f64 {
-        let local = pose.inverse_transform_point(&self.center);
-        (0..3)
-            .map(|i| {
-                let e = (local[i].abs() - half[i]).max(0.0);
-                e * e
-            })
-            .sum()
+        point_box_sq(&pose.inverse_transform_point(&self.center), half)
     }
 
     /// Whether the bounding spheres are within `margin` of each other.
@@ -565,25 +559,28 @@ fn cylinder_pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
 
 /// Capsule `([a, b], r)` vs oriented box: a sphere–box reject on the capsule's bounding
 /// sphere first (closed form: clamp the centre into the box), then parry's GJK.
+/// Squared distance from `p` to the box `|x_i| ≤ half_i` (`0` inside), in the box's frame.
+#[inline]
+fn point_box_sq(p: &P, half: &V) -> f64 {
+    let mut d = 0.0;
+    for i in 0..3 {
+        let e = (p[i].abs() - half[i]).max(0.0);
+        d += e * e;
+    }
+    d
+}
+
 #[inline]
 fn capsule_cuboid_intersects(a: &P, b: &P, r: f64, pose: &Isometry3<f64>, half: &V) -> bool {
     let la = pose.inverse_transform_point(a);
     let lb = pose.inverse_transform_point(b);
     // Point–box distance of each endpoint: if one endpoint sphere already touches, done.
-    let point_box_sq = |p: &P| -> f64 {
-        let mut d = 0.0;
-        for i in 0..3 {
-            let e = (p[i].abs() - half[i]).max(0.0);
-            d += e * e;
-        }
-        d
-    };
-    if point_box_sq(&la) <= r * r || point_box_sq(&lb) <= r * r {
+    if point_box_sq(&la, half) <= r * r || point_box_sq(&lb, half) <= r * r {
         return true;
     }
     let c = nalgebra::center(&la, &lb);
     let reach = 0.5 * (lb - la).norm() + r;
-    if point_box_sq(&c) > reach * reach {
+    if point_box_sq(&c, half) > reach * reach {
         return false;
     }
     // The box grown by `r` (its Minkowski sum with the ball) lies within the box `half + r`
@@ -645,6 +642,16 @@ fn segment_meets_box(p: &P, q: &P, half: &V) -> bool {
 mod tests {
     use super::*;
     use nalgebra::UnitQuaternion;
+
+    /// Numbers uniform in `[−1, 1)`, the same for the same `seed` (a 64-bit LCG).
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+    }
 
     fn cap(a: [f64; 3], b: [f64; 3], r: f64) -> Placed {
         Placed::Capsule {
@@ -714,13 +721,7 @@ mod tests {
     #[test]
     fn capsule_cuboid_agrees_with_gjk_distance_on_random_pairs() {
         // Segments through faces, past edges and corners, parallel to faces, points.
-        let mut seed = 11u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut next = uniform(11);
         let (mut hits, mut misses) = (0, 0);
         for case in 0..20_000 {
             let pose = Isometry3::from_parts(
@@ -757,13 +758,7 @@ mod tests {
 
     #[test]
     fn the_loose_filter_passes_every_pair_that_meets() {
-        let mut seed = 5u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut next = uniform(5);
         let (mut meet, mut filtered) = (0, 0);
         for case in 0..6000 {
             let mut shape = |kind: usize| {
@@ -803,13 +798,7 @@ mod tests {
 
     #[test]
     fn boxes_meet_within_a_margin_exactly_when_their_distance_says() {
-        let mut seed = 3u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut next = uniform(3);
         let (mut corners, mut cases) = (0, 0);
         for case in 0..5000 {
             let mut cuboid = |spread: f64| Placed::Cuboid {

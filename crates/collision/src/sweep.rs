@@ -168,18 +168,9 @@ impl<'w> Grows<'w> {
         let Some(axes) = &self.axes[i] else {
             return f64::INFINITY;
         };
-        let (reach, radii) = (&self.reach[i], self.radii[i]);
-        let (mut total, mut drift) = (0.0, 0.0);
-        for j in (from..6).rev() {
-            if reach[j] > 0.0 && radii[j][g] > 0.0 {
-                let (origin, axis) = &axes[j];
-                let v = s.center - origin;
-                let off_axis = (v - v.dot(axis) * axis).norm();
-                total += radii[j][g].min(off_axis + s.radius + drift) * reach[j];
-            }
-            drift += radii[j][g] * reach[j];
-        }
-        total
+        let reach = &self.reach[i];
+        let levers = sphere_levers(self.radii[i], g, reach, axes, s, from);
+        (from..6).rev().map(|j| levers[j] * reach[j]).sum()
     }
 
     /// [`pair`](Self::pair) for two shapes in the spheres `sa`, `sb`: the shapes' own levers
@@ -702,18 +693,36 @@ fn levers(
 ) -> [[f64; SHAPE_GROUPS]; 6] {
     let mut out = *radii;
     for g in (0..SHAPE_GROUPS).filter(|g| groups >> g & 1 == 1) {
-        let sphere = p.group_sphere(g);
-        // Σ_{k > j} R[k][g]·reach_k, from the wrist down.
-        let mut drift = 0.0;
-        for j in (0..6).rev() {
-            if radii[j][g] > 0.0 {
-                let (origin, axis) = &axes[j];
-                let v = sphere.center - origin;
-                let off_axis = (v - v.dot(axis) * axis).norm();
-                out[j][g] = radii[j][g].min(off_axis + sphere.radius + drift);
-            }
-            drift += radii[j][g] * reach[j];
+        let levers = sphere_levers(radii, g, reach, axes, p.group_sphere(g), 0);
+        for (j, lever) in levers.iter().enumerate() {
+            out[j][g] = *lever;
         }
+    }
+    out
+}
+
+/// [`levers`] of the points in the sphere `s` (of group `g`), for the joints `from..6` (the
+/// others keep `radii`).
+#[inline]
+fn sphere_levers(
+    radii: &[[f64; SHAPE_GROUPS]; 6],
+    g: usize,
+    reach: &Joints,
+    axes: &JointAxes,
+    s: &Bounded,
+    from: usize,
+) -> [f64; 6] {
+    let mut out = std::array::from_fn(|j| radii[j][g]);
+    // Σ_{k > j} R[k][g]·reach_k, from the wrist down.
+    let mut drift = 0.0;
+    for j in (from..6).rev() {
+        if radii[j][g] > 0.0 {
+            let (origin, axis) = &axes[j];
+            let v = s.center - origin;
+            let off_axis = (v - v.dot(axis) * axis).norm();
+            out[j] = radii[j][g].min(off_axis + s.radius + drift);
+        }
+        drift += radii[j][g] * reach[j];
     }
     out
 }

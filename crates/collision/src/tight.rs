@@ -464,13 +464,12 @@ impl<'a> Part<'a> {
         })
     }
 
-    /// Calls `f(pose, convex, inflation)` for each convex part of the exact solid, stopping
-    /// when it breaks: the pieces (inflation 0) whose bounding sphere comes within `reach` of
-    /// the sphere `(c, r)`, or the primitive itself (capsule: its segment inflated by the
-    /// radius; rounded cylinder: its core inflated by the border).
-    /// [`each_convex`](Self::each_convex), each body with a key of its own (its piece's address,
-    /// or the primitive's).
-    fn each_convex_keyed(
+    /// Calls `f(key, pose, convex, inflation)` for each convex part of the exact solid,
+    /// stopping when it breaks: the pieces (inflation 0) whose bounding sphere comes within
+    /// `reach` of the sphere `(c, r)`, or the primitive itself (capsule: its segment inflated by
+    /// the radius; rounded cylinder: its core inflated by the border). `key` names the part for
+    /// as long as it lives: its piece's address, or the primitive's.
+    fn each_convex(
         &self,
         near: Option<(&P, f64)>,
         mut f: impl FnMut(usize, &Isometry3<f64>, &dyn SupportMap, f64) -> ControlFlow<()>,
@@ -495,30 +494,6 @@ impl<'a> Part<'a> {
                     f(key, pose, shape, inflation)
                 })
             }
-        }
-    }
-
-    fn each_convex(
-        &self,
-        near: Option<(&P, f64)>,
-        mut f: impl FnMut(&Isometry3<f64>, &dyn SupportMap, f64) -> ControlFlow<()>,
-    ) -> ControlFlow<()> {
-        match self.tight() {
-            Some(Posed { tight, frame }) => {
-                for piece in &tight.pieces {
-                    if let Some((c, reach)) = near {
-                        let d = reach + piece.radius;
-                        if (frame * piece.center - c).norm_squared() > d * d {
-                            continue;
-                        }
-                    }
-                    f(frame, &Climb::new(&piece.poly), 0.0)?;
-                }
-                ControlFlow::Continue(())
-            }
-            None => with_primitive(self.shape(), |pose, shape, inflation| {
-                f(pose, shape, inflation)
-            }),
         }
     }
 
@@ -651,8 +626,8 @@ fn separator_slot((a, b): (usize, usize)) -> usize {
 /// Whether the exact solids of `s1` and `s2` come within `margin` of each other.
 pub(crate) fn within(s1: &Part, s2: &Part, margin: f64) -> bool {
     let (b1, b2) = (s1.bounded, s2.bounded);
-    s1.each_convex_keyed(Some((&b2.center, b2.radius + margin)), |k1, p1, g1, e1| {
-        s2.each_convex_keyed(Some((&b1.center, b1.radius + margin)), |k2, p2, g2, e2| {
+    s1.each_convex(Some((&b2.center, b2.radius + margin)), |k1, p1, g1, e1| {
+        s2.each_convex(Some((&b1.center, b1.radius + margin)), |k2, p2, g2, e2| {
             if near_keyed((k1, k2), p1, g1, p2, g2, margin + e1 + e2) {
                 ControlFlow::Break(())
             } else {
@@ -666,8 +641,8 @@ pub(crate) fn within(s1: &Part, s2: &Part, margin: f64) -> bool {
 /// Distance between the exact solids of `s1` and `s2` (`0` in contact).
 pub(crate) fn distance(s1: &Part, s2: &Part) -> f64 {
     let mut best = f64::INFINITY;
-    let _ = s1.each_convex(None, |p1, g1, e1| {
-        s2.each_convex(None, |p2, g2, e2| {
+    let _ = s1.each_convex(None, |_, p1, g1, e1| {
+        s2.each_convex(None, |_, p2, g2, e2| {
             let d = distance_support_map_support_map(&p1.inv_mul(p2), g1, g2) - e1 - e2;
             best = best.min(d.max(0.0));
             ControlFlow::Continue(())
