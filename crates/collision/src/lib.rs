@@ -3,6 +3,7 @@
 //! in it and a rerunnable reach benchmark.
 //!
 //! - [`distance`]: closed-form segment/triangle/box distances (the narrow phase).
+//! - [`gjk`]: GJK as a yes/no question (within a distance?), stopping once it knows.
 //! - [`shape`]: primitives placed in the world ([`Placed`]) and their pair tests.
 //! - [`tight`]: the exact tier of the arm links, convex pieces inside their cylinders.
 //! - [`object`]: the part as a parry `TriMesh` with its BVH ([`ObjectGeometry`]).
@@ -24,6 +25,7 @@ pub mod arm;
 pub mod distance;
 pub mod error;
 pub mod fixtures;
+pub mod gjk;
 pub mod grip;
 pub mod object;
 pub mod reach;

@@ -9,10 +9,12 @@
 //! Distances are signed where a closed form gives it (capsules, plane): `≤ 0` means contact,
 //! a negative value is a penetration depth estimate. Parry-backed pairs return `0` in contact.
 
+use std::ops::ControlFlow;
+
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::query;
 use parry3d_f64::shape::{
-    Capsule as PCapsule, Cuboid as PCuboid, Cylinder as PCylinder, Segment as PSegment,
+    Capsule as PCapsule, Cuboid as PCuboid, Cylinder as PCylinder, Segment as PSegment, SupportMap,
 };
 
 use crate::distance::segment_segment_sq;
@@ -203,6 +205,28 @@ pub fn parry_cylinder(a: &P, b: &P, r: f64) -> (Isometry3<f64>, PCylinder) {
     (pose, PCylinder::new(0.5 * len, r))
 }
 
+/// Calls `f` with a primitive as a parry support map: its pose, the shape, and the radius by
+/// which that shape must be inflated to be the primitive.
+pub(crate) fn with_primitive(
+    s: &Placed,
+    f: impl FnOnce(&Isometry3<f64>, &dyn SupportMap, f64) -> ControlFlow<()>,
+) -> ControlFlow<()> {
+    let id = Isometry3::identity();
+    match *s {
+        Placed::Capsule { a, b, radius } => f(&id, &PSegment::new(a, b), radius),
+        Placed::Cylinder {
+            a,
+            b,
+            radius,
+            border,
+        } => {
+            let (pose, cyl) = parry_cylinder(&a, &b, radius);
+            f(&pose, &cyl, border)
+        }
+        Placed::Cuboid { pose, half } => f(&pose, &PCuboid::new(half), 0.0),
+    }
+}
+
 /// The capsule that a cylinder lies inside (same axis segment and radius) and the capsule
 /// that lies inside the cylinder (the axis segment inset by the radius at both ends, same
 /// radius; `None` when the cylinder is shorter than its diameter).
@@ -254,38 +278,99 @@ fn inner_capsule(s: &Placed) -> Option<(P, P, f64)> {
 /// the link shapes and the collision tests).
 pub use pregrasp_robot::point_cylinder_distance;
 
-/// Distance from the segment `[p, q]` to the solid cylinder (`0` when they meet), stopping as
-/// soon as it is known to be at most `stop`. The distance from a point moving along a segment
-/// to a convex set is a convex function of the position, so a golden-section search finds its
-/// minimum; 60 iterations shrink the bracket below 1e-12 of the segment.
-pub fn segment_cylinder_distance(p: &P, q: &P, a: &P, b: &P, r: f64, stop: f64) -> f64 {
+/// Distance from the segment `[p, q]` to the solid cylinder (`0` when they meet).
+pub fn segment_cylinder_distance(p: &P, q: &P, a: &P, b: &P, r: f64) -> f64 {
     let f = |t: f64| point_cylinder_distance(&(p + (q - p) * t), a, b, r);
-    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    convex_minimum(f, 0.0, false)
+}
+
+/// Whether the segment `[p, q]` comes within `dist` of the solid cylinder: the search of
+/// [`segment_cylinder_distance`], stopping once it knows either way.
+pub fn segment_cylinder_within(p: &P, q: &P, a: &P, b: &P, r: f64, dist: f64) -> bool {
+    let f = |t: f64| point_cylinder_distance(&(p + (q - p) * t), a, b, r);
+    convex_minimum(f, dist, true) <= dist
+}
+
+/// The minimum over `t ∈ [0, 1]` of a convex `f` by golden-section search (60 steps shrink the
+/// bracket below 1e-12), returned as soon as a value at most `stop` is found. With `bound`, it
+/// also stops once convexity shows the minimum above `stop`, and then returns that lower bound.
+///
+/// The distance from a point moving along a segment to a convex set is a convex function of
+/// the position. The bound: a secant of a convex function lies below it outside its chord, so
+/// with values at `lo < x1 < x2 < hi` the chord `x1x2` extended bounds `f` on `[lo, x1]` and
+/// `[x2, hi]`, and on `[x1, x2]` `f` lies above both outer chords extended inwards (their
+/// maximum is smallest at an end or where they cross). It is only taken while the bracket is
+/// wide enough for the slopes to be well computed, and above `stop` by a guard far beyond
+/// round-off, so where the search would have found a value within `stop` this never claims
+/// otherwise.
+fn convex_minimum(f: impl Fn(f64) -> f64, stop: f64, bound: bool) -> f64 {
     let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
     let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+    let (mut f_lo, mut f_hi) = (f(lo), f(hi));
     let (mut f1, mut f2) = (f(x1), f(x2));
-    let mut best = f(0.0).min(f(1.0)).min(f1).min(f2);
+    let mut best = f_lo.min(f_hi).min(f1).min(f2);
     for _ in 0..60 {
         if best <= stop {
             return best;
         }
+        if bound && hi - lo > BRACKET_FOR_BOUND {
+            let below = convex_lower_bound([lo, x1, x2, hi], [f_lo, f1, f2, f_hi]);
+            if below > stop + BOUND_GUARD {
+                return below;
+            }
+        }
         if f1 <= f2 {
-            hi = x2;
-            x2 = x1;
-            f2 = f1;
+            (hi, f_hi) = (x2, f2);
+            (x2, f2) = (x1, f1);
             x1 = hi - g * (hi - lo);
             f1 = f(x1);
             best = best.min(f1);
         } else {
-            lo = x1;
-            x1 = x2;
-            f1 = f2;
+            (lo, f_lo) = (x1, f1);
+            (x1, f1) = (x2, f2);
             x2 = lo + g * (hi - lo);
             f2 = f(x2);
             best = best.min(f2);
         }
     }
     best
+}
+
+/// Narrowest bracket (of `t ∈ [0, 1]`) on which [`convex_minimum`] takes its convexity bound.
+const BRACKET_FOR_BOUND: f64 = 1e-6;
+
+/// How far above `stop` the convexity bound must be to end the search (m).
+const BOUND_GUARD: f64 = 1e-9;
+
+/// A lower bound of the minimum on `[x[0], x[3]]` of a convex function with values `y` at the
+/// increasing `x`, where the minimum lies in that bracket (see [`convex_minimum`]).
+fn convex_lower_bound(x: [f64; 4], y: [f64; 4]) -> f64 {
+    let slope = |i: usize, j: usize| (y[j] - y[i]) / (x[j] - x[i]);
+    let s = slope(1, 2);
+    // Outside [x1, x2]: the middle chord, lowest at the far end it falls towards.
+    let left = if s > 0.0 {
+        y[1] - s * (x[1] - x[0])
+    } else {
+        y[1]
+    };
+    let right = if s < 0.0 {
+        y[2] + s * (x[3] - x[2])
+    } else {
+        y[2]
+    };
+    // Inside: the larger of the outer chords, continued inwards.
+    let (sa, sb) = (slope(0, 1), slope(2, 3));
+    let a = |t: f64| y[1] + sa * (t - x[1]);
+    let b = |t: f64| y[2] + sb * (t - x[2]);
+    let mut mid = a(x[1]).max(b(x[1])).min(a(x[2]).max(b(x[2])));
+    if sa != sb {
+        let tc = (y[2] - y[1] - sb * x[2] + sa * x[1]) / (sa - sb);
+        if tc > x[1] && tc < x[2] {
+            mid = mid.min(a(tc));
+        }
+    }
+    left.min(right).min(mid)
 }
 
 /// Distance between two primitives by parry's GJK (`0` in contact), shapes built on the stack.
@@ -371,7 +456,7 @@ pub fn pair_distance(s1: &Placed, s2: &Placed) -> f64 {
         return pair_distance(&c1, &c2) - e1 - e2;
     }
     if let Some(((a, b, radius), (p, q, rc))) = cylinder_and_capsule(s1, s2) {
-        return segment_cylinder_distance(&p, &q, &a, &b, radius, 0.0) - rc;
+        return segment_cylinder_distance(&p, &q, &a, &b, radius) - rc;
     }
     if matches!(s1, Placed::Cylinder { .. }) || matches!(s2, Placed::Cylinder { .. }) {
         return gjk_distance(s1, s2);
@@ -409,7 +494,8 @@ pub fn pair_distance(s1: &Placed, s2: &Placed) -> f64 {
 /// `(√3 − 1)·margin` near its corners.
 ///
 /// Pairs with a cylinder: bounded first by the cylinder's enclosing capsule (no contact there,
-/// none at all) and inscribed capsule (contact there, contact), then parry's GJK distance.
+/// none at all) and inscribed capsule (contact there, contact), then GJK on parry's support
+/// maps, asked only whether they come within the margin ([`crate::gjk::within`]).
 /// A rounded cylinder is its core with the margin grown by its border (exact).
 #[inline]
 pub fn pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
@@ -480,7 +566,7 @@ fn cylinder_pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
         if segment_segment_sq(&p, &q, &a, &b) > r * r {
             return false;
         }
-        return segment_cylinder_distance(&p, &q, &a, &b, radius, reach) <= reach;
+        return segment_cylinder_within(&p, &q, &a, &b, radius, reach);
     }
     let as_capsule = |a: P, b: P, r: f64| Placed::Capsule { a, b, radius: r };
     if let (Some((a1, b1, r1)), Some((a2, b2, r2))) = (outer_capsule(s1), outer_capsule(s2)) {
@@ -517,12 +603,9 @@ fn cylinder_pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
         },
     ) = (*s1, *s2)
     {
-        let outer12 = segment_cylinder_distance(&a1, &b1, &a2, &b2, r2, r1 + margin);
-        if outer12 > r1 + margin {
-            return false;
-        }
-        let outer21 = segment_cylinder_distance(&a2, &b2, &a1, &b1, r1, r2 + margin);
-        if outer21 > r2 + margin {
+        if !segment_cylinder_within(&a1, &b1, &a2, &b2, r2, r1 + margin)
+            || !segment_cylinder_within(&a2, &b2, &a1, &b1, r1, r2 + margin)
+        {
             return false;
         }
         for (seg, other) in [
@@ -531,12 +614,12 @@ fn cylinder_pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
         ] {
             if let Some((p, q)) = seg {
                 let (oa, ob, or, own) = other;
-                if segment_cylinder_distance(&p, &q, &oa, &ob, or, own + margin) <= own + margin {
+                if segment_cylinder_within(&p, &q, &oa, &ob, or, own + margin) {
                     return true;
                 }
             }
         }
-        return gjk_distance(s1, s2) <= margin;
+        return primitives_within(s1, s2, margin);
     }
     let inner = |s: &Placed| inner_capsule(s).map(|(a, b, r)| as_capsule(a, b, r));
     let (i1, i2) = (inner(s1), inner(s2));
@@ -554,11 +637,23 @@ fn cylinder_pair_intersects(s1: &Placed, s2: &Placed, margin: f64) -> bool {
         }
         _ => {}
     }
-    gjk_distance(s1, s2) <= margin
+    primitives_within(s1, s2, margin)
 }
 
-/// Capsule `([a, b], r)` vs oriented box: a sphere–box reject on the capsule's bounding
-/// sphere first (closed form: clamp the centre into the box), then parry's GJK.
+/// Whether two primitives come within `margin` of each other, by GJK on parry's support maps
+/// ([`crate::gjk::within`]; a capsule as its segment within `margin` plus its radius).
+fn primitives_within(s1: &Placed, s2: &Placed, margin: f64) -> bool {
+    with_primitive(s1, |p1, g1, e1| {
+        with_primitive(s2, |p2, g2, e2| {
+            match crate::gjk::within(&p1.inv_mul(p2), g1, g2, margin + e1 + e2, None) {
+                Ok(()) => ControlFlow::Break(()),
+                Err(_) => ControlFlow::Continue(()),
+            }
+        })
+    })
+    .is_break()
+}
+
 /// Squared distance from `p` to the box `|x_i| ≤ half_i` (`0` inside), in the box's frame.
 #[inline]
 fn point_box_sq(p: &P, half: &V) -> f64 {
@@ -570,6 +665,10 @@ fn point_box_sq(p: &P, half: &V) -> f64 {
     d
 }
 
+/// Capsule `([a, b], r)` vs oriented box, in the box's frame: the endpoint spheres and the
+/// capsule's bounding sphere against the box (closed form: clamp the point into the box), then
+/// slab clipping against the box grown by `r`; only a segment through a rounded edge or corner
+/// region is left to GJK — the segment against the box within `r`.
 #[inline]
 fn capsule_cuboid_intersects(a: &P, b: &P, r: f64, pose: &Isometry3<f64>, half: &V) -> bool {
     let la = pose.inverse_transform_point(a);
@@ -597,14 +696,16 @@ fn capsule_cuboid_intersects(a: &P, b: &P, r: f64, pose: &Isometry3<f64>, half: 
     }) {
         return true;
     }
-    let cap = PCapsule::new(la, lb, r);
-    query::intersection_test(
+    // GJK on the segment and the box (polytopes: a few steps, exact), started along the line
+    // from the box's centre to the segment's.
+    crate::gjk::within(
         &Isometry3::identity(),
-        &cap,
-        &Isometry3::identity(),
+        &PSegment::new(la, lb),
         &PCuboid::new(*half),
+        r,
+        Some(c.coords),
     )
-    .unwrap_or(true)
+    .is_ok()
 }
 
 /// Added to a box before a segment that misses it is taken to miss the capsule: the clipping
@@ -892,6 +993,31 @@ mod tests {
         assert!(pair_intersects(&c, &probe, 0.0101));
         let capsule = cap([0., 0., 0.], [0., 0., 0.1], 0.06);
         assert!(pair_intersects(&capsule, &probe, 0.0));
+    }
+
+    /// The yes/no segment–cylinder search answers as the full search does at every distance
+    /// asked, the segments placed through, near and far from the cylinders.
+    #[test]
+    fn segment_cylinder_within_answers_as_the_distance() {
+        let mut u = uniform(17);
+        let mut pt = |s: f64| P::new(s * u(), s * u(), s * u());
+        let (mut near, mut far) = (0, 0);
+        for i in 0..3000 {
+            let (a, b) = (pt(0.1), pt(0.1));
+            let (p, q) = (pt(0.3), pt(0.3));
+            let r = 0.01 + 0.03 * (i % 7) as f64 / 7.0;
+            let d = segment_cylinder_distance(&p, &q, &a, &b, r);
+            for dist in [0.0, 0.005, 0.02, 0.1] {
+                let within = segment_cylinder_within(&p, &q, &a, &b, r, dist);
+                assert_eq!(within, d <= dist, "case {i}, dist {dist}: d = {d}");
+                if within {
+                    near += 1;
+                } else {
+                    far += 1;
+                }
+            }
+        }
+        assert!(near > 1000 && far > 1000, "{near} near, {far} far");
     }
 
     #[test]

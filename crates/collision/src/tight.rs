@@ -4,8 +4,8 @@
 //! ([`pregrasp_robot::ConvexPieces`]), bounds its pieces: if the cylinder is clear of the other
 //! solid by `margin + slack`, so are the pieces, and the test ends there (most pairs). Only
 //! where the cylinder is that close are the pieces tested, each a convex polytope given by its
-//! vertices in the link's DH frame, by parry's GJK on support maps with early exit at the margin
-//! (`closest_points_support_map_support_map` with a prediction distance), against the other
+//! vertices in the link's DH frame, by GJK on parry's support maps stopping as soon as it knows
+//! the answer at the margin ([`gjk::within`]), against the other
 //! solid's own pieces or primitive. A piece needs no faces at run time: GJK only asks for its
 //! support point `argmax_v d·v`, so loading a model builds no hulls. The pieces hug the real
 //! link surface (a few millimetres at most, see `crates/robot/data/PROVENANCE.md`), so this is
@@ -20,16 +20,13 @@ use std::sync::OnceLock;
 
 use nalgebra::Unit;
 use nalgebra::{Isometry3, Point3, Vector3};
-use parry3d_f64::query::details::{
-    closest_points_support_map_support_map, closest_points_support_map_support_map_with_params,
-    distance_support_map_support_map,
-};
-use parry3d_f64::query::gjk::{CSOPoint, GJKResult, VoronoiSimplex};
-use parry3d_f64::query::ClosestPoints;
-use parry3d_f64::shape::{Cuboid as PCuboid, Segment, SupportMap, Triangle};
+use parry3d_f64::query::details::distance_support_map_support_map;
+use parry3d_f64::query::gjk::CSOPoint;
+use parry3d_f64::shape::{SupportMap, Triangle};
 use pregrasp_robot::ConvexPieces;
 
-use crate::shape::{parry_cylinder, Bounded, Placed};
+use crate::gjk;
+use crate::shape::{with_primitive, Bounded, Placed};
 
 type P = Point3<f64>;
 
@@ -517,30 +514,8 @@ impl<'a> Part<'a> {
     }
 }
 
-/// Calls `f` with a primitive as a parry support map: its pose, the shape, and the radius by
-/// which that shape must be inflated to be the primitive.
-fn with_primitive(
-    s: &Placed,
-    f: impl FnOnce(&Isometry3<f64>, &dyn SupportMap, f64) -> ControlFlow<()>,
-) -> ControlFlow<()> {
-    let id = Isometry3::identity();
-    match *s {
-        Placed::Capsule { a, b, radius } => f(&id, &Segment::new(a, b), radius),
-        Placed::Cylinder {
-            a,
-            b,
-            radius,
-            border,
-        } => {
-            let (pose, cyl) = parry_cylinder(&a, &b, radius);
-            f(&pose, &cyl, border)
-        }
-        Placed::Cuboid { pose, half } => f(&pose, &PCuboid::new(half), 0.0),
-    }
-}
-
 /// Whether two convex shapes at `p1`, `p2` come within `dist` of each other (GJK, stopping as
-/// soon as it proves they are farther).
+/// soon as it knows: [`gjk::within`]).
 #[inline]
 fn near(
     p1: &Isometry3<f64>,
@@ -549,10 +524,7 @@ fn near(
     g2: &dyn SupportMap,
     dist: f64,
 ) -> bool {
-    !matches!(
-        closest_points_support_map_support_map(&p1.inv_mul(p2), g1, g2, dist),
-        ClosestPoints::Disjoint
-    )
+    gjk::within(&p1.inv_mul(p2), g1, g2, dist, None).is_ok()
 }
 
 /// [`near`] for two convex bodies named `key`, trying first the axis that last separated
@@ -582,19 +554,12 @@ fn near_keyed(
             return false;
         }
     }
-    match closest_points_support_map_support_map_with_params(
-        &pos12,
-        g1,
-        g2,
-        dist,
-        &mut VoronoiSimplex::new(),
-        None,
-    ) {
-        GJKResult::NoIntersection(dir) => {
+    match gjk::within(&pos12, g1, g2, dist, None) {
+        Ok(()) => true,
+        Err(dir) => {
             SEPARATORS.with(|s| s[slot].set((key, dir)));
             false
         }
-        _ => true,
     }
 }
 
@@ -687,8 +652,9 @@ pub(crate) fn piece_triangle_distance(pose: &Isometry3<f64>, poly: &Climb, tri: 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shape::parry_cylinder;
     use parry3d_f64::query;
-    use parry3d_f64::shape::{Capsule as PCapsule, ConvexPolyhedron};
+    use parry3d_f64::shape::{Capsule as PCapsule, ConvexPolyhedron, Cuboid as PCuboid};
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 

@@ -1,0 +1,163 @@
+//! GJK as a yes/no question: do two convex shapes come within a distance of each other?
+//!
+//! parry's `closest_points_support_map_support_map` with a prediction distance `d` runs GJK
+//! (Gilbert–Johnson–Keerthi) on the Minkowski difference `A − B`: each step it keeps the
+//! simplex of support points nearest the origin, whose distance `|v|` from the origin is an
+//! upper bound of the shapes' distance, and asks for the support point `w` along `−v`, whose
+//! plane gives the lower bound `−v̂·w`. It reports the shapes apart as soon as that lower
+//! bound exceeds `d`; otherwise it goes on until the bounds meet (the closest points) or the
+//! simplex holds the origin (a tetrahedron around it: intersecting).
+//!
+//! Asked only whether the distance is at most `d`, the run may stop as soon as the upper bound
+//! is: `|v| ≤ d`. Every other step is parry's, in parry's order, so where parry reports the
+//! shapes apart this does too, with the same axis, and where it reports closest points or an
+//! intersection this says *within* — only sooner. Touching and penetrating pairs are where that
+//! counts: GJK then needs its last steps (and the tetrahedron) to find out what the first
+//! simplex inside the margin already showed.
+
+use nalgebra::{Isometry3, Unit, Vector3};
+use parry3d_f64::query::gjk::{self, CSOPoint, VoronoiSimplex};
+use parry3d_f64::shape::SupportMap;
+
+/// GJK's answer to "within `dist`?": `Ok(())` within (touching and overlapping included),
+/// `Err(axis)` apart, `axis` (in the first shape's frame) the direction of `B − A` along which
+/// the gap exceeds `dist`.
+pub(crate) type Within = Result<(), Unit<Vector3<f64>>>;
+
+/// Whether `g1` and `g2` (the second at `pos12` in the first's frame) come within `dist` of
+/// each other: parry's GJK with a prediction distance (`closest_points` with exact distances,
+/// started from `start` or else from `−pos12`'s translation), stopping as soon as its upper
+/// bound is within `dist`. See the module doc for why the answers are parry's.
+pub(crate) fn within(
+    pos12: &Isometry3<f64>,
+    g1: &(impl SupportMap + ?Sized),
+    g2: &(impl SupportMap + ?Sized),
+    dist: f64,
+    start: Option<Vector3<f64>>,
+) -> Within {
+    let eps_tol = gjk::eps_tol();
+    let eps_rel = eps_tol.sqrt();
+    let dir = start.unwrap_or(-pos12.translation.vector);
+    let dir = Unit::try_new(dir, f64::EPSILON).unwrap_or_else(Vector3::x_axis);
+    let mut simplex = VoronoiSimplex::new();
+    simplex.reset(CSOPoint::from_shapes(pos12, g1, g2, &dir));
+    let mut proj = simplex.project_origin_and_reduce();
+    let mut max_bound = f64::MAX;
+    for _ in 0..100 {
+        let old_max_bound = max_bound;
+        let Some((dir, norm)) = Unit::try_new_and_get(-proj.coords, eps_tol) else {
+            return Ok(()); // the origin is on the simplex
+        };
+        max_bound = norm;
+        // The one step parry does not take: the simplex lies in `A − B`, so the shapes are
+        // no farther apart than its distance from the origin.
+        if max_bound <= dist {
+            return Ok(());
+        }
+        if max_bound >= old_max_bound {
+            return Ok(()); // no progress: parry reports its closest points
+        }
+        let w = CSOPoint::from_shapes(pos12, g1, g2, &dir);
+        let min_bound = -dir.dot(&w.point.coords);
+        if min_bound > dist {
+            return Err(dir);
+        }
+        if max_bound - min_bound <= eps_rel * max_bound || !simplex.add_point(w) {
+            return Ok(()); // the bounds agree: closest points within `dist`
+        }
+        proj = simplex.project_origin_and_reduce();
+        if simplex.dimension() == 3 {
+            return Ok(()); // a tetrahedron: closest points, or the origin inside
+        }
+    }
+    // parry gives up after as many steps and reports the shapes apart along `x`.
+    Err(Vector3::x_axis())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Point3, Translation3, UnitQuaternion};
+    use parry3d_f64::query::details::closest_points_support_map_support_map_with_params;
+    use parry3d_f64::query::gjk::GJKResult;
+    use parry3d_f64::shape::{ConvexPolyhedron, Cuboid, Segment};
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// parry's answer to the same question, run to its end.
+    fn parry_within(
+        pos12: &Isometry3<f64>,
+        g1: &dyn SupportMap,
+        g2: &dyn SupportMap,
+        dist: f64,
+    ) -> Within {
+        match closest_points_support_map_support_map_with_params(
+            pos12,
+            g1,
+            g2,
+            dist,
+            &mut VoronoiSimplex::new(),
+            None,
+        ) {
+            GJKResult::NoIntersection(axis) => Err(axis),
+            _ => Ok(()),
+        }
+    }
+
+    fn random_hull(rng: &mut ChaCha8Rng) -> ConvexPolyhedron {
+        let scale = rng.random_range(0.02..0.2);
+        let pts: Vec<Point3<f64>> = (0..rng.random_range(4..40))
+            .map(|_| Point3::from(Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0)) * scale))
+            .collect();
+        ConvexPolyhedron::from_convex_hull(&pts).expect("a hull of random points")
+    }
+
+    fn random_pose(rng: &mut ChaCha8Rng, spread: f64) -> Isometry3<f64> {
+        let t = Vector3::from_fn(|_, _| rng.random_range(-spread..spread));
+        let axis = Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0));
+        Isometry3::from_parts(
+            Translation3::from(t),
+            UnitQuaternion::from_scaled_axis(axis * 3.0),
+        )
+    }
+
+    /// Same answers (and the same separating axes) as parry run to its end, over random hulls,
+    /// segments and boxes placed apart, touching and overlapping, at several distances; and
+    /// the answers agree with the distance itself away from GJK's tolerance.
+    #[test]
+    fn answers_as_parry_run_to_its_end_and_as_the_distance() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let (mut within_n, mut apart_n) = (0, 0);
+        for _ in 0..4000 {
+            let h1 = random_hull(&mut rng);
+            let seg = Segment::new(
+                Point3::from(Vector3::from_fn(|_, _| rng.random_range(-0.2..0.2))),
+                Point3::from(Vector3::from_fn(|_, _| rng.random_range(-0.2..0.2))),
+            );
+            let cub = Cuboid::new(Vector3::from_fn(|_, _| rng.random_range(0.01..0.2)));
+            let h2 = random_hull(&mut rng);
+            let pos12 = random_pose(&mut rng, 0.2);
+            let dist = [0.0, 0.001, 0.005, 0.03][rng.random_range(0..4)];
+            let pairs: [(&dyn SupportMap, &dyn SupportMap); 3] =
+                [(&h1, &h2), (&seg, &cub), (&h1, &cub)];
+            for (g1, g2) in pairs {
+                let ours = within(&pos12, g1, g2, dist, None);
+                assert_eq!(ours, parry_within(&pos12, g1, g2, dist));
+                let d =
+                    parry3d_f64::query::details::distance_support_map_support_map(&pos12, g1, g2);
+                if d > dist + 1e-6 {
+                    assert!(ours.is_err(), "distance {d} > {dist} but within");
+                    apart_n += 1;
+                } else if d < dist - 1e-6 {
+                    assert!(ours.is_ok(), "distance {d} < {dist} but apart");
+                    within_n += 1;
+                }
+            }
+        }
+        // Both answers were asked for often.
+        assert!(
+            within_n > 2000 && apart_n > 2000,
+            "{within_n} within, {apart_n} apart"
+        );
+    }
+}
