@@ -531,8 +531,10 @@ fn near(
 /// them on this thread ([`SEPARATORS`]): along a motion the pairs change little between
 /// checks, and an axis that still shows them apart by more than `dist` settles the question
 /// with one support point each — GJK's own test of an axis, so the answer is GJK's (a
-/// remembered axis only speaks where the gap exceeds `dist` by [`SEPARATION_GUARD`], well past
-/// where GJK's bounds agree). Where it does not, GJK runs from its usual start.
+/// remembered axis only speaks where the gap exceeds `dist` by [`gjk::GUARD`], well past
+/// where GJK's bounds agree). Where it does not, GJK starts from that axis's support point
+/// ([`gjk::within_from`], again only taken clear of `dist` by the guard), and from its usual
+/// start where that leaves the answer open.
 fn near_keyed(
     key: (usize, usize),
     p1: &Isometry3<f64>,
@@ -547,14 +549,18 @@ fn near_keyed(
         let (k, dir) = s[slot].get();
         (k == key).then_some(dir)
     });
-    if let Some(dir) = cached {
-        // GJK's own test of an axis: the shapes are farther apart along it than `dist`.
-        let cso = CSOPoint::from_shapes(&pos12, g1, g2, &dir);
-        if -dir.dot(&cso.point.coords) > dist + SEPARATION_GUARD {
-            return false;
-        }
-    }
-    match gjk::within(&pos12, g1, g2, dist, None) {
+    let answer = cached
+        .and_then(|dir| {
+            // GJK's own test of an axis: the shapes are farther apart along it than `dist`.
+            let cso = CSOPoint::from_shapes(&pos12, g1, g2, &dir);
+            if -dir.dot(&cso.point.coords) > dist + gjk::GUARD {
+                return Some(Err(dir));
+            }
+            // Not by enough: GJK from there, where its answer is sure.
+            gjk::within_from(&pos12, g1, g2, dist, cso)
+        })
+        .unwrap_or_else(|| gjk::within(&pos12, g1, g2, dist, None));
+    match answer {
         Ok(()) => true,
         Err(dir) => {
             SEPARATORS.with(|s| s[slot].set((key, dir)));
@@ -562,10 +568,6 @@ fn near_keyed(
         }
     }
 }
-
-/// How much farther apart than asked an axis must show two shapes to be taken as separated
-/// without GJK (m): GJK itself stops once its bounds agree to a few 1e-9 m.
-const SEPARATION_GUARD: f64 = 1e-7;
 
 /// A pair of convex bodies (their keys) and the axis that last separated them.
 type Separator = ((usize, usize), Unit<Vector3<f64>>);
