@@ -550,53 +550,66 @@ impl CollisionWorld {
                     }
                 }
             }
-            // 2. Self-collision pairs.
+            // 2. Self-collision pairs. The culls' margin is one per pair of groups.
             for ((fa, fb), pairs) in &set.link_pair_groups {
                 let (ga, gb) = (Id::Group(i, *fa as usize), Id::Group(i, *fb as usize));
                 let (sa, sb) = (pi.frame_sphere(*fa as usize), pi.frame_sphere(*fb as usize));
-                if sink.skip_spheres(sa, sb, (ga, gb)) {
+                let m = sink.cull_margin((ga, gb));
+                if sink.skip_spheres_at(sa, sb, m) {
                     continue;
                 }
                 for &(a, b) in pairs {
                     let (a, b) = (a as usize, b as usize);
-                    if !sink.skip_spheres(&shapes[a], &shapes[b], (Id::Arm(i, a), Id::Arm(i, b))) {
+                    if !sink.skip_spheres_at(&shapes[a], &shapes[b], m) {
                         let (sa, sb) = (pi.part(set, a), pi.part(set, b));
                         sink.pair(sa, sb, (Id::Arm(i, a), Id::Arm(i, b)))?;
                     }
                 }
             }
             //    The gripper vs the links it must not touch, culled by its enclosing sphere.
+            let grip_m: [f64; 7] =
+                std::array::from_fn(|f| sink.cull_margin((Id::Group(i, f), Id::Group(i, 7))));
             for &l in &set.gripper_forbidden {
                 let l = l as usize;
                 let sl = &shapes[l];
-                if sink.skip_spheres(sl, pi.gripper_sphere(), (Id::Arm(i, l), Id::Group(i, 7))) {
+                let m = grip_m[set.group_of[l] as usize];
+                if sink.skip_spheres_at(sl, pi.gripper_sphere(), m) {
                     continue;
                 }
                 for g in pi.gripper_range() {
-                    if !sink.skip_spheres(sl, &shapes[g], (Id::Arm(i, l), Id::Arm(i, g))) {
+                    if !sink.skip_spheres_at(sl, &shapes[g], m) {
                         let (pl, pg) = (pi.part(set, l), pi.part(set, g));
                         sink.pair(pl, pg, (Id::Arm(i, l), Id::Arm(i, g)))?;
                     }
                 }
             }
-            // 3. Static cuboids, culled by the spheres' distances from the boxes themselves.
+            // 3. Static cuboids, culled by the spheres' distances from the boxes themselves (a
+            //    group's margin is one against every static body).
+            let obstacle_m: [f64; 8] = if self.obstacles.is_empty() {
+                [0.0; 8]
+            } else {
+                std::array::from_fn(|g| sink.cull_margin((Id::Group(i, g), Id::Obstacle(0))))
+            };
             for (o, obs) in self.obstacles.iter().enumerate() {
                 let (pose, half) = obs.cuboid();
                 for (g, members) in set.group_members.iter().enumerate() {
-                    let (sg, ids) = (pi.group_sphere(g), (Id::Group(i, g), Id::Obstacle(o)));
-                    if members.is_empty()
-                        || sink.skip_spheres(sg, &obs.shape, ids)
-                        || sink.skip_cuboid(&pose, &half, sg, ids)
+                    if members.is_empty() {
+                        continue;
+                    }
+                    let sg = pi.group_sphere(g);
+                    let m = obstacle_m[g];
+                    if sink.skip_spheres_at(sg, &obs.shape, m)
+                        || sink.skip_cuboid_at(&pose, &half, sg, m)
                     {
                         continue;
                     }
                     for &k in members {
                         let (k, s) = (k as usize, &shapes[k as usize]);
-                        let ids = (Id::Arm(i, k), Id::Obstacle(o));
                         if !arm.is_base_part(k)
-                            && !sink.skip_spheres(s, &obs.shape, ids)
-                            && !sink.skip_cuboid(&pose, &half, s, ids)
+                            && !sink.skip_spheres_at(s, &obs.shape, m)
+                            && !sink.skip_cuboid_at(&pose, &half, s, m)
                         {
+                            let ids = (Id::Arm(i, k), Id::Obstacle(o));
                             sink.pair(pi.part(set, k), Part::plain(&obs.shape), ids)?;
                         }
                     }
@@ -766,8 +779,22 @@ impl CollisionWorld {
 
 /// What to do with each candidate pair: stop at the first contact, or track the minimum.
 pub(crate) trait Sink {
+    /// The clearance within which a pair (`ids`) may matter, for the culls by spheres and boxes:
+    /// the same for every pair of bodies of the same two shape groups, and for a group against
+    /// any static body (they do not move), so a loop over a group's pairs works it out once. A
+    /// margin worked out earlier in a visit may be wider than asking again would give (a sink
+    /// that narrows it as it goes), never narrower.
+    fn cull_margin(&self, ids: (Id, Id)) -> f64;
+    /// Whether bodies in the spheres `s1`, `s2` cannot matter at the cull margin `m`.
+    #[inline]
+    fn skip_spheres_at(&self, s1: &Bounded, s2: &Bounded, m: f64) -> bool {
+        !s1.spheres_near(s2, m)
+    }
     /// Whether a pair (`ids`) whose bounding spheres are `s1`, `s2` cannot matter.
-    fn skip_spheres(&self, s1: &Bounded, s2: &Bounded, ids: (Id, Id)) -> bool;
+    #[inline]
+    fn skip_spheres(&self, s1: &Bounded, s2: &Bounded, ids: (Id, Id)) -> bool {
+        self.skip_spheres_at(s1, s2, self.cull_margin(ids))
+    }
     /// Whether a body (`ids.0`) in the sphere `s` cannot matter against the part's box (its
     /// mesh's bounding box in the object frame) at `pose`.
     fn skip_object_box(
@@ -779,14 +806,14 @@ pub(crate) trait Sink {
     ) -> bool {
         false
     }
-    /// Whether a body (`ids.0`) in the sphere `s` cannot matter against the cuboid `half` at
-    /// `pose` (a static obstacle).
-    fn skip_cuboid(
+    /// Whether a body in the sphere `s` cannot matter against the cuboid `half` at `pose` (a
+    /// static obstacle) at the cull margin `m`.
+    fn skip_cuboid_at(
         &self,
         _pose: &Isometry3<f64>,
         _half: &Vector3<f64>,
         _s: &Bounded,
-        _ids: (Id, Id),
+        _m: f64,
     ) -> bool {
         false
     }
@@ -964,11 +991,14 @@ pub(crate) fn pair_code((a, b): (Id, Id)) -> Option<u32> {
 }
 
 impl Sink for FirstContact<'_> {
+    /// The pair's own clearance in a swept query (never more than [`cull`](Self::cull)), the
+    /// widest of any pair otherwise.
     #[inline]
-    fn skip_spheres(&self, s1: &Bounded, s2: &Bounded, ids: (Id, Id)) -> bool {
-        // Apart by more than any pair's clearance: no need to work out this pair's.
-        !s1.spheres_near(s2, self.cull)
-            || self.grow.is_some() && !s1.spheres_near(s2, self.margin_of(self.margin, ids))
+    fn cull_margin(&self, ids: (Id, Id)) -> f64 {
+        match self.grow {
+            None => self.cull,
+            Some(_) => self.margin_of(self.margin, ids).min(self.cull),
+        }
     }
     #[inline]
     fn skip_object_box(
@@ -981,16 +1011,15 @@ impl Sink for FirstContact<'_> {
         !obj.sphere_near_box(pose, s, self.margin_of(self.margin, ids))
     }
     #[inline]
-    fn skip_cuboid(
+    fn skip_cuboid_at(
         &self,
         pose: &Isometry3<f64>,
         half: &Vector3<f64>,
         s: &Bounded,
-        ids: (Id, Id),
+        m: f64,
     ) -> bool {
-        let gap_sq = s.centre_box_gap_sq(pose, half);
-        let far = |margin: f64| gap_sq > (s.radius + margin) * (s.radius + margin);
-        far(self.cull) || self.grow.is_some() && far(self.margin_of(self.margin, ids))
+        let reach = s.radius + m;
+        s.centre_box_gap_sq(pose, half) > reach * reach
     }
     #[inline]
     fn skip_gap_sq(&self, gap_sq: f64) -> bool {
@@ -1072,17 +1101,21 @@ impl MinDistance {
 }
 
 impl Sink for MinDistance {
-    fn skip_spheres(&self, s1: &Bounded, s2: &Bounded, _ids: (Id, Id)) -> bool {
-        (s1.center - s2.center).norm() - s1.radius - s2.radius >= self.best
+    /// The best distance so far (a culled pair cannot beat it).
+    fn cull_margin(&self, _ids: (Id, Id)) -> f64 {
+        self.best
     }
-    fn skip_cuboid(
+    fn skip_spheres_at(&self, s1: &Bounded, s2: &Bounded, m: f64) -> bool {
+        (s1.center - s2.center).norm() - s1.radius - s2.radius >= m
+    }
+    fn skip_cuboid_at(
         &self,
         pose: &Isometry3<f64>,
         half: &Vector3<f64>,
         s: &Bounded,
-        _ids: (Id, Id),
+        m: f64,
     ) -> bool {
-        s.centre_box_gap_sq(pose, half).sqrt() - s.radius >= self.best
+        s.centre_box_gap_sq(pose, half).sqrt() - s.radius >= m
     }
     fn skip_gap_sq(&self, gap_sq: f64) -> bool {
         gap_sq.sqrt() >= self.best
