@@ -1,7 +1,8 @@
 //! Path simplification: greedy and random shortcutting, then waypoint removal.
 //!
 //! Every edge the simplifier introduces is checked with the same [`MotionValidator`]
-//! that validated the input, and a change is kept only when it lowers the path's
+//! that validated the input (one that ends at a waypoint of the path without that waypoint,
+//! [`MotionValidator::check_edge_between_valid`]), and a change is kept only when it lowers the path's
 //! [`PathCost`] (by default its length in the space's metric), so the output is valid
 //! whenever the input was and `cost(out) ≤ cost(in)`. Greedy shortcuts and waypoint
 //! removal replace two or more edges by one, which never costs more when the edge cost
@@ -115,7 +116,7 @@ pub fn greedy_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
     while i + 1 < path.len() {
         // The original edge i → i+1 is known valid, so the search always ends at i+1.
         let mut j = path.len() - 1;
-        while j > i + 1 && !motion.check_edge(&path[i], &path[j]) {
+        while j > i + 1 && !motion.check_edge_between_valid(&path[i], &path[j]) {
             j -= 1;
         }
         out.push(path[j]);
@@ -206,9 +207,11 @@ pub fn random_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
             // edges).
             let valid = match keep {
                 [x, y] => {
-                    motion.check_edge(x, y) && motion.check_edge(&p, x) && motion.check_edge(y, &q)
+                    motion.check_edge(x, y)
+                        && motion.check_edge(&p, x)
+                        && motion.check_edge_between_valid(y, &q)
                 }
-                [z] => motion.check_edge(&p, z) && motion.check_edge(z, &q),
+                [z] => motion.check_edge(&p, z) && motion.check_edge_between_valid(z, &q),
                 _ => unreachable!("one or two states"),
             };
             if valid {
@@ -281,7 +284,7 @@ pub fn partial_shortcut<const D: usize, V: StateValidator<D> + ?Sized>(
         // The moved states' edges first: the end edges lie along valid edges.
         let valid = sub.windows(2).all(|w| motion.check_edge(&w[0], &w[1]))
             && motion.check_edge(&path[i], &sub[0])
-            && motion.check_edge(&sub[sub.len() - 1], &path[j + 1]);
+            && motion.check_edge_between_valid(&sub[sub.len() - 1], &path[j + 1]);
         if valid {
             path.splice(i + 1..=j, sub.iter().copied());
         }
@@ -295,7 +298,7 @@ pub fn remove_waypoints<const D: usize, V: StateValidator<D> + ?Sized>(
 ) {
     let mut k = 1;
     while k + 1 < path.len() {
-        if motion.check_edge(&path[k - 1], &path[k + 1]) {
+        if motion.check_edge_between_valid(&path[k - 1], &path[k + 1]) {
             path.remove(k);
         } else {
             k += 1;

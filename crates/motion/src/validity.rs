@@ -206,9 +206,18 @@ impl<'a, const D: usize, V: StateValidator<D> + ?Sized> MotionValidator<'a, D, V
     /// check of a whole range counts as one).
     pub fn check_edge_counted(&self, a: &State<D>, b: &State<D>, states_checked: &mut u64) -> bool {
         *states_checked += 1;
-        if !self.check_state(b) {
-            return false;
-        }
+        self.check_state(b) && self.check_between(a, b, states_checked)
+    }
+
+    /// [`Self::check_edge`] where `b` is known valid too (a waypoint of a valid path, say):
+    /// only the states between the ends are checked.
+    pub fn check_edge_between_valid(&self, a: &State<D>, b: &State<D>) -> bool {
+        let mut checked = 0;
+        self.check_between(a, b, &mut checked)
+    }
+
+    /// Whether the states strictly between `a` and `b` are valid.
+    fn check_between(&self, a: &State<D>, b: &State<D>, states_checked: &mut u64) -> bool {
         let n = self.edge_steps(a, b);
         if n == 1 {
             return true;
@@ -474,6 +483,11 @@ mod tests {
                         by_boxes, one_by_one,
                         "wall {from}, {a} → {b} at {resolution}"
                     );
+                    // With both ends valid, the states between them decide alone.
+                    if states.check_state(&[a]) && states.check_state(&[b]) {
+                        assert_eq!(boxes.check_edge_between_valid(&[a], &[b]), one_by_one);
+                        assert_eq!(states.check_edge_between_valid(&[a], &[b]), one_by_one);
+                    }
                     if by_boxes && states.edge_steps(&[a], &[b]) > 20 {
                         assert!(n1 < n2, "{n1} checks with boxes, {n2} without");
                         fewer += 1;
