@@ -1,14 +1,14 @@
 //! Path simplification: greedy and random shortcutting, then waypoint removal.
 //!
 //! Every edge the simplifier introduces is checked with the same [`MotionValidator`]
-//! that validated the input (one that ends at a waypoint of the path without that waypoint,
-//! [`MotionValidator::check_edge_between_valid`]), and a change is kept only when it lowers the path's
-//! [`PathCost`] (by default its length in the space's metric), so the output is valid
-//! whenever the input was and `cost(out) ≤ cost(in)`. Greedy shortcuts and waypoint
-//! removal replace two or more edges by one, which never costs more when the edge cost
-//! satisfies the triangle inequality (length does, being a norm; so does
-//! [`RestToRest`] duration); random and partial shortcuts compare costs before they
-//! check any edge, so a change that would not pay costs no collision check.
+//! that validated the input (one that ends at a waypoint of the path without that
+//! waypoint, [`MotionValidator::check_edge_between_valid`]), and a change is kept only when
+//! it lowers the path's [`PathCost`] (by default its length in the space's metric), so the
+//! output is valid whenever the input was and `cost(out) ≤ cost(in)`. Greedy shortcuts and
+//! waypoint removal replace two or more edges by one, which never costs more when the edge
+//! cost satisfies the triangle inequality (length does, being a norm; so does [`RestToRest`]
+//! duration); random and partial shortcuts compare costs before they check any edge, so a
+//! change that would not pay costs no collision check.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
