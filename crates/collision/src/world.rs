@@ -535,19 +535,34 @@ impl CollisionWorld {
             let set = arm.set();
             // 1. Support. A gripper that grasps (holds, closes on or releases the part) keeps
             //    its own clearance from the support.
+            //    A group whose sphere keeps its clearance is passed whole (the visit order stays
+            //    the shapes').
             if let Some(h) = self.support {
-                for k in 0..shapes.len() {
-                    if !arm.is_base_part(k) {
-                        let margin = if state.grasping[i] && set.is_gripper[k] {
-                            if !sink.grasp_support() {
-                                continue;
-                            }
-                            self.grasp_support_margin
-                        } else {
-                            self.margin
-                        };
-                        sink.plane(pi.part(set, k), h, margin, (Id::Arm(i, k), Id::Support))?;
+                let margin_of = |g: usize| {
+                    if state.grasping[i] && g == 7 {
+                        self.grasp_support_margin
+                    } else {
+                        self.margin
                     }
+                };
+                let clear: [bool; pregrasp_robot::SHAPE_GROUPS] = std::array::from_fn(|g| {
+                    let ids = (Id::Group(i, g), Id::Support);
+                    sink.skip_plane(pi.group_sphere(g), h, margin_of(g), ids)
+                });
+                for k in 0..shapes.len() {
+                    let g = set.group_of[k] as usize;
+                    if arm.is_base_part(k) || clear[g] {
+                        continue;
+                    }
+                    if state.grasping[i] && set.is_gripper[k] && !sink.grasp_support() {
+                        continue;
+                    }
+                    sink.plane(
+                        pi.part(set, k),
+                        h,
+                        margin_of(g),
+                        (Id::Arm(i, k), Id::Support),
+                    )?;
                 }
             }
             // 2. Self-collision pairs. The culls' margin is one per pair of groups.
@@ -806,6 +821,11 @@ pub(crate) trait Sink {
     ) -> bool {
         false
     }
+    /// Whether a group of bodies (`ids.0`) in the sphere `s` cannot matter against the support
+    /// plane `z = height` at clearance `margin` (as [`plane`](Self::plane) would find for each).
+    fn skip_plane(&self, _s: &Bounded, _height: f64, _margin: f64, _ids: (Id, Id)) -> bool {
+        false
+    }
     /// Whether a body in the sphere `s` cannot matter against the cuboid `half` at `pose` (a
     /// static obstacle) at the cull margin `m`.
     fn skip_cuboid_at(
@@ -1024,6 +1044,12 @@ impl Sink for FirstContact<'_> {
     #[inline]
     fn skip_gap_sq(&self, gap_sq: f64) -> bool {
         gap_sq > self.cull * self.cull
+    }
+    /// The sphere holds its shapes grown by their slack, so its lowest point above the plane
+    /// by more than the pair's clearance passes each shape's test in [`plane`](Sink::plane).
+    #[inline]
+    fn skip_plane(&self, s: &Bounded, height: f64, margin: f64, ids: (Id, Id)) -> bool {
+        s.center.z - s.radius - height > self.margin_of(margin, ids)
     }
     #[inline]
     fn grasp_support(&self) -> bool {
