@@ -237,12 +237,25 @@ impl ObjectGeometry {
     /// descent with the box's AABB, parry's separating-axis box–triangle test at the leaves.
     /// A margin is applied by growing the half extents (conservative at edges and corners).
     fn cuboid_hits(&self, box_pose: &Isometry3<f64>, half: &Vector3<f64>) -> bool {
-        let ext = box_pose.rotation.to_rotation_matrix().matrix().abs() * half;
+        let rot = box_pose.rotation.to_rotation_matrix();
+        let ext = rot.matrix().abs() * half;
         let c = P::from(box_pose.translation.vector);
+        // Object frame → box axes (the rows of the box's rotation).
+        let to_box = rot.matrix().transpose();
         let cub = PCuboid::new(*half);
         let id = Isometry3::identity();
         let reach2 = half.norm_squared();
         self.any_triangle(&(c - ext), &(c + ext), |ta, tb, tc| {
+            // A triangle beyond one of the box's faces, all three corners on the far side,
+            // cannot touch it (the box's own three axes of the separating-axis test, which
+            // parry would ask too).
+            let (a, b, d) = (to_box * (ta - c), to_box * (tb - c), to_box * (tc - c));
+            if (0..3).any(|i| {
+                let (lo, hi) = (a[i].min(b[i]).min(d[i]), a[i].max(b[i]).max(d[i]));
+                lo > half[i] || hi < -half[i]
+            }) {
+                return false;
+            }
             // The box lies within |half| of its centre: a farther triangle cannot touch it.
             let q = closest_point_on_triangle(&c, ta, tb, tc);
             if (q - c).norm_squared() > reach2 {

@@ -280,3 +280,47 @@ fn arm_validity_rejects_limits_and_contacts() {
     let radii = pregrasp_robot::joint_sweep_radii(UrModel::Ur5e, &Gripper2F85::default());
     assert_eq!(space.weights, radii);
 }
+
+/// A box touches the part's mesh exactly where parry's own box–mesh test says so: random
+/// boxes, turned every way, placed through, across and beside the bars of a frame.
+#[test]
+fn boxes_touch_the_part_where_parry_says_they_do() {
+    use parry3d_f64::shape::Cuboid;
+    use rand::{Rng, SeedableRng};
+    let mesh = frame_mesh(0.6, 0.4, 0.05, 0.03);
+    let object = pregrasp_collision::ObjectGeometry::new(&mesh).unwrap();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(21);
+    let (mut touching, mut apart) = (0, 0);
+    for _ in 0..4000 {
+        let t = Vector3::new(
+            rng.random_range(-0.4..0.4),
+            rng.random_range(-0.3..0.3),
+            rng.random_range(-0.08..0.1),
+        );
+        let axis = Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0)) * 3.0;
+        let pose = Isometry3::from_parts(t.into(), UnitQuaternion::from_scaled_axis(axis));
+        let half = Vector3::from_fn(|_, _| rng.random_range(0.002..0.06));
+        let reference = parry3d_f64::query::intersection_test(
+            &pose,
+            &Cuboid::new(half),
+            &Isometry3::identity(),
+            object.trimesh(),
+        )
+        .unwrap();
+        // Both test the box against the mesh's triangles (its surface).
+        assert_eq!(
+            object.box_touches(&pose, &half),
+            reference,
+            "{pose:?} {half:?}"
+        );
+        if reference {
+            touching += 1;
+        } else {
+            apart += 1;
+        }
+    }
+    assert!(
+        touching > 500 && apart > 500,
+        "{touching} touching, {apart} apart"
+    );
+}
