@@ -766,21 +766,29 @@ impl CollisionWorld {
                 continue;
             }
             for (gj, members_j) in set_j.group_members.iter().enumerate() {
-                let ids = (Id::Group(i, gi), Id::Group(j, gj));
-                if members_j.is_empty() || sink.skip_spheres(si, pj.group_sphere(gj), ids) {
+                if members_j.is_empty() {
+                    continue;
+                }
+                // One cull margin for the two groups' pairs; a shape far from the other
+                // group's sphere skips its shapes.
+                let sj = pj.group_sphere(gj);
+                let m = sink.cull_margin((Id::Group(i, gi), Id::Group(j, gj)));
+                if sink.skip_spheres_at(si, sj, m) {
                     continue;
                 }
                 for &k in members_i {
                     let k = k as usize;
                     let a = &pi.shapes()[k];
+                    if sink.skip_spheres_at(a, sj, m) {
+                        continue;
+                    }
                     let base_k = self.arms[i].is_base_part(k);
                     for &l in members_j {
                         let l = l as usize;
                         if base_k && self.arms[j].is_base_part(l) {
                             continue;
                         }
-                        let ids = (Id::Arm(i, k), Id::Arm(j, l));
-                        if !sink.skip_spheres(a, &pj.shapes()[l], ids) {
+                        if !sink.skip_spheres_at(a, &pj.shapes()[l], m) {
                             let (pa, pb) = (pi.part(set_i, k), pj.part(set_j, l));
                             sink.pair(pa, pb, (Id::Arm(i, k), Id::Arm(j, l)))?;
                         }
