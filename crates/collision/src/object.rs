@@ -25,6 +25,8 @@ pub struct ObjectGeometry {
     /// Bounding sphere in the object frame: centre of the local AABB, half its diagonal.
     center: P,
     radius: f64,
+    /// The mesh's bounding box in the object frame (its BVH's root box, kept at hand).
+    aabb: (P, P),
 }
 
 impl std::fmt::Debug for ObjectGeometry {
@@ -67,10 +69,12 @@ impl ObjectGeometry {
         let aabb = trimesh.local_aabb();
         let center = aabb.center();
         let radius = aabb.half_extents().norm();
+        let aabb = (aabb.mins, aabb.maxs);
         Ok(ObjectGeometry {
             mesh: trimesh,
             center,
             radius,
+            aabb,
         })
     }
 
@@ -96,10 +100,8 @@ impl ObjectGeometry {
     #[inline]
     pub(crate) fn sphere_near_box(&self, pose: &Isometry3<f64>, s: &Bounded, margin: f64) -> bool {
         let local = pose.inverse_transform_point(&s.center);
-        let aabb = self.mesh.local_aabb();
-        let outside = (aabb.mins - local)
-            .sup(&(local - aabb.maxs))
-            .sup(&Vector3::zeros());
+        let (mins, maxs) = &self.aabb;
+        let outside = (mins - local).sup(&(local - maxs)).sup(&Vector3::zeros());
         let reach = s.radius + margin;
         outside.norm_squared() <= reach * reach
     }
