@@ -191,14 +191,13 @@ impl ObjectGeometry {
     /// Whether the cylinder (end-face centres `a`, `b`, radius `r`, object frame) comes within
     /// `margin` of a triangle: BVH descent with its AABB; at a leaf, the enclosing capsule
     /// rejects and the inscribed capsule accepts by closed-form segment–triangle distances,
-    /// and only what falls between goes to parry's GJK.
+    /// and only what falls between goes to GJK ([`crate::gjk::within`]).
     fn cylinder_hits(&self, a: &P, b: &P, r: f64, margin: f64) -> bool {
         let ext = crate::shape::cylinder_rim_extent(a, b, r) + Vector3::repeat(margin);
         let outer2 = (r + margin) * (r + margin);
         let (_, _, inner) = crate::shape::cylinder_capsules(a, b, r);
         // Built only if a triangle falls between the two capsule bounds.
         let mut parry = None;
-        let id = Isometry3::identity();
         self.any_triangle(&(a.inf(b) - ext), &(a.sup(b) + ext), |ta, tb, tc| {
             if segment_triangle_sq(a, b, ta, tb, tc) > outer2 {
                 return false;
@@ -209,7 +208,7 @@ impl ObjectGeometry {
             let (cyl_pose, cyl) =
                 parry.get_or_insert_with(|| crate::shape::parry_cylinder(a, b, r));
             let tri = parry3d_f64::shape::Triangle::new(*ta, *tb, *tc);
-            query::distance(cyl_pose, cyl, &id, &tri).map_or(true, |d| d <= margin)
+            crate::gjk::within(&cyl_pose.inverse(), cyl, &tri, margin, None).is_ok()
         })
     }
 

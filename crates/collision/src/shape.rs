@@ -1,10 +1,12 @@
 //! Convex primitives placed in the world frame, with their bounding volumes and pair tests.
 //!
 //! Every arm link, gripper part and static obstacle is one [`Placed`] primitive: a capsule
-//! (segment `[a, b]` inflated by `radius`; a sphere when `a == b`) or an oriented cuboid.
+//! (segment `[a, b]` inflated by `radius`; a sphere when `a == b`), a cylinder (its rim
+//! possibly rounded) or an oriented cuboid.
 //! Pair tests run from cheap to exact: bounding spheres first, then closed forms for
 //! capsule–capsule (segment–segment distance) and anything–plane (support function along
-//! `z`), and parry's GJK only for pairs involving a cuboid.
+//! `z`), slab clipping for capsule–box, a convex search for segment–cylinder, and GJK on
+//! parry's support maps ([`crate::gjk::within`]) only for what those leave open.
 //!
 //! Distances are signed where a closed form gives it (capsules, plane): `≤ 0` means contact,
 //! a negative value is a penetration depth estimate. Parry-backed pairs return `0` in contact.
