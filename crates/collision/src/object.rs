@@ -12,7 +12,7 @@ use parry3d_f64::query;
 use parry3d_f64::shape::{Cuboid as PCuboid, TriMesh};
 use pregrasp_geometry::Mesh;
 
-use crate::distance::{aabb_aabb_sq, closest_point_on_triangle, segment_triangle_sq};
+use crate::distance::{aabb_aabb_sq, segment_triangle_sq, triangle_box_intersect};
 use crate::error::CollisionError;
 use crate::shape::{Bounded, Placed};
 
@@ -235,35 +235,18 @@ impl ObjectGeometry {
     }
 
     /// Whether the box `half` at `box_pose` (box → object frame) touches a triangle: BVH
-    /// descent with the box's AABB, parry's separating-axis box–triangle test at the leaves.
-    /// A margin is applied by growing the half extents (conservative at edges and corners).
+    /// descent with the box's AABB, the separating-axis box–triangle test at the leaves, in the
+    /// box's frame ([`triangle_box_intersect`]). A margin is applied by growing the half
+    /// extents (conservative at edges and corners).
     fn cuboid_hits(&self, box_pose: &Isometry3<f64>, half: &Vector3<f64>) -> bool {
         let rot = box_pose.rotation.to_rotation_matrix();
         let ext = rot.matrix().abs() * half;
         let c = P::from(box_pose.translation.vector);
-        // Object frame → box axes (the rows of the box's rotation).
+        // Object frame → box frame (the rows of the box's rotation).
         let to_box = rot.matrix().transpose();
-        let cub = PCuboid::new(*half);
-        let id = Isometry3::identity();
-        let reach2 = half.norm_squared();
+        let local = |p: &P| P::from(to_box * (p - c));
         self.any_triangle(&(c - ext), &(c + ext), |ta, tb, tc| {
-            // A triangle beyond one of the box's faces, all three corners on the far side,
-            // cannot touch it (the box's own three axes of the separating-axis test, which
-            // parry would ask too).
-            let (a, b, d) = (to_box * (ta - c), to_box * (tb - c), to_box * (tc - c));
-            if (0..3).any(|i| {
-                let (lo, hi) = (a[i].min(b[i]).min(d[i]), a[i].max(b[i]).max(d[i]));
-                lo > half[i] || hi < -half[i]
-            }) {
-                return false;
-            }
-            // The box lies within |half| of its centre: a farther triangle cannot touch it.
-            let q = closest_point_on_triangle(&c, ta, tb, tc);
-            if (q - c).norm_squared() > reach2 {
-                return false;
-            }
-            let tri = parry3d_f64::shape::Triangle::new(*ta, *tb, *tc);
-            query::intersection_test(box_pose, &cub, &id, &tri).unwrap_or(true)
+            triangle_box_intersect(&local(ta), &local(tb), &local(tc), half)
         })
     }
 
