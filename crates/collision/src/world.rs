@@ -15,6 +15,7 @@
 //! things (a fixed object vs obstacles, obstacles vs support): no configuration changes them.
 
 use std::ops::ControlFlow;
+use std::sync::Arc;
 
 use nalgebra::{Isometry3, Vector3};
 use pregrasp_geometry::Mesh;
@@ -120,7 +121,8 @@ pub(crate) enum Id {
 #[derive(Clone, Debug)]
 pub struct CollisionWorld {
     support: Option<f64>,
-    object: Option<ObjectGeometry>,
+    /// The part's geometry, shared by the worlds made for one part (its BVH is built once).
+    object: Option<Arc<ObjectGeometry>>,
     arms: [ArmModel; 2],
     active: [bool; 2],
     obstacles: Vec<Obstacle>,
@@ -169,7 +171,17 @@ impl CollisionWorld {
         arms: [ArmModel; 2],
     ) -> Result<Self, CollisionError> {
         let object = object_mesh.map(ObjectGeometry::new).transpose()?;
-        Ok(CollisionWorld {
+        Ok(Self::with_part(support_height, object.map(Arc::new), arms))
+    }
+
+    /// [`CollisionWorld::try_new`] with the part's geometry already built (say, by another
+    /// world of the same part: [`part`](Self::part)).
+    pub fn with_part(
+        support_height: Option<f64>,
+        object: Option<Arc<ObjectGeometry>>,
+        arms: [ArmModel; 2],
+    ) -> Self {
+        CollisionWorld {
             support: support_height,
             object,
             arms,
@@ -178,7 +190,7 @@ impl CollisionWorld {
             margin: 0.0,
             grasp_support_margin: 0.0,
             id: NEXT_WORLD_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
-        })
+        }
     }
 
     /// A world with one arm only (as arm 0; `WorldState::q[1]` is ignored), an optional
@@ -285,7 +297,12 @@ impl CollisionWorld {
 
     /// The part's geometry, if any.
     pub fn object(&self) -> Option<&ObjectGeometry> {
-        self.object.as_ref()
+        self.object.as_deref()
+    }
+
+    /// The part's geometry, to share with another world of the same part.
+    pub fn part(&self) -> Option<Arc<ObjectGeometry>> {
+        self.object.clone()
     }
 
     /// The static cuboids.
@@ -424,7 +441,7 @@ impl CollisionWorld {
     ) -> ControlFlow<()> {
         let object = self
             .object
-            .as_ref()
+            .as_deref()
             .zip(self.object_pose_posed(state, &posed));
         for &code in among.as_slice() {
             let ids = pair_ids(code);
@@ -512,7 +529,7 @@ impl CollisionWorld {
     ) -> ControlFlow<()> {
         let object = self
             .object
-            .as_ref()
+            .as_deref()
             .zip(self.object_pose_posed(state, &posed));
         let attached_to = match state.object {
             ObjectPlacement::Attached { arm, .. } if object.is_some() => Some(arm),
@@ -719,7 +736,7 @@ impl CollisionWorld {
         state: &WorldState,
         posed: &[Option<&PosedArm>; 2],
     ) -> Option<Isometry3<f64>> {
-        match (state.object, self.object.as_ref()) {
+        match (state.object, self.object.as_deref()) {
             (
                 ObjectPlacement::Attached {
                     arm,

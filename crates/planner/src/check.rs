@@ -11,8 +11,10 @@
 //! link and gripper shapes as the planner, each gripper closed on the part at the width it
 //! closes on — measured here again from the mesh, not read from the file.
 
+use std::sync::Arc;
+
 use nalgebra::{Isometry3, Point3, Vector3};
-use pregrasp_collision::{ArmModel, CollisionWorld, ObjectPlacement, WorldState};
+use pregrasp_collision::{ArmModel, CollisionWorld, ObjectGeometry, ObjectPlacement, WorldState};
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{PlanFile, PlanJson, PointJson, PoseJson, SegmentJson};
 use pregrasp_io::scene::{DEFAULT_FINGER_SUPPORT_CLEARANCE, DEFAULT_LINK_CLEARANCE};
@@ -167,6 +169,18 @@ pub struct PlanChecker {
 impl PlanChecker {
     /// The models of `file`'s header; an error when its robots cannot be modelled.
     pub fn new(file: &PlanFile, mesh: &Mesh) -> Result<PlanChecker, String> {
+        Self::sharing_part(file, mesh, None)
+    }
+
+    /// [`PlanChecker::new`] with the part's collision geometry (its mesh `mesh`, with the BVH)
+    /// taken from another world of the same part rather than built again: the planner hands
+    /// its own, the geometry of the mesh alone; the checker's clearances, grips and hull are
+    /// its own.
+    pub fn sharing_part(
+        file: &PlanFile,
+        mesh: &Mesh,
+        part: Option<Arc<ObjectGeometry>>,
+    ) -> Result<PlanChecker, String> {
         let arms = arm_models(file)?;
         let link_clearance = file
             .planner
@@ -176,9 +190,14 @@ impl PlanChecker {
             .planner
             .finger_support_clearance
             .unwrap_or(DEFAULT_FINGER_SUPPORT_CLEARANCE);
-        let world = CollisionWorld::new(file.support_height, Some(mesh), arms.clone())
-            .with_margin(link_clearance)
-            .with_grasp_support_margin(finger_clearance);
+        let world = match part {
+            Some(part) => {
+                CollisionWorld::with_part(Some(file.support_height), Some(part), arms.clone())
+            }
+            None => CollisionWorld::new(file.support_height, Some(mesh), arms.clone()),
+        }
+        .with_margin(link_clearance)
+        .with_grasp_support_margin(finger_clearance);
         let grips = grip_gaps(file, &world);
         let world = match &grips {
             Ok(g) => {

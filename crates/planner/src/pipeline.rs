@@ -156,7 +156,7 @@ pub fn plan(
             .collect();
         h
     };
-    let checker = PlanChecker::new(&header, mesh);
+    let checker = PlanChecker::sharing_part(&header, mesh, ctx.world.part());
     let hold_check = HoldCheck::new(scene, &header, mesh);
     let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose| {
         // The grip check reads μ_rot alone: Algorithm 3 asks it once a candidate's straight
