@@ -80,3 +80,25 @@ fn benchmark_runner_solves_shipped_queries() {
     assert!(report.success_rate >= 0.95, "{report:?}");
     assert!(report.median_ms <= report.p95_ms && report.p95_ms <= report.max_ms);
 }
+
+/// Every shipped query is solved, and its path is free of any contact (no planning margin) at
+/// four times the planning resolution — what `bench reach` times is what holds.
+#[test]
+fn shipped_paths_are_clean_at_four_times_finer_resolution() {
+    use pregrasp_collision::{ArmValidity, WorldState};
+    use pregrasp_motion::MotionValidator;
+    let set = ReachProblemSet::load(&shipped_path()).unwrap();
+    let settings = ReachSettings::default();
+    let p = ReachPlanner::new(&set, settings.clone());
+    let exact = p.world.clone().with_margin(0.0);
+    let validity = ArmValidity::new(&exact, 0, WorldState::new([[0.0; 6]; 2]));
+    let fine = MotionValidator::new(&p.space, &validity, p.settings.resolution / 4.0);
+    for (k, q) in set.queries.iter().enumerate() {
+        let r = p.plan(q, settings.rrt.seed.wrapping_add(k as u64));
+        assert!(r.is_solved(), "query {k}: {:?}", r.status);
+        assert!(
+            fine.check_path(&r.path),
+            "query {k}: invalid at 4x finer resolution"
+        );
+    }
+}
