@@ -5,8 +5,8 @@
 //! solid by `margin + slack`, so are the pieces, and the test ends there (most pairs). Only
 //! where the cylinder is that close are the pieces tested, each a convex polytope given by its
 //! vertices in the link's DH frame, by GJK on parry's support maps stopping as soon as it knows
-//! the answer at the margin ([`gjk::within`]), against the other
-//! solid's own pieces or primitive. A piece needs no faces at run time: GJK only asks for its
+//! the answer at the margin ([`gjk::within`]), against the other solid's own pieces or
+//! primitive. A piece needs no faces at run time: GJK only asks for its
 //! support point `argmax_v d·v`, so loading a model builds no hulls. The pieces hug the real
 //! link surface (a few millimetres at most, see `crates/robot/data/PROVENANCE.md`), so this is
 //! where near-contact outcomes are decided. A pair GJK found apart remembers the separating
