@@ -22,13 +22,13 @@ use parry3d_f64::shape::SupportMap;
 /// GJK's answer to "within `dist`?": `Ok(())` within (touching and overlapping included),
 /// `Err(axis)` apart, `axis` (in the first shape's frame) the direction of `B − A` along which
 /// the gap exceeds `dist`.
-pub(crate) type Within = Result<(), Unit<Vector3<f64>>>;
+pub type Within = Result<(), Unit<Vector3<f64>>>;
 
 /// Whether `g1` and `g2` (the second at `pos12` in the first's frame) come within `dist` of
 /// each other: parry's GJK with a prediction distance (`closest_points` with exact distances,
 /// started from `start` or else from `−pos12`'s translation), stopping as soon as its upper
 /// bound is within `dist`. See the module doc for why the answers are parry's.
-pub(crate) fn within(
+pub fn within(
     pos12: &Isometry3<f64>,
     g1: &(impl SupportMap + ?Sized),
     g2: &(impl SupportMap + ?Sized),
@@ -50,14 +50,14 @@ pub(crate) fn within(
 /// How far from `dist` a warm-started run's bounds must put the distance for its answer to be
 /// taken (m): beyond GJK's own tolerance (`√ε_tol` of the distance, a few 1e-9 m here), so
 /// that [`within`] from its usual start could not answer otherwise.
-pub(crate) const GUARD: f64 = 1e-7;
+pub const GUARD: f64 = 1e-7;
 
 /// [`within`] started from `first`, a support point of `A − B` (along the axis that last
 /// separated the pair, say): `None` unless its bounds put the distance farther than [`GUARD`]
 /// from `dist` — then [`within`] from its usual start gives the same answer (its bounds
 /// enclose the same distance, and it only answers against them within its tolerance), so where
 /// a run starts, which depends on what was asked before, never shows in an answer.
-pub(crate) fn within_from(
+pub fn within_from(
     pos12: &Isometry3<f64>,
     g1: &(impl SupportMap + ?Sized),
     g2: &(impl SupportMap + ?Sized),
