@@ -549,18 +549,18 @@ fn near_keyed(
         let (k, dir) = s[slot].get();
         (k == key).then_some(dir)
     });
-    let answer = cached
-        .and_then(|dir| {
-            // GJK's own test of an axis: the shapes are farther apart along it than `dist`.
-            let cso = CSOPoint::from_shapes(&pos12, g1, g2, &dir);
-            if -dir.dot(&cso.point.coords) > dist + gjk::GUARD {
-                return Some(Err(dir));
-            }
-            // Not by enough: GJK from there, where its answer is sure.
-            gjk::within_from(&pos12, g1, g2, dist, cso)
-        })
-        .unwrap_or_else(|| gjk::within(&pos12, g1, g2, dist, None));
-    match answer {
+    let mut answer = None;
+    if let Some(dir) = cached {
+        // GJK's own test of an axis: the shapes are farther apart along it than `dist` (the
+        // remembered axis stays).
+        let cso = CSOPoint::from_shapes(&pos12, g1, g2, &dir);
+        if -dir.dot(&cso.point.coords) > dist + gjk::GUARD {
+            return false;
+        }
+        // Not by enough: GJK from there, where its answer is sure.
+        answer = gjk::within_from(&pos12, g1, g2, dist, cso);
+    }
+    match answer.unwrap_or_else(|| gjk::within(&pos12, g1, g2, dist, None)) {
         Ok(()) => true,
         Err(dir) => {
             SEPARATORS.with(|s| s[slot].set((key, dir)));

@@ -555,31 +555,27 @@ impl CollisionWorld {
             //    A group whose sphere keeps its clearance is passed whole (the visit order stays
             //    the shapes').
             if let Some(h) = self.support {
-                let margin_of = |g: usize| {
-                    if state.grasping[i] && g == 7 {
+                let grasping = |g: usize| state.grasping[i] && g == 7;
+                let plane_margin = |g: usize| {
+                    if grasping(g) {
                         self.grasp_support_margin
                     } else {
                         self.margin
                     }
                 };
+                // A grasping gripper the sink leaves out is passed like a clear group.
                 let clear: [bool; pregrasp_robot::SHAPE_GROUPS] = std::array::from_fn(|g| {
                     let ids = (Id::Group(i, g), Id::Support);
-                    sink.skip_plane(pi.group_sphere(g), h, margin_of(g), ids)
+                    grasping(g) && !sink.grasp_support()
+                        || sink.skip_plane(pi.group_sphere(g), h, plane_margin(g), ids)
                 });
                 for k in 0..shapes.len() {
                     let g = set.group_of[k] as usize;
                     if arm.is_base_part(k) || clear[g] {
                         continue;
                     }
-                    if state.grasping[i] && set.is_gripper[k] && !sink.grasp_support() {
-                        continue;
-                    }
-                    sink.plane(
-                        pi.part(set, k),
-                        h,
-                        margin_of(g),
-                        (Id::Arm(i, k), Id::Support),
-                    )?;
+                    let ids = (Id::Arm(i, k), Id::Support);
+                    sink.plane(pi.part(set, k), h, plane_margin(g), ids)?;
                 }
             }
             // 2. Self-collision pairs. The culls' margin is one per pair of groups.
