@@ -82,6 +82,9 @@ pub enum CandidateOutcome {
     },
     /// Not planned: [`PlanOptions::only`] leaves it out.
     Skipped,
+    /// Not planned: the arms' start configurations are already in collision (the plan file's
+    /// `reason` names the pair), so no candidate can be.
+    StartBlocked,
     /// Algorithm 2 found a pose, but Algorithm 3 was not run: `max_plans` plans were kept from
     /// candidates that rank above it whatever it would give (see [`PlanOptions::wave`]).
     NotEvaluated,
@@ -137,8 +140,9 @@ pub fn plan(
             .as_ref()
             .is_none_or(|only| only.contains(&c.id))
     };
+    // Every candidate gets an outcome below, whatever happens here: ranking reads them all.
     let poses: Vec<Option<Result<PowerGraspPose, PoseRejection>>> = if start_problem.is_some() {
-        Vec::new()
+        candidates.iter().map(|_| None).collect()
     } else {
         candidates
             .par_iter()
@@ -206,6 +210,7 @@ pub fn plan(
     let mut pending: Vec<(usize, PowerGraspPose)> = Vec::new();
     for (k, pose) in poses.into_iter().enumerate() {
         outcomes.push(match pose {
+            None if start_problem.is_some() => CandidateOutcome::StartBlocked,
             None => CandidateOutcome::Skipped,
             Some(Err(rejection)) => CandidateOutcome::NoPose(rejection),
             Some(Ok(pose)) => {
@@ -283,7 +288,17 @@ pub fn plan(
             }
             CandidateOutcome::Skipped => {
                 json.theta_goal = None;
-                json.outcome = "skipped: not re-planned (the plan keeps another candidate)".into();
+                json.outcome =
+                    "not evaluated: not re-planned (the plan keeps another candidate)".into();
+            }
+            CandidateOutcome::StartBlocked => {
+                json.theta_goal = None;
+                json.outcome = format!(
+                    "rejected: {}",
+                    start_problem
+                        .as_deref()
+                        .unwrap_or("start configurations in collision")
+                );
             }
             CandidateOutcome::NotEvaluated => {
                 json.theta_goal = None;
