@@ -3,11 +3,17 @@
 //!
 //! - [`discover`]: the scene files (`*.toml`) under a folder, sorted, the output folder left out;
 //! - [`plan_one`]: one scene → one [`Record`] (a scene that cannot be loaded is a row with its
-//!   error, never the end of the batch); a scene whose inputs have not changed since its plan
-//!   was written (the same scene text, mesh bytes and pregrasp version: [`Stamp`]) is not
-//!   planned again;
-//! - [`run`]: all of them with rayon, records in discovery order (deterministic);
+//!   error, never the end of the batch; so is a panic while planning it); a scene whose inputs
+//!   have not changed since its plan was written (the same scene text, mesh bytes and pregrasp
+//!   version: [`Stamp`]) is not planned again;
+//! - [`run`]: all of them with rayon, records in discovery order (deterministic), the outputs
+//!   staged in one [`Outputs`] that the caller commits with the summary: all or nothing;
 //! - [`report`]: `summary.csv`, `summary.json`, `report.html`.
+//!
+//! Outputs of scene `a/b.toml` are `a/b.plan.json`, `a/b.html` and `a/b.stamp` under the
+//! output folder (the name with `.toml` cut off and the suffix added, so `x.toml` and
+//! `x.plan.toml` never share a file); a scene whose outputs would be one of the summary files
+//! (`report.toml`'s page is `report.html`) is an error row that says so.
 
 pub mod report;
 
@@ -15,11 +21,14 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use pregrasp_io::mesh_io::{parse_mesh, read_mesh_bytes};
-use pregrasp_io::plan_file::{write_atomic, PlanFile};
+use std::sync::Mutex;
+
+use pregrasp_io::output::{OutputError, Outputs};
+use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::check::check_plan;
 use pregrasp_planner::pipeline::PlanOptions;
-use pregrasp_planner::plan_scene;
+use pregrasp_planner::plan_scene as plan_scene_report;
 use rayon::prelude::*;
 
 /// What became of one scene.
@@ -55,16 +64,34 @@ pub enum BatchError {
     NotADir(String),
     #[error("{0}: no scene files (*.toml) in it")]
     NoScenes(String),
+    #[error("{0}: the output folder is the scene folder itself; give -o another folder")]
+    OutIsDir(String),
     #[error("{path}: {error}")]
     Io { path: String, error: std::io::Error },
+    #[error(transparent)]
+    Output(#[from] OutputError),
 }
 
-/// The scene files under `dir` (recursively), sorted, without anything under `exclude`.
+/// The files of the batch's summary, directly under the output folder.
+pub const SUMMARY_FILES: [&str; 3] = ["summary.csv", "summary.json", "report.html"];
+
+/// Longest reason a record keeps (characters): an error that quotes a line of a binary file
+/// would otherwise fill a cell of the report with it.
+pub const MAX_REASON: usize = 400;
+
+/// The entries of a batch under `dir` (recursively), sorted, without anything under `exclude`:
+/// every file named `*.toml` (a symbolic link to a file counts as that file; a pipe or device
+/// with such a name is listed too, and its row says it is no regular file) and every folder that
+/// cannot be read (its row says why). Links to folders are not followed, so a cycle of links
+/// cannot loop.
 pub fn discover(dir: &Path, exclude: Option<&Path>) -> Result<Vec<PathBuf>, BatchError> {
     if !dir.is_dir() {
         return Err(BatchError::NotADir(dir.display().to_string()));
     }
     let exclude = exclude.and_then(|e| e.canonicalize().ok());
+    if exclude.is_some() && dir.canonicalize().ok() == exclude {
+        return Err(BatchError::OutIsDir(dir.display().to_string()));
+    }
     let mut found = Vec::new();
     let mut stack = vec![dir.to_path_buf()];
     while let Some(d) = stack.pop() {
@@ -74,10 +101,21 @@ pub fn discover(dir: &Path, exclude: Option<&Path>) -> Result<Vec<PathBuf>, Batc
         {
             continue;
         }
-        let entries = std::fs::read_dir(&d).map_err(|error| BatchError::Io {
-            path: d.display().to_string(),
-            error,
-        })?;
+        let entries = match std::fs::read_dir(&d) {
+            Ok(entries) => entries,
+            // The top folder was readable as a folder a moment ago: a failure below it is one
+            // row, not the end of the batch.
+            Err(_) if d != dir => {
+                found.push(d);
+                continue;
+            }
+            Err(error) => {
+                return Err(BatchError::Io {
+                    path: d.display().to_string(),
+                    error,
+                })
+            }
+        };
         for entry in entries.flatten() {
             let path = entry.path();
             let Ok(kind) = entry.file_type() else {
@@ -85,7 +123,9 @@ pub fn discover(dir: &Path, exclude: Option<&Path>) -> Result<Vec<PathBuf>, Batc
             };
             if kind.is_dir() {
                 stack.push(path);
-            } else if kind.is_file() && path.extension().is_some_and(|e| e == "toml") {
+            } else if path.extension().is_some_and(|e| e == "toml") {
+                // Regular files, links (to whatever they name: `plan_one` says if it is no
+                // file) and special files with a scene's name.
                 found.push(path);
             }
         }
@@ -116,26 +156,71 @@ impl Stamp {
     }
 }
 
-/// Where the outputs of scene `rel` (relative path of the scene) go under `out`.
-fn outputs(out: &Path, rel: &Path) -> (PathBuf, PathBuf, PathBuf) {
-    let stem = rel.with_extension("");
-    let base = out.join(&stem);
-    (
-        base.with_extension("plan.json"),
-        base.with_extension("html"),
-        base.with_extension("stamp"),
-    )
+/// Where the outputs of scene `rel` (relative path of the scene) go under `out`: its name
+/// with the `.toml` cut off and `.plan.json`, `.html`, `.stamp` added.
+fn outputs(out: &Path, rel: &Path) -> [PathBuf; 3] {
+    let mut stem = rel.as_os_str().to_owned();
+    if rel.extension().is_some_and(|e| e == "toml") {
+        stem = rel.with_extension("").into_os_string();
+    }
+    let with = |suffix: &str| {
+        let mut name = stem.clone();
+        name.push(suffix);
+        out.join(name)
+    };
+    [with(".plan.json"), with(".html"), with(".stamp")]
 }
 
-/// Plans one scene (`dir`: the batch folder, for relative names) into `out`.
+/// What planning one scene produced: its record, and the files to write (plan, page, stamp;
+/// none when the plan was reused or the scene failed).
+struct Planned {
+    record: Record,
+    files: Option<[(PathBuf, Vec<u8>); 3]>,
+}
+
+/// Plans one scene (`dir`: the batch folder, for relative names) into `out`, writing its three
+/// files at once (each scene on its own: what the Python batch's Ray tasks call).
 pub fn plan_one(dir: &Path, out: &Path, scene_path: &Path, options: &PlanOptions) -> Record {
+    let mut planned = plan_isolated(dir, out, scene_path, options);
+    if let Some(files) = planned.files.take() {
+        let mut outputs = Outputs::new();
+        if let Err(e) = stage(&mut outputs, files).and_then(|_| outputs.commit().map(drop)) {
+            return failed(planned.record, e.to_string());
+        }
+    }
+    planned.record
+}
+
+/// Declares and writes `files` into `outputs` (folders made as needed).
+fn stage(outputs: &mut Outputs, files: [(PathBuf, Vec<u8>); 3]) -> Result<(), OutputError> {
+    for (path, bytes) in files {
+        let id = outputs.declare_creating_dirs(&path)?;
+        outputs.write(id, &bytes)?;
+    }
+    Ok(())
+}
+
+/// The record of a scene that failed, its reason clipped to [`MAX_REASON`].
+fn failed(mut record: Record, reason: String) -> Record {
+    record.status = "error".into();
+    record.plans = 0;
+    record.plan_file = None;
+    record.view_file = None;
+    record.reason = Some(pregrasp_io::text::clip(
+        &pregrasp_io::text::readable_numbers(&reason),
+        MAX_REASON,
+    ));
+    record
+}
+
+/// [`plan_scene`] of one scene with a panic caught: a bug met by one scene is that scene's
+/// error row, and the batch goes on.
+fn plan_isolated(dir: &Path, out: &Path, scene_path: &Path, options: &PlanOptions) -> Planned {
     let rel = scene_path
         .strip_prefix(dir)
         .unwrap_or(scene_path)
         .to_path_buf();
-    let (plan_path, view_path, stamp_path) = outputs(out, &rel);
-    let rel_out = |p: &Path| p.strip_prefix(out).unwrap_or(p).display().to_string();
-    let mut record = Record {
+    let blank = Record {
         scene: rel.display().to_string(),
         status: "error".into(),
         reason: None,
@@ -149,33 +234,70 @@ pub fn plan_one(dir: &Path, out: &Path, scene_path: &Path, options: &PlanOptions
         plan_file: None,
         view_file: None,
     };
-    let fail = |mut r: Record, e: String| {
-        r.reason = Some(e);
-        r
-    };
+    let run = std::panic::AssertUnwindSafe(|| plan_scene(out, &rel, scene_path, options));
+    match std::panic::catch_unwind(run) {
+        Ok(Ok(planned)) => planned,
+        Ok(Err(reason)) => Planned {
+            record: failed(blank, reason),
+            files: None,
+        },
+        Err(panic) => {
+            let what = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            Planned {
+                record: failed(
+                    blank,
+                    format!("internal error while planning (a bug in pregrasp, please report it): {what}"),
+                ),
+                files: None,
+            }
+        }
+    }
+}
+
+/// Plans one scene; `Err` is the reason of its error row.
+fn plan_scene(
+    out: &Path,
+    rel: &Path,
+    scene_path: &Path,
+    options: &PlanOptions,
+) -> Result<Planned, String> {
+    if scene_path.is_dir() {
+        let why = std::fs::read_dir(scene_path).err().map_or_else(
+            || "changed while the batch ran".to_string(),
+            |e| e.to_string(),
+        );
+        return Err(format!(
+            "{}: cannot read folder: {why}",
+            scene_path.display()
+        ));
+    }
+    let [plan_path, view_path, stamp_path] = outputs(out, rel);
+    for path in [&plan_path, &view_path, &stamp_path] {
+        if SUMMARY_FILES.iter().any(|f| *path == out.join(f)) {
+            return Err(format!(
+                "{}: its output {} would be the batch's own summary file; rename the scene",
+                scene_path.display(),
+                path.strip_prefix(out).unwrap_or(path).display()
+            ));
+        }
+    }
+    let rel_out = |p: &Path| p.strip_prefix(out).unwrap_or(p).display().to_string();
     let started = Instant::now();
-    let scene = match Scene::load(scene_path) {
-        Ok(s) => s,
-        Err(e) => return fail(record, e.to_string()),
-    };
+    let scene = Scene::load(scene_path).map_err(|e| e.to_string())?;
     // The mesh is read once (refused unless a regular file), for the stamp and to parse.
     let mesh_path = &scene.object.mesh_path;
-    let loaded = read_mesh_bytes(mesh_path).and_then(|bytes| {
-        parse_mesh(&bytes, mesh_path, scene.object.scale).map(|m| (bytes, m.mesh))
-    });
-    let (mesh_bytes, mesh) = match loaded {
-        Ok(x) => x,
-        Err(e) => {
-            return fail(
-                record,
-                format!("{}: object.mesh: {e}", scene_path.display()),
-            )
-        }
-    };
-    let scene_text = match std::fs::read(scene_path) {
-        Ok(t) => t,
-        Err(e) => return fail(record, format!("{}: {e}", scene_path.display())),
-    };
+    let (mesh_bytes, mesh) = read_mesh_bytes(mesh_path)
+        .and_then(|bytes| {
+            parse_mesh(&bytes, mesh_path, scene.object.scale).map(|m| (bytes, m.mesh))
+        })
+        .map_err(|e| format!("{}: object.mesh: {e}", scene_path.display()))?;
+    let scene_text =
+        pregrasp_io::limits::read_limited(scene_path, pregrasp_io::limits::MAX_SCENE_BYTES)
+            .map_err(|e| format!("{}: {e}", scene_path.display()))?;
     let stamp = Stamp::of(&scene_text, &mesh_bytes);
     let up_to_date = std::fs::read_to_string(&stamp_path).is_ok_and(|s| s.trim() == stamp.0)
         && view_path.is_file();
@@ -184,40 +306,40 @@ pub fn plan_one(dir: &Path, out: &Path, scene_path: &Path, options: &PlanOptions
     } else {
         None
     };
-    let (file, reused) = match reused {
-        Some(file) => (file, true),
+    let (file, files) = match reused {
+        Some(file) => (file, None),
         None => {
-            let report = match plan_scene(&scene, &mesh, options, &|_| {}, &|| {}) {
-                Ok(r) => r,
-                Err(e) => return fail(record, format!("{}: {e}", scene_path.display())),
-            };
+            let report = plan_scene_report(&scene, &mesh, options, &|_| {}, &|| {})
+                .map_err(|e| format!("{}: {e}", scene_path.display()))?;
             let mut file = report.file;
             file.timing_ms
                 .insert("process".into(), started.elapsed().as_secs_f64() * 1e3);
             let page = pregrasp_viewer::render_html(&file, &mesh, &Default::default());
-            let written = plan_path
-                .parent()
-                .map_or(Ok(()), std::fs::create_dir_all)
-                .map_err(|e| e.to_string())
-                .and_then(|_| file.write_atomic(&plan_path).map_err(|e| e.to_string()))
-                .and_then(|_| write_atomic(&view_path, page.as_bytes()).map_err(|e| e.to_string()))
-                .and_then(|_| {
-                    write_atomic(&stamp_path, format!("{}\n", stamp.0).as_bytes())
-                        .map_err(|e| e.to_string())
-                });
-            if let Err(e) = written {
-                return fail(record, e);
-            }
-            (file, false)
+            let files = [
+                (plan_path.clone(), file.to_json().into_bytes()),
+                (view_path.clone(), page.into_bytes()),
+                (stamp_path, format!("{}\n", stamp.0).into_bytes()),
+            ];
+            (file, Some(files))
         }
     };
-    record.status = file.status.clone();
-    record.reason = file.reason.clone();
-    record.plans = file.plans.len();
-    record.reused = reused;
-    record.time_ms = file.timing_ms.get("process").copied().unwrap_or(0.0);
-    record.plan_file = Some(rel_out(&plan_path));
-    record.view_file = Some(rel_out(&view_path));
+    let mut record = Record {
+        scene: rel.display().to_string(),
+        status: file.status.clone(),
+        reason: file
+            .reason
+            .as_deref()
+            .map(|r| pregrasp_io::text::clip(r, MAX_REASON)),
+        best_score: None,
+        theta_goal_deg: None,
+        plans: file.plans.len(),
+        grip_force: None,
+        check: "-".into(),
+        time_ms: file.timing_ms.get("process").copied().unwrap_or(0.0),
+        reused: files.is_none(),
+        plan_file: Some(rel_out(&plan_path)),
+        view_file: Some(rel_out(&view_path)),
+    };
     if let Some(best) = file.plans.first() {
         record.best_score = Some(best.score);
         record.theta_goal_deg = file
@@ -232,11 +354,40 @@ pub fn plan_one(dir: &Path, out: &Path, scene_path: &Path, options: &PlanOptions
             "invalid".into()
         };
     }
-    record
+    Ok(Planned { record, files })
 }
 
 /// Plans every scene of `scenes` (under `dir`) into `out`, in parallel; records in the order
-/// of `scenes`. `progress` is called once per scene finished.
+/// of `scenes`. Each planned scene's files are staged in `outputs` as it finishes (a scene
+/// whose files cannot be staged is an error row); nothing is written until the caller commits
+/// `outputs`. `progress` is called once per scene finished.
+pub fn run_staged(
+    dir: &Path,
+    out: &Path,
+    scenes: &[PathBuf],
+    options: &PlanOptions,
+    outputs: &mut Outputs,
+    progress: &(dyn Fn(&Record) + Sync),
+) -> Vec<Record> {
+    let shared = Mutex::new(outputs);
+    scenes
+        .par_iter()
+        .map(|s| {
+            let mut planned = plan_isolated(dir, out, s, options);
+            if let Some(files) = planned.files.take() {
+                let mut outputs = shared.lock().unwrap_or_else(|e| e.into_inner());
+                if let Err(e) = stage(&mut outputs, files) {
+                    planned.record = failed(planned.record, e.to_string());
+                }
+            }
+            progress(&planned.record);
+            planned.record
+        })
+        .collect()
+}
+
+/// [`run_staged`] with its own outputs, committed at the end: the scenes' files are written
+/// together (the summary is written by [`report::write`]).
 pub fn run(
     dir: &Path,
     out: &Path,
@@ -244,16 +395,8 @@ pub fn run(
     options: &PlanOptions,
     progress: &(dyn Fn(&Record) + Sync),
 ) -> Result<Vec<Record>, BatchError> {
-    std::fs::create_dir_all(out).map_err(|error| BatchError::Io {
-        path: out.display().to_string(),
-        error,
-    })?;
-    Ok(scenes
-        .par_iter()
-        .map(|s| {
-            let r = plan_one(dir, out, s, options);
-            progress(&r);
-            r
-        })
-        .collect())
+    let mut outputs = Outputs::new();
+    let records = run_staged(dir, out, scenes, options, &mut outputs, progress);
+    outputs.commit()?;
+    Ok(records)
 }

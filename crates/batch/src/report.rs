@@ -1,11 +1,11 @@
 //! The batch's summary: `summary.csv` (one row per scene), `summary.json` (counts and rows)
 //! and `report.html` (counts by outcome, a table that sorts by any column, each scene linked to
-//! its viewer page). All written atomically.
+//! its viewer page). Written together, all or none.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
-use pregrasp_io::plan_file::write_atomic;
+use pregrasp_io::output::{OutputError, OutputId, Outputs};
 
 use crate::Record;
 
@@ -146,12 +146,41 @@ td.reason {{ max-width: 520px; font-size: 12px; color: #555; }}
     )
 }
 
-/// Writes `summary.csv`, `summary.json` and `report.html` into `out`.
-pub fn write(out: &Path, records: &[Record], title: &str) -> Result<(), String> {
+/// Declares the summary files under `out` in `outputs` (before any planning, so a folder in
+/// the way is found at once); [`stage`] fills them.
+pub fn declare(outputs: &mut Outputs, out: &Path) -> Result<[OutputId; 3], OutputError> {
+    let [csv, json, html] = crate::SUMMARY_FILES.map(|f| out.join(f));
+    Ok([
+        outputs.declare_creating_dirs(&csv)?,
+        outputs.declare_creating_dirs(&json)?,
+        outputs.declare_creating_dirs(&html)?,
+    ])
+}
+
+/// Stages `summary.csv`, `summary.json` and `report.html` into the outputs [`declare`] made.
+pub fn stage(
+    outputs: &mut Outputs,
+    ids: [OutputId; 3],
+    records: &[Record],
+    title: &str,
+) -> Result<(), String> {
     let csv = csv(records).map_err(|e| format!("summary.csv: {e}"))?;
-    write_atomic(&out.join("summary.csv"), csv.as_bytes()).map_err(|e| e.to_string())?;
-    write_atomic(&out.join("summary.json"), json(records).as_bytes()).map_err(|e| e.to_string())?;
-    write_atomic(&out.join("report.html"), html(records, title).as_bytes())
+    let [c, j, h] = ids;
+    outputs
+        .write(c, csv.as_bytes())
         .map_err(|e| e.to_string())?;
-    Ok(())
+    outputs
+        .write(j, json(records).as_bytes())
+        .map_err(|e| e.to_string())?;
+    outputs
+        .write(h, html(records, title).as_bytes())
+        .map_err(|e| e.to_string())
+}
+
+/// Writes `summary.csv`, `summary.json` and `report.html` into `out`, all or none.
+pub fn write(out: &Path, records: &[Record], title: &str) -> Result<(), String> {
+    let mut outputs = Outputs::new();
+    let ids = declare(&mut outputs, out).map_err(|e| e.to_string())?;
+    stage(&mut outputs, ids, records, title)?;
+    outputs.commit().map(drop).map_err(|e| e.to_string())
 }

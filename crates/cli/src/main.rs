@@ -97,7 +97,12 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(err) => {
-            eprintln!("error: {err:#}");
+            // One line, numbers as people write them (Rust prints 1e308 with 309 digits).
+            let message = format!("{err:#}");
+            eprintln!(
+                "error: {}",
+                pregrasp_io::text::readable_numbers(&message.replace('\n', " | "))
+            );
             ExitCode::from(cmd::EXIT_BAD_INPUT)
         }
     }

@@ -122,31 +122,20 @@ pub fn with_design(name: &str, design: PartDesign) -> Option<Example> {
 /// Errors of [`write_example`].
 #[derive(Debug, thiserror::Error)]
 pub enum WriteError {
-    #[error("cannot create directory {dir}: {source}")]
-    CreateDir { dir: String, source: std::io::Error },
-    #[error("cannot write {file}: {source}")]
-    Write {
-        file: String,
-        source: std::io::Error,
-    },
     #[error(transparent)]
-    Mesh(#[from] pregrasp_io::mesh_io::MeshError),
+    Output(#[from] pregrasp_io::output::OutputError),
 }
 
 /// Writes `example` into `dir` (created if missing): `dir/<name>.toml` and the binary STL
-/// `dir/meshes/<name>.stl`. Returns the two paths written, scene first.
+/// `dir/meshes/<name>.stl`, both or neither. Returns the two paths written, scene first.
 pub fn write_example(dir: &Path, example: &Example) -> Result<[PathBuf; 2], WriteError> {
-    let meshes = dir.join("meshes");
-    std::fs::create_dir_all(&meshes).map_err(|source| WriteError::CreateDir {
-        dir: meshes.display().to_string(),
-        source,
-    })?;
     let mesh_path = dir.join(mesh_relative_path(example.name));
-    pregrasp_io::mesh_io::write_stl(&mesh_path, &example.mesh)?;
     let scene_path = dir.join(format!("{}.toml", example.name));
-    std::fs::write(&scene_path, &example.scene_toml).map_err(|source| WriteError::Write {
-        file: scene_path.display().to_string(),
-        source,
-    })?;
+    let mut out = pregrasp_io::output::Outputs::new();
+    let mesh = out.declare_creating_dirs(&mesh_path)?;
+    let scene = out.declare_creating_dirs(&scene_path)?;
+    out.write(mesh, &pregrasp_io::mesh_io::stl_bytes(&example.mesh))?;
+    out.write(scene, example.scene_toml.as_bytes())?;
+    out.commit()?;
     Ok([scene_path, mesh_path])
 }

@@ -38,8 +38,8 @@ pub enum ExportError {
     Plan(String),
     #[error("the glTF export needs the part's mesh")]
     NoMesh,
-    #[error("{path}: cannot write: {error}")]
-    Write { path: String, error: std::io::Error },
+    #[error(transparent)]
+    Write(#[from] pregrasp_io::output::OutputError),
 }
 
 /// An export format.
@@ -230,53 +230,26 @@ pub fn export(
     Ok(out)
 }
 
-/// Writes `files` into `dir` (created if missing): each to a temporary file in `dir` first;
-/// only when all are written are they renamed to their names. On failure the temporary files
-/// are removed and no named file has been touched.
-pub fn write_all(dir: &Path, files: &[OutFile]) -> Result<Vec<std::path::PathBuf>, ExportError> {
-    use std::io::Write;
-    let err = |path: &Path| {
-        let path = path.display().to_string();
-        move |error| ExportError::Write { path, error }
-    };
-    std::fs::create_dir_all(dir).map_err(err(dir))?;
+/// Writes `files` into `dir` (created if missing) as one set of outputs
+/// ([`pregrasp_io::output::Outputs`]): each is staged beside its name first and only when all
+/// are written are they renamed to their names; on failure nothing named has been touched and
+/// no temporary file or folder made stays. `inputs` are the files the export read (`(path,
+/// what)`), which it must not overwrite.
+pub fn write_all(
+    dir: &Path,
+    files: &[OutFile],
+    inputs: &[(&Path, &str)],
+) -> Result<Vec<std::path::PathBuf>, ExportError> {
+    let mut out = pregrasp_io::output::Outputs::new();
+    for (path, what) in inputs {
+        out.reading(path, what);
+    }
     for f in files {
-        let target = dir.join(&f.name);
-        if target.is_dir() {
-            return Err(ExportError::Write {
-                path: target.display().to_string(),
-                error: std::io::Error::other("a directory is in the way"),
-            });
-        }
+        let id = out.declare_creating_dirs(&dir.join(&f.name))?;
+        out.write(id, &f.bytes)?;
     }
-    let mut temps = Vec::with_capacity(files.len());
-    for f in files {
-        let target = dir.join(&f.name);
-        let mut tmp = tempfile::Builder::new()
-            .prefix(".pregrasp-export-")
-            .tempfile_in(dir)
-            .map_err(err(&target))?;
-        tmp.write_all(&f.bytes).map_err(err(&target))?;
-        tmp.flush().map_err(err(&target))?;
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            tmp.as_file()
-                .set_permissions(std::fs::Permissions::from_mode(0o644))
-                .map_err(err(&target))?;
-        }
-        temps.push((tmp, target));
-    }
-    // Dropping an unpersisted NamedTempFile deletes it: an early return cleans up.
-    let mut written = Vec::with_capacity(temps.len());
-    for (tmp, target) in temps {
-        tmp.persist(&target).map_err(|e| ExportError::Write {
-            path: target.display().to_string(),
-            error: e.error,
-        })?;
-        written.push(target);
-    }
-    Ok(written)
+    out.commit()?;
+    Ok(files.iter().map(|f| dir.join(&f.name)).collect())
 }
 
 /// `x` as text that reads back as the same `f64` and always has a decimal point (YAML and

@@ -107,7 +107,7 @@ fn all_formats_export_deterministically_and_write_all_or_nothing() {
     assert!(names.contains(&"plan.glb"));
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
-    let written = write_all(&out, &a).unwrap();
+    let written = write_all(&out, &a, &[]).unwrap();
     assert_eq!(written.len(), a.len());
     for f in &a {
         assert_eq!(std::fs::read(out.join(&f.name)).unwrap(), f.bytes);
@@ -125,7 +125,7 @@ fn all_formats_export_deterministically_and_write_all_or_nothing() {
             bytes: b"y".to_vec(),
         },
     ];
-    assert!(write_all(&out2, &files).is_err());
+    assert!(write_all(&out2, &files, &[]).is_err());
     let left: Vec<String> = std::fs::read_dir(&out2)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())

@@ -26,8 +26,6 @@ pub struct LoadedMesh {
 pub enum MeshError {
     #[error("{file}: cannot read mesh file: {error}")]
     Read { file: String, error: std::io::Error },
-    #[error("{file}: cannot write mesh file: {error}")]
-    Write { file: String, error: std::io::Error },
     #[error("{file}: mesh file is empty")]
     Empty { file: String },
     #[error("{file}: not a regular file (a mesh must be a file, not a directory, pipe or device)")]
@@ -53,6 +51,9 @@ pub enum MeshError {
         index: usize,
         value: [f64; 3],
     },
+    /// The part is too small (or scaled to nothing), too large, or flat everywhere.
+    #[error("{file}: {reason}")]
+    NotAPart { file: String, reason: String },
     #[error("{file}: scale must be a finite number > 0, found {scale}")]
     Scale { file: String, scale: f64 },
     /// A face of an in-memory mesh ([`mesh_from_arrays`]) names a vertex that is not there.
@@ -83,7 +84,8 @@ pub fn read_mesh_bytes(path: &Path) -> Result<Vec<u8>, MeshError> {
         Ok(meta) if !meta.is_file() => return Err(MeshError::NotAFile { file }),
         _ => {}
     }
-    std::fs::read(path).map_err(|error| MeshError::Read { file, error })
+    crate::limits::read_limited(path, crate::limits::MAX_MESH_BYTES)
+        .map_err(|error| MeshError::Read { file, error })
 }
 
 /// Parses mesh `bytes` read from `path` (format from its extension, as [`load_mesh`]).
@@ -362,11 +364,63 @@ fn finish(loaded: &mut LoadedMesh, file: &str) -> Result<(), MeshError> {
             "{file}: dropped {dropped} degenerate triangle(s) with repeated vertices"
         ));
     }
+    part_size(mesh).map_err(|reason| MeshError::NotAPart {
+        file: file.to_string(),
+        reason,
+    })?;
     let (open, non_manifold) = edge_defects(&mesh.triangles);
     if open > 0 || non_manifold > 0 {
         loaded.warnings.push(format!(
             "{file}: mesh is not watertight: {open} open edge(s), {non_manifold} edge(s) shared by more than two triangles"
         ));
+    }
+    Ok(())
+}
+
+/// Smallest part (m): the bounding box's diagonal, after scale.
+pub const MIN_PART_SIZE: f64 = 1e-3;
+/// Largest part (m): the bounding box's diagonal, after scale.
+pub const MAX_PART_SIZE: f64 = 100.0;
+
+/// Refuses a mesh that cannot be a part on a table: smaller than [`MIN_PART_SIZE`] across
+/// (a scale in the wrong unit, or one that rounds every coordinate to zero), larger than
+/// [`MAX_PART_SIZE`], or without a triangle of any area.
+fn part_size(mesh: &Mesh) -> Result<(), String> {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for t in &mesh.triangles {
+        for &i in t {
+            let p = mesh.vertices[i as usize];
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    let diagonal = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+    if diagonal.is_nan() || diagonal < MIN_PART_SIZE {
+        return Err(format!(
+            "the part is {:.3e} m across after scale, less than {} mm: check object.scale (mesh              units to metres)",
+            diagonal,
+            MIN_PART_SIZE * 1e3
+        ));
+    }
+    if diagonal > MAX_PART_SIZE {
+        return Err(format!(
+            "the part is {diagonal:.1} m across after scale, more than {MAX_PART_SIZE} m: check              object.scale (mesh units to metres)"
+        ));
+    }
+    // Area relative to the part's size: a mesh whose triangles are all slivers is no surface.
+    let area: f64 = mesh
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+            0.5 * (b - a).cross(&(c - a)).norm()
+        })
+        .sum();
+    if area.is_nan() || area <= 1e-12 * diagonal * diagonal {
+        return Err("no triangle of the mesh has an area: it is flat lines or points".into());
     }
     Ok(())
 }
@@ -456,9 +510,9 @@ pub fn parse_obj(bytes: &[u8], file: &str, scale: f64) -> Result<LoadedMesh, Mes
     Ok(loaded)
 }
 
-/// Writes `mesh` as a binary STL (normals from the right-hand rule on each triangle).
-pub fn write_stl(path: &Path, mesh: &Mesh) -> Result<(), MeshError> {
-    let file = path.display().to_string();
+/// The binary STL of `mesh` (single precision, as the format stores it; normals from the
+/// right-hand rule on each triangle).
+pub fn stl_bytes(mesh: &Mesh) -> Vec<u8> {
     let tris: Vec<stl_io::Triangle> = mesh
         .triangles
         .iter()
@@ -473,9 +527,12 @@ pub fn write_stl(path: &Path, mesh: &Mesh) -> Result<(), MeshError> {
             }
         })
         .collect();
-    let mut out = std::fs::File::create(path).map_err(|error| MeshError::Write {
-        file: file.clone(),
-        error,
-    })?;
-    stl_io::write_stl(&mut out, tris.iter()).map_err(|error| MeshError::Write { file, error })
+    let mut out = Vec::with_capacity(84 + 50 * tris.len());
+    stl_io::write_stl(&mut out, tris.iter()).expect("writing to memory cannot fail");
+    out
+}
+
+/// Writes `mesh` to `path` as binary STL, atomically ([`crate::output::write_one`]).
+pub fn write_stl(path: &Path, mesh: &Mesh) -> Result<(), crate::output::OutputError> {
+    crate::output::write_one(path, &stl_bytes(mesh))
 }

@@ -4,11 +4,12 @@
 //! Field order here is the order in the file; keep it stable, plans must be byte-for-byte
 //! reproducible.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use serde::{Deserialize, Serialize};
+
+pub use crate::output::OutputError;
 
 /// The `format` value of every plan file this crate writes.
 pub const PLAN_FORMAT: &str = "pregrasp.plan/1";
@@ -292,9 +293,12 @@ pub enum PlanFileError {
     },
     #[error("{path}: format is {found:?}, expected {PLAN_FORMAT:?}")]
     Format { path: String, found: String },
-    #[error("{path}: cannot write: {error}")]
-    Write { path: String, error: std::io::Error },
+    #[error("{path}: not a valid plan file: {problem}")]
+    Invalid { path: String, problem: String },
 }
+
+/// Largest plan file read (bytes): a plan of five candidates is about 1 MB.
+pub const MAX_PLAN_BYTES: u64 = 256 << 20;
 
 /// A path a plan file names (`object.mesh`, `scene.file`): as written (relative to the current
 /// directory), else relative to the plan file's directory — how `check`, `view`, `export`,
@@ -318,17 +322,25 @@ impl PlanFile {
         s
     }
 
-    /// Reads and parses a plan file, checking its `format`.
+    /// Reads, parses and validates a plan file ([`crate::plan_format::validate`]): a regular
+    /// file of at most [`MAX_PLAN_BYTES`].
     pub fn read(path: &Path) -> Result<PlanFile, PlanFileError> {
         let shown = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|error| PlanFileError::Read {
+        let bytes = crate::limits::read_limited(path, MAX_PLAN_BYTES).map_err(|error| {
+            PlanFileError::Read {
+                path: shown.clone(),
+                error,
+            }
+        })?;
+        let text = String::from_utf8(bytes).map_err(|_| PlanFileError::Read {
             path: shown.clone(),
-            error,
+            error: std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text"),
         })?;
         PlanFile::from_json_str(&text, &shown)
     }
 
-    /// Parses plan-file text (`shown` names it in errors), checking its `format`.
+    /// Parses plan-file text (`shown` names it in errors), checking its `format` and then the
+    /// whole file's shape and ranges ([`crate::plan_format::validate`]).
     pub fn from_json_str(text: &str, shown: &str) -> Result<PlanFile, PlanFileError> {
         let plan: PlanFile = serde_json::from_str(text).map_err(|error| PlanFileError::Parse {
             path: shown.to_string(),
@@ -340,38 +352,22 @@ impl PlanFile {
                 found: plan.format,
             });
         }
+        crate::plan_format::validate(&plan).map_err(|problem| PlanFileError::Invalid {
+            path: shown.to_string(),
+            problem,
+        })?;
         Ok(plan)
     }
 
     /// Writes the file atomically: to a temporary file beside `path`, then renamed over it,
-    /// so a reader never sees half a plan and a failed write leaves nothing behind.
-    pub fn write_atomic(&self, path: &Path) -> Result<(), PlanFileError> {
+    /// so a reader never sees half a plan and a failed write leaves nothing behind
+    /// ([`crate::output`]: a device is written through, never replaced).
+    pub fn write_atomic(&self, path: &Path) -> Result<(), OutputError> {
         write_atomic(path, self.to_json().as_bytes())
     }
 }
 
-/// Writes `bytes` to `path` through a temporary file in the same directory and a rename.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), PlanFileError> {
-    let shown = path.display().to_string();
-    let err = |error| PlanFileError::Write {
-        path: shown.clone(),
-        error,
-    };
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(err)?;
-    tmp.write_all(bytes).map_err(err)?;
-    tmp.flush().map_err(err)?;
-    // Temporary files are created owner-only; the result is an ordinary file (rw-r--r--).
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        tmp.as_file()
-            .set_permissions(std::fs::Permissions::from_mode(0o644))
-            .map_err(err)?;
-    }
-    tmp.persist(path).map_err(|e| err(e.error))?;
-    Ok(())
+/// Writes `bytes` to `path` as a command's one output ([`crate::output::write_one`]).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+    crate::output::write_one(path, bytes)
 }

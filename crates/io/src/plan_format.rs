@@ -1,9 +1,11 @@
 //! Is a plan file a plan file? The format's shape and value ranges, checked before any motion
 //! is judged: a malformed file is refused with the JSON path of the offending field, and no
 //! value can size a loop (a joint angle of 1e29 rad would otherwise be interpolated at the
-//! checker's resolution for ever).
+//! checker's resolution for ever). [`crate::plan_file::PlanFile::read`] applies it, so every
+//! command that reads a plan (`check`, `view`, `export`, `physics`, `replan`, Python) gets a
+//! validated file or one error naming the field.
 
-use pregrasp_io::plan_file::{PhysicsJson, PlanFile, PoseJson};
+use crate::plan_file::{PhysicsJson, PlanFile, PoseJson};
 use pregrasp_robot::UrModel;
 
 /// Largest magnitude of a joint value (rad) a plan may hold: no UR joint turns beyond ±2π, so
@@ -37,14 +39,20 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
             file.object.scale
         ));
     }
+    if let Some(m) = file.object.mass {
+        crate::scene::check_physics_value("mass", m).map_err(|p| format!("object.mass: {p}"))?;
+    }
     if file.robots.len() != 2 {
         return Err(format!("robots: {} robots, expected 2", file.robots.len()));
     }
     for (i, r) in file.robots.iter().enumerate() {
-        if UrModel::from_name(&r.model).is_none() {
+        // The schema's enum: lower case, as written (`UrModel::from_name` is lenient for
+        // scene files, a plan file is machine-written).
+        if !UrModel::ALL.iter().any(|m| m.name() == r.model) {
             return Err(format!(
-                "robots[{i}].model: unknown robot model {:?}",
-                r.model
+                "robots[{i}].model: {:?} is not one of {}",
+                r.model,
+                UrModel::ALL.map(|m| m.name()).join(", ")
             ));
         }
         pose(&format!("robots[{i}].base"), &r.base)?;
@@ -66,6 +74,18 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
                 )?;
             }
         }
+        let outcome = cand.outcome.as_str();
+        if !(outcome == "planned"
+            || outcome
+                .strip_prefix("rejected: ")
+                .is_some_and(|r| !r.is_empty())
+            || outcome.starts_with("not evaluated"))
+        {
+            return Err(format!(
+                "candidates[{c}].outcome: {:?} is not \"planned\", \"rejected: <why>\" or \"not evaluated…\"",
+                crate::text::clip(outcome, 80)
+            ));
+        }
         if cand.direction != "ccw" && cand.direction != "cw" {
             return Err(format!(
                 "candidates[{c}].direction: {:?} is neither \"ccw\" nor \"cw\"",
@@ -80,19 +100,29 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
         )?;
         for (s, seg) in plan.segments.iter().enumerate() {
             let at = format!("plans[{k}].segments[{s}]");
-            if !matches!(seg.name.as_str(), "sup1" | "rot" | "mas1" | "sup2") {
+            // Each segment of the format has one kind and one grasp (plan-format.md).
+            let (kind, grasp) = match seg.name.as_str() {
+                "sup1" => ("reach", "support"),
+                "rot" => ("rotate", "support"),
+                "mas1" => ("reach", "power"),
+                "sup2" => ("regrasp", "power"),
+                _ => {
+                    return Err(format!(
+                        "{at}.name: {:?} is not a segment of the format (sup1, rot, mas1, sup2)",
+                        seg.name
+                    ))
+                }
+            };
+            if seg.kind != kind {
                 return Err(format!(
-                    "{at}.name: {:?} is not a segment of the format",
-                    seg.name
+                    "{at}.kind: {:?}, but segment {} is always {kind:?}",
+                    seg.kind, seg.name
                 ));
             }
-            if !matches!(seg.kind.as_str(), "reach" | "rotate" | "regrasp") {
-                return Err(format!("{at}.kind: {:?} is not a segment kind", seg.kind));
-            }
-            if !matches!(seg.grasp.as_str(), "support" | "power") {
+            if seg.grasp != grasp {
                 return Err(format!(
-                    "{at}.grasp: {:?} is neither \"support\" nor \"power\"",
-                    seg.grasp
+                    "{at}.grasp: {:?}, but segment {} always ends at the {grasp} grasp",
+                    seg.grasp, seg.name
                 ));
             }
             if let Some(w) = seg.grip_width {
@@ -203,6 +233,11 @@ fn pose(path: &str, p: &PoseJson) -> Result<(), String> {
         return Err(format!("{path}.quat_xyzw: not finite"));
     }
     let norm = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if !norm.is_finite() {
+        return Err(format!(
+            "{path}.quat_xyzw: its norm overflows (write a unit quaternion)"
+        ));
+    }
     if norm < 1e-9 {
         return Err(format!(
             "{path}.quat_xyzw: a zero quaternion is no rotation"

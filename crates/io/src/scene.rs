@@ -215,6 +215,7 @@ pub fn check_physics_value(key: &str, x: f64) -> Result<(), String> {
         "safety_factor" => (1.0, 100.0, true, ""),
         "pad_torsion_radius" => (0.0, 0.1, true, " m"),
         "density" => (0.0, 30_000.0, false, " kg/m³"),
+        "mass" => (0.0, MAX_MASS, false, " kg"),
         _ => return Err("unknown key".into()),
     };
     let above_lo = if lo_in { x >= lo } else { x > lo };
@@ -225,6 +226,11 @@ pub fn check_physics_value(key: &str, x: f64) -> Result<(), String> {
         Err(format!("must be in {open}{lo}, {hi}]{unit}, found {x}"))
     }
 }
+
+/// Heaviest part (kg) a scene or `pregrasp physics --mass` may name: far beyond what two
+/// 2F-85s can turn (the physics check then says the pinch cannot hold), while every force
+/// computed from it stays finite.
+pub const MAX_MASS: f64 = 10_000.0;
 
 /// Default of `[planner] link_clearance` (m).
 pub const DEFAULT_LINK_CLEARANCE: f64 = 0.005;
@@ -322,9 +328,17 @@ impl SceneError {
 impl Scene {
     /// Reads and validates the scene file at `path`.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|error| SceneError::Read {
+        let read = |error| SceneError::Read {
             file: path.display().to_string(),
             error,
+        };
+        let bytes =
+            crate::limits::read_limited(path, crate::limits::MAX_SCENE_BYTES).map_err(read)?;
+        let text = String::from_utf8(bytes).map_err(|_| {
+            read(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                "not UTF-8 text (a scene file is TOML)",
+            ))
         })?;
         Scene::from_str(&text, path)
     }
@@ -338,7 +352,15 @@ impl Scene {
         };
         let root: Table = text.parse::<Table>().map_err(|e| SceneError::Syntax {
             file: cx.file.clone(),
-            message: e.to_string().trim_end().replace('\n', " | "),
+            // TOML quotes the offending line: a line of a binary or minified file can be
+            // hundreds of kilobytes, so each quoted line is clipped.
+            message: e
+                .to_string()
+                .trim_end()
+                .lines()
+                .map(|line| crate::text::clip(line, 160))
+                .collect::<Vec<_>>()
+                .join(" | "),
         })?;
         cx.unknown(
             &root,
@@ -608,9 +630,7 @@ impl Cx {
         let pose = self.pose(pose_v, "object.pose")?;
         let mass = self.opt_f64(t, "object", "mass")?;
         if let Some(m) = mass {
-            if m <= 0.0 {
-                return Err(self.err("object.mass", format!("must be > 0, found {m}")));
-            }
+            check_physics_value("mass", m).map_err(|problem| self.err("object.mass", problem))?;
         }
         Ok(ObjectSpec {
             mesh_path,

@@ -69,11 +69,33 @@ fn bad_arrays_are_errors_naming_the_element() {
 fn an_open_mesh_is_accepted_with_a_warning() {
     let (v, mut f) = tetra();
     f.pop();
-    let loaded = mesh_from_arrays(&v, &f, "part.stl", 1.0).unwrap();
+    let loaded = mesh_from_arrays(&v, &f, "part.stl", 0.001).unwrap();
     assert_eq!(loaded.warnings.len(), 1);
     assert!(
         loaded.warnings[0].contains("3 open edge(s)"),
         "{:?}",
         loaded.warnings
     );
+}
+
+#[test]
+fn a_part_scaled_to_nothing_or_to_a_kilometre_is_not_a_part() {
+    let (v, f) = tetra();
+    for (scale, words) in [
+        (5e-324, "less than 1 mm"),
+        (1e-9, "less than 1 mm"),
+        (1.0, "more than 100 m"),
+    ] {
+        match mesh_from_arrays(&v, &f, "part.stl", scale) {
+            Err(MeshError::NotAPart { reason, .. }) => assert!(reason.contains(words), "{reason}"),
+            other => panic!("scale {scale}: {other:?}"),
+        }
+    }
+    // Triangles that are all slivers (three points on a line) have no area.
+    let line = vec![[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [1.0, 0.0, 0.0]];
+    assert!(matches!(
+        mesh_from_arrays(&line, &[[0, 1, 2]], "part.stl", 1.0),
+        Err(MeshError::NotAPart { .. })
+    ));
+    assert!(mesh_from_arrays(&v, &f, "part.stl", 0.001).is_ok());
 }

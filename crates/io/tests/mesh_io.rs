@@ -50,9 +50,9 @@ fn binary_ascii_and_obj_boxes_agree_and_are_welded() {
 #[test]
 fn scale_multiplies_coordinates() {
     let m1 = load_mesh(&data("box.stl"), 1.0).unwrap().mesh;
-    let m2 = load_mesh(&data("box.stl"), 0.001).unwrap().mesh;
+    let m2 = load_mesh(&data("box.stl"), 0.01).unwrap().mesh;
     for (a, b) in m1.vertices.iter().zip(&m2.vertices) {
-        assert!((a * 0.001 - b).norm() < 1e-15);
+        assert!((a * 0.01 - b).norm() < 1e-15);
     }
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         assert!(matches!(

@@ -26,7 +26,7 @@ pub enum PhysicsError {
     NoObjectPose { plan: usize, point: usize },
     #[error("plans[{plan}].candidate: no candidate with id {id}")]
     NoCandidate { plan: usize, id: usize },
-    #[error("object.mass: must be > 0, found {0}")]
+    #[error("the part's mass must be in (0, {max}] kg, found {0}", max = pregrasp_io::scene::MAX_MASS)]
     BadMass(f64),
     #[error("object mesh: {0}")]
     Mass(#[from] MassError),
@@ -76,7 +76,7 @@ impl PartMass {
                 ),
             ),
         };
-        if !(mass.is_finite() && mass > 0.0) {
+        if !(mass.is_finite() && mass > 0.0 && mass <= pregrasp_io::scene::MAX_MASS) {
             return Err(PhysicsError::BadMass(mass));
         }
         let hull = pregrasp_geometry::ConvexHull::of_mesh(mesh)

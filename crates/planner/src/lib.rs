@@ -24,7 +24,8 @@ pub mod hold;
 pub mod output;
 pub mod paths;
 pub mod pipeline;
-pub mod plan_format;
+/// Moved to the I/O crate, so every reader of a plan file validates it; kept here by name.
+pub use pregrasp_io::plan_format;
 pub mod poses;
 pub mod reach;
 pub mod replan;

@@ -7,13 +7,14 @@ use std::process::ExitCode;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use pregrasp_batch::report::{self, Counts};
+use pregrasp_io::output::Outputs;
 use pregrasp_planner::pipeline::PlanOptions;
 
 use super::EXIT_OK;
 
 #[derive(clap::Args)]
 #[command(
-    after_help = "Every *.toml under DIR (recursively, OUT left out) is a scene. Under OUT, per scene <path>.plan.json, <path>.html and <path>.stamp (a fingerprint of the scene text, the mesh bytes and the pregrasp version: a scene whose stamp matches is not planned again), and summary.csv, summary.json, report.html.\n\nExit status: 0 the batch ran (whatever each scene's outcome: see the summary; a scene that cannot be loaded is a row with its error), 1 DIR is not a folder or holds no scene, or OUT cannot be written."
+    after_help = "Every *.toml under DIR (recursively, OUT left out) is a scene. Under OUT, per scene <path>.plan.json, <path>.html and <path>.stamp (a fingerprint of the scene text, the mesh bytes and the pregrasp version: a scene whose stamp matches is not planned again), and summary.csv, summary.json, report.html.\n\nExit status: 0 the batch ran (whatever each scene's outcome: see the summary; a scene that cannot be loaded, or a folder that cannot be read, is a row with its error), 1 DIR is not a folder or holds no scene, OUT is DIR, or OUT cannot be written (then nothing is written)."
 )]
 pub struct Args {
     /// The folder of scene files.
@@ -31,6 +32,10 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let scenes = pregrasp_batch::discover(&args.dir, Some(&args.output))?;
+    // The summary files are declared before any planning: a folder in their way stops the
+    // batch now, and nothing at all is written unless everything can be.
+    let mut outputs = Outputs::new();
+    let summary = report::declare(&mut outputs, &args.output)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()?;
@@ -48,14 +53,22 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         ..PlanOptions::default()
     };
     let records = pool.install(|| {
-        pregrasp_batch::run(&args.dir, &args.output, &scenes, &options, &|r| {
-            bar.set_message(r.scene.clone());
-            bar.inc(1);
-        })
-    })?;
+        pregrasp_batch::run_staged(
+            &args.dir,
+            &args.output,
+            &scenes,
+            &options,
+            &mut outputs,
+            &|r| {
+                bar.set_message(r.scene.clone());
+                bar.inc(1);
+            },
+        )
+    });
     bar.finish_and_clear();
     let title = format!("pregrasp batch: {}", args.dir.display());
-    report::write(&args.output, &records, &title).map_err(anyhow::Error::msg)?;
+    report::stage(&mut outputs, summary, &records, &title).map_err(anyhow::Error::msg)?;
+    outputs.commit()?;
     for r in &records {
         println!(
             "{:<40} {:<8} {}",

@@ -120,7 +120,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     let files = export(&file, args.plan_index, &formats, &options, mesh.as_ref())
         .with_context(|| shown.clone())?;
-    let written = write_all(&args.output, &files)?;
+    let written = write_all(&args.output, &files, &[(args.plan.as_path(), "the plan")])?;
     for p in &written {
         println!("wrote {}", p.display());
     }

@@ -63,9 +63,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut settings = PhysicsSettings::default();
     let scene_path = pregrasp_io::plan_file::resolve_beside(&args.plan, &file.scene.file);
     let scene_note = if scene_path.is_file() {
-        settings = settings
-            .with_scene_file(&scene_path)
-            .with_context(|| format!("{}: [physics]", scene_path.display()))?;
+        // The scene's own errors name the file and the key.
+        settings = settings.with_scene_file(&scene_path)?;
         format!("scene {}", scene_path.display())
     } else {
         "scene not found: defaults".to_string()
@@ -82,7 +81,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     settings.refine_all = args.all_states;
     settings.validate().context("bad argument")?;
     if let Some(m) = args.mass {
-        anyhow::ensure!(m.is_finite() && m > 0.0, "--mass: must be > 0, found {m}");
+        pregrasp_io::scene::check_physics_value("mass", m)
+            .map_err(|problem| anyhow::anyhow!("--mass: {problem}"))?;
     }
     let part = PartMass::resolve(
         &file,

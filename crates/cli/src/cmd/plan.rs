@@ -8,6 +8,7 @@ use std::time::Instant;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::output::Outputs;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::pipeline::{CandidateOutcome, PlanOptions, PlanReport};
@@ -67,6 +68,14 @@ pub fn plan_scene_file(
 ) -> anyhow::Result<ExitCode> {
     let started = Instant::now();
     let scene = Scene::load(scene_path)?;
+    // Every output is declared before planning: a path that cannot be written is refused now,
+    // and nothing is written unless all of them can be.
+    let mut outputs = Outputs::new();
+    outputs
+        .reading(scene_path, "the scene")
+        .reading(&scene.object.mesh_path, "the mesh");
+    let plan_out = outputs.declare(output)?;
+    let html_out = html.map(|p| outputs.declare(p)).transpose()?;
     for warning in &scene.warnings {
         eprintln!("warning: {warning}");
     }
@@ -105,11 +114,12 @@ pub fn plan_scene_file(
     file.timing_ms
         .insert("process".into(), started.elapsed().as_secs_f64() * 1e3);
 
-    file.write_atomic(output)?;
-    if let Some(html_path) = html {
+    outputs.write(plan_out, file.to_json().as_bytes())?;
+    if let Some(id) = html_out {
         let page = pregrasp_viewer::render_html(&file, &loaded.mesh, &Default::default());
-        pregrasp_io::plan_file::write_atomic(html_path, page.as_bytes())?;
+        outputs.write(id, page.as_bytes())?;
     }
+    outputs.commit()?;
     if !quiet {
         print_summary(&report, &file);
         println!("wrote {}", output.display());

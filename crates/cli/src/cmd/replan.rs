@@ -10,6 +10,7 @@ use std::time::Instant;
 use anyhow::Context;
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::output::Outputs;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::pipeline::PlanOptions;
@@ -79,8 +80,11 @@ pub fn parse_pose(text: &str, what: &str) -> anyhow::Result<Isometry3<f64>> {
         "{what}: a coordinate is more than {} m from the origin (lengths are in metres)",
         pregrasp_io::scene::MAX_COORDINATE
     );
-    let q = Quaternion::new(v[6], v[3], v[4], v[5]);
-    anyhow::ensure!(q.norm() > 1e-9, "{what}: the quaternion is zero");
+    // Scaled by its largest component first, so a quaternion of huge (finite) components
+    // normalises instead of overflowing its norm to infinity.
+    let largest = v[3..].iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    anyhow::ensure!(largest > 0.0, "{what}: the quaternion is zero");
+    let q = Quaternion::new(v[6], v[3], v[4], v[5]) / largest;
     Ok(Isometry3::from_parts(
         Translation3::new(v[0], v[1], v[2]),
         UnitQuaternion::from_quaternion(q),
@@ -103,6 +107,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .unwrap_or_else(|| pregrasp_io::plan_file::resolve_beside(&args.plan, &nominal.scene.file));
     // The plan's grasps (for an auto scene, the ones its search chose) are the ones followed.
     let scene = Scene::load(&scene_path)?.with_grasps_of(&nominal.grasps);
+    let mut outputs = Outputs::new();
+    outputs
+        .reading(&args.plan, "the nominal plan")
+        .reading(&scene_path, "the scene")
+        .reading(&scene.object.mesh_path, "the mesh");
+    let out = outputs.declare(&args.output)?;
     let mesh = load_mesh(&scene.object.mesh_path, scene.object.scale)
         .with_context(|| format!("{}: object.mesh", scene_path.display()))?
         .mesh;
@@ -126,7 +136,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let ms = started.elapsed().as_secs_f64() * 1e3;
     let mut file = result.report.file;
     file.timing_ms.insert("replan".into(), ms);
-    file.write_atomic(&args.output)?;
+    outputs.write(out, file.to_json().as_bytes())?;
+    outputs.commit()?;
     match file.plans.first() {
         Some(best) => println!(
             "{}: candidate {} (θ_goal {:.1}°), {:.1} ms",

@@ -8,6 +8,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::output::Outputs;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::auto_grasps::plan_auto;
 use pregrasp_planner::pipeline::PlanOptions;
@@ -70,6 +71,18 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
     };
     let scene = Scene::load(&args.scene)?;
+    // All three outputs are declared before any planning and written together at the end.
+    let mut outputs = Outputs::new();
+    outputs
+        .reading(&args.scene, "the scene")
+        .reading(&scene.object.mesh_path, "the mesh");
+    let mut declare =
+        |path: &Option<PathBuf>| path.as_deref().map(|p| outputs.declare(p)).transpose();
+    let (svg_out, plan_out, json_out) = (
+        declare(&args.svg)?,
+        declare(&args.write_plan)?,
+        declare(&args.json)?,
+    );
     let mesh = load_mesh(&scene.object.mesh_path, scene.object.scale)
         .with_context(|| format!("{}: object.mesh", args.scene.display()))?
         .mesh;
@@ -150,15 +163,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         ),
         None => println!("the plan's axis failed in some sample at every level"),
     }
-    if let Some(path) = &args.svg {
+    if let Some(id) = svg_out {
         let chart = svg(
             &report,
             &format!("{}: placement error vs planning", args.scene.display()),
         );
-        pregrasp_io::plan_file::write_atomic(path, chart.as_bytes())?;
-        println!("wrote {}", path.display());
+        outputs.write(id, chart.as_bytes())?;
     }
-    if let Some(path) = &args.write_plan {
+    if let Some(id) = plan_out {
         let mut file = nominal.file.clone();
         for (p, r) in file
             .plans
@@ -167,13 +179,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         {
             p.robustness = Some(r);
         }
-        file.write_atomic(path)?;
-        println!("wrote {}", path.display());
+        outputs.write(id, file.to_json().as_bytes())?;
     }
-    if let Some(path) = &args.json {
+    if let Some(id) = json_out {
         let text = serde_json::to_string_pretty(&report)?;
-        pregrasp_io::plan_file::write_atomic(path, text.as_bytes())?;
-        println!("wrote {}", path.display());
+        outputs.write(id, text.as_bytes())?;
+    }
+    for path in outputs.commit()? {
+        println!("wrote {path}");
     }
     Ok(ExitCode::from(EXIT_OK))
 }

@@ -6,8 +6,8 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use pregrasp_io::mesh_io::load_mesh;
-use pregrasp_io::plan_file::{write_atomic, PlanFile};
-use pregrasp_robot::UrModel;
+use pregrasp_io::output::Outputs;
+use pregrasp_io::plan_file::PlanFile;
 use pregrasp_viewer::{render_html, ViewOptions};
 
 #[derive(clap::Args)]
@@ -28,7 +28,7 @@ pub struct Args {
     /// Which plan to show first (1 = best).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     pub plan_number: u64,
-    /// Playback speed factor (0.25, 0.5, 1, 2, 4 or 8).
+    /// Playback speed factor: 0.25, 0.5, 1, 2, 4 or 8 (the page's menu).
     #[arg(long, default_value_t = 1.0, value_parser = parse_speed)]
     pub speed: f64,
     /// Do not start playing when the page opens.
@@ -38,19 +38,15 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let plan = PlanFile::read(&args.plan)?;
-    for (i, robot) in plan.robots.iter().enumerate() {
-        if UrModel::from_name(&robot.model).is_none() {
-            anyhow::bail!(
-                "{}: robots[{i}].model: unknown robot model {:?} (expected one of ur3e, ur5e, ur10e, ur16e, ur5)",
-                args.plan.display(),
-                robot.model
-            );
-        }
-    }
     let mesh_path = match &args.mesh {
         Some(p) => p.clone(),
         None => pregrasp_io::plan_file::resolve_beside(&args.plan, &plan.object.mesh),
     };
+    let mut outputs = Outputs::new();
+    outputs
+        .reading(&args.plan, "the plan")
+        .reading(&mesh_path, "the mesh");
+    let out = outputs.declare(&args.output)?;
     let loaded = load_mesh(&mesh_path, plan.object.scale)
         .with_context(|| format!("{}: object.mesh", args.plan.display()))?;
     for w in &loaded.warnings {
@@ -63,7 +59,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         autoplay: !args.no_autoplay,
     };
     let html = render_html(&plan, &loaded.mesh, &options);
-    write_atomic(&args.output, html.as_bytes())?;
+    outputs.write(out, html.as_bytes())?;
+    outputs.commit()?;
     eprintln!(
         "wrote {} ({} plan(s), {} candidate(s), {} KiB)",
         args.output.display(),
@@ -74,14 +71,20 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// A playback speed the page offers: 0.25 … 8.
+/// The playback speeds the page's menu offers.
+const SPEEDS: [f64; 6] = [0.25, 0.5, 1.0, 2.0, 4.0, 8.0];
+
+/// A playback speed the page offers (one of [`SPEEDS`]): any other value would silently play
+/// at 1×.
 fn parse_speed(text: &str) -> Result<f64, String> {
     let speed: f64 = text
         .parse()
         .map_err(|_| format!("{text:?} is not a number"))?;
-    if (0.25..=8.0).contains(&speed) {
+    if SPEEDS.contains(&speed) {
         Ok(speed)
     } else {
-        Err(format!("{speed} is out of range: choose 0.25 … 8"))
+        Err(format!(
+            "{text} is not one of the page's speeds: choose 0.25, 0.5, 1, 2, 4 or 8"
+        ))
     }
 }

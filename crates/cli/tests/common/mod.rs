@@ -1,6 +1,8 @@
 //! Helpers shared by the CLI tests: run the real binary, find the committed examples.
 #![allow(dead_code)]
 
+pub mod mutate;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
