@@ -79,3 +79,80 @@ fn check_refuses_plans_that_do_not_follow_the_format() {
         assert!(err.contains(field), "expected {field} in: {err}");
     }
 }
+
+/// Every number of the plans' segments rounded to `decimals` places, as another tool may write
+/// them.
+fn round_points(plan: &mut Value, decimals: i32) {
+    let scale = 10f64.powi(decimals);
+    let round = |v: &mut Value| {
+        let x = v.as_f64().unwrap();
+        *v = ((x * scale).round() / scale).into();
+    };
+    for p in plan["plans"].as_array_mut().unwrap() {
+        for seg in p["segments"].as_array_mut().unwrap() {
+            for point in seg["points"].as_array_mut().unwrap() {
+                round(&mut point["t"]);
+                for q in point["q"].as_array_mut().unwrap() {
+                    round(q);
+                }
+            }
+        }
+    }
+}
+
+/// Retimes the interval of plan 0's `mas1` with the largest joint change so that its fastest
+/// joint moves at `factor` × the UR5e's 180°/s, shifting the later points with it.
+fn retime_fastest_interval(plan: &mut Value, factor: f64) {
+    let points = plan["plans"][0]["segments"][2]["points"]
+        .as_array_mut()
+        .unwrap();
+    let q = |p: &Value, j: usize| p["q"][j].as_f64().unwrap();
+    let (k, dq) = (1..points.len())
+        .map(|k| {
+            let dq = (0..6)
+                .map(|j| (q(&points[k], j) - q(&points[k - 1], j)).abs())
+                .fold(0.0, f64::max);
+            (k, dq)
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap();
+    let t = |p: &Value| p["t"].as_f64().unwrap();
+    let shift = t(&points[k - 1]) + dq / (std::f64::consts::PI * factor) - t(&points[k]);
+    for p in &mut points[k..] {
+        let moved = t(p) + shift;
+        p["t"] = moved.into();
+    }
+}
+
+/// `check` judges a plan, not its rounding: a plan whose fastest joint runs exactly at its
+/// speed limit still passes rule 1 with its time stamps and joints rounded to six decimals
+/// (microseconds, micro-radians), as another tool may write them; 1 % over the limit fails.
+#[test]
+fn check_is_not_stricter_than_the_rounding_of_a_written_plan() {
+    let tmp = tempfile::tempdir().unwrap();
+    let plan = planned(tmp.path());
+    let run = |name: &str, plan: &Value| {
+        std::fs::write(tmp.path().join(name), plan.to_string()).unwrap();
+        let out = pregrasp(tmp.path(), &["check", name]);
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+        )
+    };
+    let mut at_limit = plan.clone();
+    retime_fastest_interval(&mut at_limit, 1.0);
+    for decimals in [6, 7, 9] {
+        let mut rounded = at_limit.clone();
+        round_points(&mut rounded, decimals);
+        let (code, stdout) = run("rounded.json", &rounded);
+        assert_eq!(code, Some(0), "{decimals} decimals: {stdout}");
+    }
+    let mut fast = plan.clone();
+    retime_fastest_interval(&mut fast, 1.01);
+    let (code, stdout) = run("fast.json", &fast);
+    assert_eq!(code, Some(2), "{stdout}");
+    assert!(
+        stdout.contains("rule 1 FAIL") && stdout.contains("speed"),
+        "{stdout}"
+    );
+}

@@ -39,6 +39,12 @@ pub const GRASP_ANGLE_TOLERANCE: f64 = 0.01;
 pub const LINE_POSITION_TOLERANCE: f64 = 0.002;
 pub const LINE_ANGLE_TOLERANCE: f64 = 0.01;
 
+/// Rounding a plan's time stamps may carry (s): half a microsecond, as written with six
+/// decimals. Rule 1 judges speeds allowing it (see `check_limits`).
+pub const ROUNDING_T: f64 = 5e-7;
+/// Rounding a plan's joint values may carry (rad): half of 1e-6 rad, six decimals.
+pub const ROUNDING_Q: f64 = 5e-7;
+
 const STRUCTURE: &str = "plan structure (segments, robots, times, continuity)";
 const STRUCTURE_OK: &str = "segments sup1, rot, mas1, sup2 in order, times increasing, continuous";
 
@@ -673,7 +679,11 @@ impl<'a> PlanCheck<'a> {
         Ok(())
     }
 
-    /// Rule 1: joint limits at every point, joint speeds between neighbouring points.
+    /// Rule 1: joint limits at every point, joint speeds between neighbouring points. A plan
+    /// written by another tool may round its numbers ([`ROUNDING_T`], [`ROUNDING_Q`]): a speed
+    /// counts as over the limit only if it is over it for every time stamp and joint value
+    /// those numbers may have stood for — the joint change shrunk by twice the joint rounding,
+    /// the interval grown by twice the time rounding.
     fn check_limits(&mut self, arm: usize, seg: &SegmentJson) {
         let index = self.index;
         let model = self.arms[arm].model();
@@ -683,16 +693,17 @@ impl<'a> PlanCheck<'a> {
             for (j, &(lo, hi)) in lim.iter().enumerate() {
                 // Fraction of the way from the middle of the range to a limit.
                 let mid = 0.5 * (lo + hi);
-                let frac = (p.q[j] - mid).abs() / (0.5 * (hi - lo));
+                let frac = ((p.q[j] - mid).abs() - ROUNDING_Q).max(0.0) / (0.5 * (hi - lo));
                 self.limits.value(frac, 1.0, || {
                     format!("{} joint {} position", at(index, seg, k), j + 1)
                 });
             }
             if k > 0 {
                 let prev = &seg.points[k - 1];
-                let dt = p.t - prev.t;
+                let dt = p.t - prev.t + 2.0 * ROUNDING_T;
                 for (j, v) in vmax.iter().enumerate() {
-                    let frac = (p.q[j] - prev.q[j]).abs() / dt / v;
+                    let dq = ((p.q[j] - prev.q[j]).abs() - 2.0 * ROUNDING_Q).max(0.0);
+                    let frac = dq / dt / v;
                     self.limits.value(frac * (1.0 - 1e-9), 1.0, || {
                         format!("{} joint {} speed", at(index, seg, k), j + 1)
                     });
