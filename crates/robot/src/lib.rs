@@ -11,6 +11,7 @@ mod finger;
 mod fk;
 mod gripper;
 mod ik;
+mod linkage;
 mod links;
 mod model;
 
@@ -19,6 +20,7 @@ pub use finger::{BoxJson, FingerKinematics, FingerLink, FingerPose};
 pub use fk::UrKinematics;
 pub use gripper::{Gripper2F85, GripperState, GRIPPER_FRAME};
 pub use ik::{joint_distance, IkSolutions, IK_RESIDUAL_TOL};
+pub use linkage::{FingerConfig, FingerLinkage, LinkageLimits, PlanarPose, FINGER_LINKS};
 pub use links::{
     arm_geometry, fitted_links_of, flange_sweep_radii, group_sweep_radii, joint_sweep_radii,
     point_cylinder_distance, ArmGeometry, Capsule, ConvexPieces, Cylinder, FittedLink, LinkShape,

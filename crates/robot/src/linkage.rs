@@ -1,0 +1,327 @@
+//! The Robotiq 2F-85 finger as the real gripper is built: an underactuated linkage of two
+//! degrees of freedom, not a one-parameter table.
+//!
+//! Each finger has four links, named as in the MuJoCo Menagerie model (`robotiq_2f85/2f85.xml`,
+//! BSD-3; our `robotiq_2f85.json` names in brackets): the **driver** [outer knuckle], turned
+//! by the actuator about pivot `A` on the housing; the **coupler** [outer finger], hinged to
+//! the driver; the **spring link** [inner knuckle], turning freely about pivot `S` on the
+//! housing, pushed closed by a spring; and the **follower** [finger tip], which carries the
+//! pad, hinged to the spring link at `J` and pinned to the coupler at `P` (Menagerie's
+//! `connect` equality). Driver, coupler, follower and spring link close a five-bar loop: given
+//! the driver angle `q_d` and the spring link's angle `q_s`, the coupler (`q_c`) and the
+//! follower (`q_f`) follow ([`FingerLinkage::assemble`]).
+//!
+//! How the real finger closes: in free air the spring holds the coupler against its stop
+//! (`q_c = 0`, rigid with the driver), the loop is a near-parallelogram four-bar and the pad
+//! stays parallel to itself ([`FingerLinkage::parallel`]: the 1-DoF closing our table
+//! describes). When the spring link meets something, it stops (`q_s` fixed) while the driver
+//! turns on, and the follower curls inward about `J` ([`FingerLinkage::curled`]).
+//!
+//! Frames: everything is in the plane of the `+x` finger, in gripper-frame coordinates
+//! `(x, z)` of G (flange frame: z the approach direction, x the closing axis); the `−x` finger
+//! is its mirror image. Joint angles are Menagerie's: positive closes (a rotation about G's
+//! `−y`, i.e. counter-clockwise in the `(x, z)` plane as drawn with x right and z up). Lengths
+//! in metres, angles in radians.
+
+use nalgebra::{Isometry3, Point2, Rotation2, Translation3, UnitQuaternion, Vector2, Vector3};
+
+/// The four links of a finger, in [`FingerConfig::link_frames`] order.
+pub const FINGER_LINKS: [&str; 5] = ["driver", "coupler", "spring_link", "follower", "pad"];
+
+/// Joint ranges of the Menagerie model (rad).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinkageLimits {
+    pub driver: (f64, f64),
+    pub coupler: (f64, f64),
+    pub spring_link: (f64, f64),
+    pub follower: (f64, f64),
+}
+
+/// The planar geometry of one finger (see the module documentation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FingerLinkage {
+    /// Driver pivot in G `(x, z)`.
+    pub a: Point2<f64>,
+    /// Spring link pivot in G `(x, z)`.
+    pub s: Point2<f64>,
+    /// Coupler hinge in the driver frame.
+    pub driver_to_coupler: Vector2<f64>,
+    /// The follower's pin `P` in the coupler frame (where the loop closes).
+    pub coupler_to_pin: Vector2<f64>,
+    /// The follower hinge `J` in the spring link frame.
+    pub spring_to_hinge: Vector2<f64>,
+    /// The follower's frame origin (= the pin `P`) from its hinge `J`, in the follower frame.
+    pub hinge_to_pin: Vector2<f64>,
+    /// The pad's frame origin in the follower frame (the pad does not move on the follower).
+    pub follower_to_pad: Vector2<f64>,
+    /// Centre of the pad's contact face, in the pad frame.
+    pub pad_center: Vector2<f64>,
+    /// Far end of the pad's contact face on its centre line, in the pad frame.
+    pub pad_tip: Vector2<f64>,
+    pub limits: LinkageLimits,
+}
+
+/// One pose of a finger: its four joint angles (rad).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FingerConfig {
+    pub driver: f64,
+    pub coupler: f64,
+    pub spring_link: f64,
+    pub follower: f64,
+}
+
+/// In-plane pose of a link: origin and angle in G's `(x, z)` plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlanarPose {
+    pub origin: Point2<f64>,
+    pub angle: f64,
+}
+
+impl PlanarPose {
+    fn apply(&self, v: &Vector2<f64>) -> Point2<f64> {
+        self.origin + Rotation2::new(self.angle) * v
+    }
+
+    /// The link frame in G (3-D) for the finger on side `side` (`+1.0`: `+x`, `−1.0`: its
+    /// mirror image). The link's own frame has Menagerie's axes mapped into G: its in-plane
+    /// `(y, z)` are G's `(x, z)` for the `+x` finger.
+    pub fn to_isometry(&self, side: f64) -> Isometry3<f64> {
+        Isometry3::from_parts(
+            Translation3::new(side * self.origin.x, 0.0, self.origin.y),
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -side * self.angle),
+        )
+    }
+}
+
+/// The direction angle of `v` in the `(x, z)` plane.
+fn angle_of(v: &Vector2<f64>) -> f64 {
+    v.y.atan2(v.x)
+}
+
+/// The intersection of the circle about `c1` of radius `r1` with the circle about `c2` of
+/// radius `r2` that lies on side `sign` of the line `c1 → c2` (`+1`: left, counter-clockwise);
+/// `None` when they do not meet.
+fn circles(c1: Point2<f64>, r1: f64, c2: Point2<f64>, r2: f64, sign: f64) -> Option<Point2<f64>> {
+    let d = c2 - c1;
+    let dist = d.norm();
+    if dist < 1e-12 || dist > r1 + r2 || dist < (r1 - r2).abs() {
+        return None;
+    }
+    let along = (r1 * r1 - r2 * r2 + dist * dist) / (2.0 * dist);
+    let h = (r1 * r1 - along * along).max(0.0).sqrt();
+    let u = d / dist;
+    let n = Vector2::new(-u.y, u.x);
+    Some(c1 + u * along + n * (sign * h))
+}
+
+/// Which side of the line `from → to` the point `p` lies on (`±1`).
+fn side_of(from: Point2<f64>, to: Point2<f64>, p: Point2<f64>) -> f64 {
+    let (a, b) = (to - from, p - from);
+    (a.x * b.y - a.y * b.x).signum()
+}
+
+impl FingerLinkage {
+    /// The 2F-85 of the MuJoCo Menagerie (`robotiq_2f85/2f85.xml`, commit 75df466): `base`
+    /// at 0.0108 m on the flange axis (`base_mount` 0.007 + 0.0038), turned −90° about z so the
+    /// `right_*` finger lies at `+x`; the follower's joint sits at `(−0.018, 0.0065)` in its
+    /// body frame, so its hinge on the spring link is `(0.055, 0.0375) + (−0.018, 0.0065)`; the
+    /// pin `P` is the follower's origin, which at `qpos0` (all angles 0) lies at
+    /// `(0.0060989, 0.047596)` in the coupler frame. Pad contact face: the inner face of the
+    /// two pad boxes, `y = −0.0066` in the pad frame, 37.5 mm long.
+    pub fn robotiq_2f85() -> FingerLinkage {
+        let base_z = 0.007 + 0.0038;
+        let a = Point2::new(0.0306011, 0.054904 + base_z);
+        let s = Point2::new(0.0132, 0.0609 + base_z);
+        let driver_to_coupler = Vector2::new(0.0315, -0.0041);
+        let spring_body = Vector2::new(0.055, 0.0375);
+        let follower_joint = Vector2::new(-0.018, 0.0065);
+        // At qpos0 every frame is parallel to G: the pin in the coupler frame is the follower's
+        // origin minus the coupler's origin.
+        let pin = s + spring_body;
+        let coupler_origin = a + driver_to_coupler;
+        FingerLinkage {
+            a,
+            s,
+            driver_to_coupler,
+            coupler_to_pin: pin - coupler_origin,
+            spring_to_hinge: spring_body + follower_joint,
+            hinge_to_pin: -follower_joint,
+            follower_to_pad: Vector2::new(-0.0189, 0.01352),
+            pad_center: Vector2::new(-0.0066, 0.01875),
+            pad_tip: Vector2::new(-0.0066, 0.0375),
+            limits: LinkageLimits {
+                driver: (0.0, 0.8),
+                coupler: (-1.57, 0.0),
+                spring_link: (-0.29670597283, 0.8),
+                follower: (-0.872664, 0.872664),
+            },
+        }
+    }
+
+    /// The side of the line `C → J` on which the pin lies in the assembled finger (the loop's
+    /// branch), taken from `qpos0`.
+    fn pin_side(&self) -> f64 {
+        let c = self.a + self.driver_to_coupler;
+        let j = self.s + self.spring_to_hinge;
+        side_of(c, j, self.s + self.spring_to_hinge + self.hinge_to_pin)
+    }
+
+    /// The whole finger for driver angle `driver` and spring-link angle `spring_link`: the pin
+    /// where the coupler's circle about its hinge `C` meets the follower's circle about `J`,
+    /// on the branch the gripper is assembled in. `None` if the loop cannot close there.
+    pub fn assemble(&self, driver: f64, spring_link: f64) -> Option<FingerConfig> {
+        let c = self.a + Rotation2::new(driver) * self.driver_to_coupler;
+        let j = self.s + Rotation2::new(spring_link) * self.spring_to_hinge;
+        let p = circles(
+            c,
+            self.coupler_to_pin.norm(),
+            j,
+            self.hinge_to_pin.norm(),
+            self.pin_side(),
+        )?;
+        let coupler_abs = angle_of(&(p - c)) - angle_of(&self.coupler_to_pin);
+        let follower_abs = angle_of(&(p - j)) - angle_of(&self.hinge_to_pin);
+        Some(FingerConfig {
+            driver,
+            coupler: wrap(coupler_abs - driver),
+            spring_link,
+            follower: wrap(follower_abs - spring_link),
+        })
+    }
+
+    /// The finger in free air at driver angle `driver`: the coupler on its stop (`q_c = 0`),
+    /// the spring link where the loop then closes (the parallel mode of the real gripper).
+    pub fn parallel(&self, driver: f64) -> Option<FingerConfig> {
+        // The pin is fixed to the driver; the hinge J lies on the spring link's circle about S
+        // at the follower's length from the pin.
+        let p = self.a + Rotation2::new(driver) * (self.driver_to_coupler + self.coupler_to_pin);
+        // J lies on the side of the line S → P it lies on at qpos0 (the assembled branch).
+        let p0 = self.a + self.driver_to_coupler + self.coupler_to_pin;
+        let side = side_of(self.s, p0, self.s + self.spring_to_hinge);
+        let j = circles(
+            self.s,
+            self.spring_to_hinge.norm(),
+            p,
+            self.hinge_to_pin.norm(),
+            side,
+        )?;
+        let spring_link = wrap(angle_of(&(j - self.s)) - angle_of(&self.spring_to_hinge));
+        let follower_abs = angle_of(&(p - j)) - angle_of(&self.hinge_to_pin);
+        Some(FingerConfig {
+            driver,
+            coupler: 0.0,
+            spring_link,
+            follower: wrap(follower_abs - spring_link),
+        })
+    }
+
+    /// The finger with its spring link held at `spring_link` (it touches something) and the
+    /// driver turned on to `driver`: the follower curls about its hinge.
+    pub fn curled(&self, driver: f64, spring_link: f64) -> Option<FingerConfig> {
+        self.assemble(driver, spring_link)
+    }
+
+    /// Whether every joint of `config` is within its range (with `slack` rad).
+    pub fn within_limits(&self, config: &FingerConfig, slack: f64) -> bool {
+        let inside = |x: f64, (lo, hi): (f64, f64)| x >= lo - slack && x <= hi + slack;
+        inside(config.driver, self.limits.driver)
+            && inside(config.coupler, self.limits.coupler)
+            && inside(config.spring_link, self.limits.spring_link)
+            && inside(config.follower, self.limits.follower)
+    }
+}
+
+fn wrap(x: f64) -> f64 {
+    crate::wrap_angle(x)
+}
+
+impl FingerConfig {
+    /// The in-plane pose of each link ([`FINGER_LINKS`] order) for `linkage`.
+    pub fn link_frames(&self, linkage: &FingerLinkage) -> [PlanarPose; 5] {
+        let driver = PlanarPose {
+            origin: linkage.a,
+            angle: self.driver,
+        };
+        let coupler = PlanarPose {
+            origin: driver.apply(&linkage.driver_to_coupler),
+            angle: self.driver + self.coupler,
+        };
+        let spring = PlanarPose {
+            origin: linkage.s,
+            angle: self.spring_link,
+        };
+        let hinge = spring.apply(&linkage.spring_to_hinge);
+        let follower_angle = self.spring_link + self.follower;
+        let follower = PlanarPose {
+            origin: hinge + Rotation2::new(follower_angle) * linkage.hinge_to_pin,
+            angle: follower_angle,
+        };
+        let pad = PlanarPose {
+            origin: follower.apply(&linkage.follower_to_pad),
+            angle: follower_angle,
+        };
+        [driver, coupler, spring, follower, pad]
+    }
+
+    /// Centre of the pad's contact face in G `(x, z)`.
+    pub fn pad_center(&self, linkage: &FingerLinkage) -> Point2<f64> {
+        self.link_frames(linkage)[4].apply(&linkage.pad_center)
+    }
+
+    /// Far end of the pad's contact face in G `(x, z)`.
+    pub fn pad_tip(&self, linkage: &FingerLinkage) -> Point2<f64> {
+        self.link_frames(linkage)[4].apply(&linkage.pad_tip)
+    }
+
+    /// How far the pad is turned from parallel (rad; positive: its tip curled towards the
+    /// other finger).
+    pub fn distal_pitch(&self) -> f64 {
+        -(self.spring_link + self.follower)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_open_finger_is_where_the_menagerie_puts_it() {
+        let l = FingerLinkage::robotiq_2f85();
+        let open = l.assemble(0.0, 0.0).unwrap();
+        assert!(
+            open.coupler.abs() < 1e-12 && open.follower.abs() < 1e-12,
+            "{open:?}"
+        );
+        let c = open.pad_center(&l);
+        assert!((c - Point2::new(0.0427, 0.14147)).norm() < 1e-6, "{c}");
+        let t = open.pad_tip(&l);
+        assert!((t - Point2::new(0.0427, 0.16022)).norm() < 1e-6, "{t}");
+        let par = l.parallel(0.0).unwrap();
+        assert!(
+            par.spring_link.abs() < 1e-9 && par.follower.abs() < 1e-9,
+            "{par:?}"
+        );
+    }
+
+    #[test]
+    fn the_loop_closes_in_every_assembled_pose() {
+        let l = FingerLinkage::robotiq_2f85();
+        for i in 0..=40 {
+            let qd = 0.8 * i as f64 / 40.0;
+            for qs in [-0.2, 0.0, 0.3, 0.6] {
+                let Some(cfg) = l.assemble(qd, qs) else {
+                    continue;
+                };
+                let f = cfg.link_frames(&l);
+                let pin_coupler = f[1].apply(&l.coupler_to_pin);
+                assert!((pin_coupler - f[3].origin).norm() < 1e-12);
+                let hinge = f[2].apply(&l.spring_to_hinge);
+                assert!(((f[3].origin - hinge).norm() - l.hinge_to_pin.norm()).abs() < 1e-12);
+            }
+            let par = l.parallel(qd).unwrap();
+            assert!(par.coupler == 0.0);
+            let again = l.assemble(qd, par.spring_link).unwrap();
+            assert!(again.coupler.abs() < 1e-9, "{qd}: {again:?}");
+        }
+    }
+}
