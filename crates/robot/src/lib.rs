@@ -7,6 +7,7 @@
 //! the flange frame. Units: metres, radians, seconds.
 
 mod angle;
+mod closing;
 mod finger;
 mod fk;
 mod gripper;
@@ -16,6 +17,10 @@ mod links;
 mod model;
 
 pub use angle::{atan2, wrap_angle};
+pub use closing::{
+    close_fingers, ClosingKind, ClosingWorld, FingerClosing, Touch, COUPLER, DRIVER, DRIVER_STEP,
+    DRIVER_TOLERANCE, FOLLOWER, PAD, SPRING_LINK,
+};
 pub use finger::{BoxJson, FingerKinematics, FingerLink, FingerPose};
 pub use fk::UrKinematics;
 pub use gripper::{Gripper2F85, GripperState, GRIPPER_FRAME};

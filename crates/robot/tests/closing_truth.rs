@@ -1,0 +1,254 @@
+//! The quasi-static closing ([`close_finger`]) held to MuJoCo's closing of the Menagerie 2F-85
+//! on bars (`data/gripper_truth/closing_2f85.json`), with the collision geometry MuJoCo used
+//! (`data/gripper_truth/menagerie_2f85_collision.json`: the hulls of the finger meshes, the pad
+//! boxes; `tools/gripper_truth/`): the same table verdict, the same kind of grasp, the pads and
+//! tips where MuJoCo's came to rest.
+
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use parry3d_f64::query::intersection_test;
+use parry3d_f64::shape::{ConvexPolyhedron, Cuboid};
+use pregrasp_robot::{
+    close_fingers, ClosingKind, ClosingWorld, FingerClosing, FingerLinkage, PlanarPose, Touch,
+    FINGER_LINKS,
+};
+use serde_json::Value;
+
+fn data(name: &str) -> Value {
+    let path = format!("{}/data/gripper_truth/{name}", env!("CARGO_MANIFEST_DIR"));
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// One convex piece of a link: its hull and its vertices (for the table test).
+type Piece = (ConvexPolyhedron, Vec<Point3<f64>>);
+
+/// The finger links as MuJoCo collides them, per side (`[+x, −x]`), in their link frames.
+struct Links {
+    pieces: [Vec<Vec<Piece>>; 2],
+}
+
+impl Links {
+    fn load() -> Links {
+        let json = data("menagerie_2f85_collision.json");
+        let side = |sign: f64| {
+            FINGER_LINKS
+                .iter()
+                .map(|name| {
+                    json["links"][name]
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(|piece| {
+                            let pts: Vec<Point3<f64>> = piece
+                                .as_array()
+                                .unwrap()
+                                .iter()
+                                .map(|p| {
+                                    let c = |k: usize| p[k].as_f64().unwrap();
+                                    Point3::new(sign * c(0), c(1), c(2))
+                                })
+                                .collect();
+                            let hull = ConvexPolyhedron::from_convex_hull(&pts).unwrap();
+                            (hull, pts)
+                        })
+                        .collect()
+                })
+                .collect()
+        };
+        Links {
+            pieces: [side(1.0), side(-1.0)],
+        }
+    }
+}
+
+/// A bar (a box, long along y) and maybe a table plane `z = table` under it.
+struct Bar<'a> {
+    links: &'a Links,
+    cuboid: Cuboid,
+    pose: Isometry3<f64>,
+    table: Option<f64>,
+}
+
+impl ClosingWorld for Bar<'_> {
+    fn touch(&self, side: f64, link: usize, pose: &PlanarPose) -> Touch {
+        let frame = pose.to_isometry(side);
+        let pieces = &self.links.pieces[usize::from(side < 0.0)][link];
+        if let Some(table) = self.table {
+            let deepest = pieces
+                .iter()
+                .flat_map(|(_, pts)| pts.iter().map(|p| (frame * p).z))
+                .fold(f64::NEG_INFINITY, f64::max);
+            if deepest > table {
+                return Touch::Support;
+            }
+        }
+        let inv = frame.inverse() * self.pose;
+        for (hull, _) in pieces {
+            if intersection_test(&inv, &self.cuboid, &Isometry3::identity(), hull).unwrap() {
+                return Touch::Part;
+            }
+        }
+        Touch::Nothing
+    }
+}
+
+fn closings(row: &Value, links: &Links) -> [FingerClosing; 2] {
+    closings_with_table_offset(row, links, 0.0)
+}
+
+/// [`closings`] with the table (if any) moved `dz` along G's z.
+fn closings_with_table_offset(row: &Value, links: &Links, dz: f64) -> [FingerClosing; 2] {
+    let bar = &row["bar"];
+    let get = |k: &str| bar[k].as_f64().unwrap();
+    let world = Bar {
+        links,
+        cuboid: Cuboid::new(Vector3::new(
+            0.5 * get("width"),
+            0.15,
+            0.5 * get("thickness"),
+        )),
+        pose: Isometry3::from_parts(
+            Translation3::new(0.0, 0.0, get("z_center")),
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), get("tilt_deg").to_radians()),
+        ),
+        table: row["table_z"].as_f64().map(|z| z + dz),
+    };
+    let l = FingerLinkage::robotiq_2f85();
+    close_fingers(&world, &l)
+}
+
+/// A table verdict that flips when the table moves this far (m) is a graze (see the test).
+const GRAZE: f64 = 2.5e-4;
+
+/// What the model must meet (measured 2026-11-26: every table verdict, 640 of 702 fingers within
+/// 2 mm, median 0.40 mm, p90 1.75 mm). Where it departs: the fingers that MuJoCo wraps around a
+/// bar at the power point with the spring link pushed open again by the curling follower (a
+/// force balance of the spring and the actuator, which a kinematic model does not have: ours
+/// keeps the spring link where it met the bar and curls the follower until the tips meet, 10 to
+/// 27 mm deeper, so it is the more cautious about the table), and pinches on a bar tilted 20 to
+/// 30° whose corner MuJoCo's pad rolls onto by friction and compliance.
+#[test]
+fn the_closing_agrees_with_mujoco_on_bars() {
+    let truth = data("closing_2f85.json");
+    let links = Links::load();
+    let l = FingerLinkage::robotiq_2f85();
+    let (mut rows, mut table_rows, mut table_same) = (0, 0, 0);
+    let (mut compared, mut within, mut kinds_same) = (0, 0, 0);
+    let mut errors = Vec::new();
+    let mut table_diff = Vec::new();
+    let mut grazes = Vec::new();
+    for row in truth["rows"].as_array().unwrap() {
+        if row["status"] != "simulated" {
+            continue;
+        }
+        rows += 1;
+        let ours = closings(row, &links);
+        let we_touch = ours.iter().any(|c| c.support.is_some());
+        if row["table"] == true {
+            // A graze decides nothing: a row whose verdict flips when our table moves GRAZE
+            // up or down (the fingers pass within GRAZE of it) is left out of the verdict.
+            let flips = [-GRAZE, GRAZE].iter().any(|dz| {
+                let moved = closings_with_table_offset(row, &links, *dz);
+                moved.iter().any(|c| c.support.is_some()) != we_touch
+            });
+            if flips {
+                grazes.push(row["id"].as_str().unwrap().to_string());
+                continue;
+            }
+            table_rows += 1;
+            let they_touch = row["table_touched"] == true;
+            if we_touch == they_touch {
+                table_same += 1;
+            } else {
+                table_diff.push(format!(
+                    "{} (mujoco {they_touch}, ours {we_touch})",
+                    row["id"].as_str().unwrap()
+                ));
+            }
+            if they_touch || we_touch {
+                continue;
+            }
+        }
+        if row["settled"] != true {
+            continue;
+        }
+        for (k, (side, sign)) in [("pos", 1.0), ("neg", -1.0)].into_iter().enumerate() {
+            let f = &row["fingers"][side];
+            let at =
+                |v: &Value| nalgebra::Point2::new(v[0].as_f64().unwrap(), v[2].as_f64().unwrap());
+            let mirror = |p: nalgebra::Point2<f64>| nalgebra::Point2::new(sign * p.x, p.y);
+            let c = &ours[k].config;
+            let err = (mirror(c.pad_center(&l)) - at(&f["pad_center"]))
+                .norm()
+                .max((mirror(c.pad_tip(&l)) - at(&f["tip"])).norm());
+            errors.push((err, row["id"].as_str().unwrap().to_string(), side));
+            compared += 1;
+            if err <= 2e-3 {
+                within += 1;
+            }
+            let curled = f["distal_curled"] == true;
+            let ours_curled =
+                matches!(ours[k].kind, ClosingKind::Encompassing | ClosingKind::Caged);
+            if curled == ours_curled {
+                kinds_same += 1;
+            }
+        }
+    }
+    errors.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let q = |p: f64| errors[((errors.len() - 1) as f64 * p) as usize].0 * 1e3;
+    eprintln!(
+        "{rows} rows; table verdict same in {table_same}/{table_rows}; pad and tip within 2 mm in \
+         {within}/{compared} fingers (median {:.2} mm, p90 {:.2} mm, worst {:.2} mm at {} {}); \
+         curled or not as MuJoCo in {kinds_same}/{compared}",
+        q(0.5),
+        q(0.9),
+        errors.last().unwrap().0 * 1e3,
+        errors.last().unwrap().1,
+        errors.last().unwrap().2
+    );
+    for d in &table_diff {
+        eprintln!("table verdict differs: {d}");
+    }
+    eprintln!("grazes left out of the table verdict: {grazes:?}");
+    for (e, id, side) in errors.iter().rev().take(15) {
+        eprintln!("  {:.2} mm {id} {side}", e * 1e3);
+    }
+    assert!(table_rows > 100);
+    assert!(
+        table_diff.is_empty(),
+        "table verdicts differ: {table_diff:?}"
+    );
+    assert!(
+        within * 10 >= compared * 9,
+        "{within}/{compared} within 2 mm"
+    );
+    assert!(
+        q(0.5) < 0.5 && q(0.9) < 2.0,
+        "median {} mm, p90 {} mm",
+        q(0.5),
+        q(0.9)
+    );
+}
+
+/// Prints our closing of one row (`PREGRASP_ROW=<id>`), for looking into a difference.
+#[test]
+fn print_one_row() {
+    let Ok(id) = std::env::var("PREGRASP_ROW") else {
+        return;
+    };
+    let truth = data("closing_2f85.json");
+    let links = Links::load();
+    let row = truth["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["id"] == id.as_str())
+        .unwrap();
+    let l = FingerLinkage::robotiq_2f85();
+    for c in closings(row, &links) {
+        eprintln!(
+            "{c:?}\n  pad centre {:?} tip {:?}",
+            c.config.pad_center(&l),
+            c.config.pad_tip(&l)
+        );
+    }
+}
