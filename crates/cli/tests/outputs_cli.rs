@@ -324,42 +324,27 @@ fn robustness_writes_all_its_outputs_or_none() {
     examples_in(dir.path());
     std::fs::create_dir(dir.path().join("out")).unwrap();
     let before = files_in(dir.path());
-    // The JSON's folder does not exist: refused before planning, the SVG is not written.
-    let out = pregrasp(
-        dir.path(),
-        &[
+    // One placement sample: the outputs are what is looked at.
+    let robustness = |outputs: &[&str]| {
+        let mut args = vec![
             "robustness",
             "chair_side.toml",
             "--samples",
             "1",
             "--pos-mm",
             "2",
-            "--svg",
-            "out/r.svg",
-            "--json",
-            "missing/r.json",
-        ],
-    );
+        ];
+        args.extend_from_slice(outputs);
+        pregrasp(dir.path(), &args)
+    };
+    // The JSON's folder does not exist: refused before planning, the SVG is not written.
+    let out = robustness(&["--svg", "out/r.svg", "--json", "missing/r.json"]);
     assert_bad_input(&out, "missing/r.json");
     assert_eq!(files_in(dir.path()), before);
     // A folder in the way of the plan: the same.
     std::fs::create_dir(dir.path().join("out/plan.json")).unwrap();
     let before = files_in(dir.path());
-    let out = pregrasp(
-        dir.path(),
-        &[
-            "robustness",
-            "chair_side.toml",
-            "--samples",
-            "1",
-            "--pos-mm",
-            "2",
-            "--svg",
-            "out/r.svg",
-            "--write-plan",
-            "out/plan.json",
-        ],
-    );
+    let out = robustness(&["--svg", "out/r.svg", "--write-plan", "out/plan.json"]);
     assert_bad_input(&out, "is a folder");
     assert_eq!(files_in(dir.path()), before);
 }

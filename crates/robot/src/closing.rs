@@ -188,24 +188,24 @@ fn settle_search(
         .map_or(linkage.limits.spring_link.1, |c| c.spring_link)
         .min(linkage.limits.spring_link.1);
     let start = previous.min(top);
-    match free(start) {
-        Ok(cfg) => {
-            // Free: the spring closes the link on, to the stop or to the part.
-            match free(top) {
-                Ok(cfg) => Ok((cfg, None)),
-                Err(touch) => {
-                    let (mut lo, mut hi, mut best, mut bound) = (start, top, cfg, touch);
-                    while hi - lo > DRIVER_TOLERANCE {
-                        let mid = 0.5 * (lo + hi);
-                        match free(mid) {
-                            Ok(c) => (lo, best) = (mid, c),
-                            Err(t) => (hi, bound) = (mid, t),
-                        }
-                    }
-                    Ok((best, bound))
-                }
+    // The largest free spring-link angle in [lo, hi], `lo` free (`best` there), `hi` not
+    // (`bound` touching there).
+    let bisect = |mut lo: f64, mut best: FingerConfig, mut hi: f64, mut bound: LinkTouch| {
+        while hi - lo > DRIVER_TOLERANCE {
+            let mid = 0.5 * (lo + hi);
+            match free(mid) {
+                Ok(c) => (lo, best) = (mid, c),
+                Err(t) => (hi, bound) = (mid, t),
             }
         }
+        (best, bound)
+    };
+    match free(start) {
+        // Free: the spring closes the link on, to the stop or to the part.
+        Ok(cfg) => match free(top) {
+            Ok(cfg) => Ok((cfg, None)),
+            Err(touch) => Ok(bisect(start, cfg, top, touch)),
+        },
         Err(blocking) if !may_open => Err(blocking),
         Err(blocking) => {
             // In the way: the part pushes the link open to the nearest free angle below.
@@ -215,17 +215,7 @@ fn settle_search(
             let mut q = start - SPRING_STEP;
             while q >= floor {
                 match free(q) {
-                    Ok(cfg) => {
-                        let (mut lo, mut best) = (q, cfg);
-                        while hi - lo > DRIVER_TOLERANCE {
-                            let mid = 0.5 * (lo + hi);
-                            match free(mid) {
-                                Ok(c) => (lo, best) = (mid, c),
-                                Err(t) => (hi, bound) = (mid, t),
-                            }
-                        }
-                        return Ok((best, bound));
-                    }
+                    Ok(cfg) => return Ok(bisect(q, cfg, hi, bound)),
                     Err(t) => (hi, bound) = (q, t),
                 }
                 q -= SPRING_STEP;
@@ -255,6 +245,23 @@ fn step(
         Ok((cfg, _)) if at_middle(linkage, &cfg) => Step::Middle,
         Ok((cfg, bound)) => Step::Moved(cfg, bound),
         Err(blocking) => Step::Stopped(blocking),
+    }
+}
+
+/// Records a touch of the part as the finger's first, unless it has one.
+fn note(result: &mut FingerClosing, touch: LinkTouch) {
+    if let Some((link, Touch::Part)) = touch {
+        result.first_touch.get_or_insert(link);
+    }
+}
+
+/// Moves both fingers to the poses of a step in which both moved.
+fn take(steps: [Step; 2], at: &mut [FingerConfig; 2], result: &mut [FingerClosing; 2]) {
+    for (k, s) in steps.into_iter().enumerate() {
+        if let Step::Moved(cfg, bound) = s {
+            note(&mut result[k], bound);
+            at[k] = cfg;
+        }
     }
 }
 
@@ -290,11 +297,6 @@ pub fn close_fingers(world: &dyn ClosingWorld, linkage: &FingerLinkage) -> [Fing
     if stuck_open {
         return result;
     }
-    let note = |r: &mut FingerClosing, touch: LinkTouch| {
-        if let Some((link, Touch::Part)) = touch {
-            r.first_touch.get_or_insert(link);
-        }
-    };
     let both = |at: &[FingerConfig; 2], driver: f64, result: &[FingerClosing; 2]| {
         [0, 1].map(|k| {
             let wrapping = result[k].first_touch == Some(SPRING_LINK);
@@ -311,12 +313,7 @@ pub fn close_fingers(world: &dyn ClosingWorld, linkage: &FingerLinkage) -> [Fing
         }
         let steps = both(&at, next, &result);
         if moved(&steps) {
-            for (k, s) in steps.into_iter().enumerate() {
-                if let Step::Moved(cfg, bound) = s {
-                    note(&mut result[k], bound);
-                    at[k] = cfg;
-                }
-            }
+            take(steps, &mut at, &mut result);
             continue;
         }
         // The stop lies in (driver, next]: bisect it.
@@ -325,12 +322,7 @@ pub fn close_fingers(world: &dyn ClosingWorld, linkage: &FingerLinkage) -> [Fing
             let mid = 0.5 * (at[0].driver + blocked);
             let steps = both(&at, mid, &result);
             if moved(&steps) {
-                for (k, s) in steps.into_iter().enumerate() {
-                    if let Step::Moved(cfg, bound) = s {
-                        note(&mut result[k], bound);
-                        at[k] = cfg;
-                    }
-                }
+                take(steps, &mut at, &mut result);
             } else {
                 (blocked, why) = (mid, steps);
             }
