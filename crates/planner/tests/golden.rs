@@ -11,7 +11,9 @@ use pregrasp_io::scene::Scene;
 use pregrasp_planner::pipeline::PlanOptions;
 
 fn golden(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/golden")
+        .join(name)
 }
 
 /// Compares `text` with the golden file `name`, or writes it when blessing.
@@ -49,8 +51,7 @@ fn the_examples_plan_as_their_golden_files() {
         let scene_path = format!("examples/{}.toml", example.name);
         let scene = Scene::from_str(&example.scene_toml, Path::new(&scene_path)).unwrap();
         let report =
-            pregrasp_planner::plan_scene(&scene, &example.mesh, &options, &|_| {}, &|| {})
-                .unwrap();
+            pregrasp_planner::plan_scene(&scene, &example.mesh, &options, &|_| {}, &|| {}).unwrap();
         let mut file = report.file;
         file.timing_ms.clear();
         compare(&format!("{}.plan.json", example.name), &file.to_json());
