@@ -8,6 +8,8 @@
 //! - [`tight`]: the exact tier of the arm links, convex pieces inside their cylinders.
 //! - [`object`]: the part as a parry `TriMesh` with its BVH ([`ObjectGeometry`]).
 //! - [`grip`]: the width a gripper closes on at a grasp, from the part's mesh.
+//! - [`closing`]: the 2F-85's adaptive closing on the part's mesh and the support
+//!   ([`pregrasp_robot::close_fingers`]'s world).
 //! - [`arm`]: [`ArmModel`], an arm's kinematics, base and cached link/gripper primitives.
 //! - [`world`]: [`CollisionWorld`], [`WorldState`], [`ObjectPlacement`], [`Contact`]:
 //!   first contact by name, clearance, single-arm queries.
@@ -22,6 +24,7 @@
 //! the world. The support is the half-space `z ≤ support_height`.
 
 pub mod arm;
+pub mod closing;
 pub mod distance;
 pub mod error;
 pub mod fixtures;
@@ -36,6 +39,7 @@ pub mod validity;
 pub mod world;
 
 pub use arm::{ArmModel, MAX_ARM_SHAPES};
+pub use closing::{FingerShapes, PartClosing};
 pub use error::CollisionError;
 pub use grip::{closing_gap, GripFailure};
 pub use object::ObjectGeometry;

@@ -201,11 +201,19 @@ fn settle_search(
         (best, bound)
     };
     match free(start) {
-        // Free: the spring closes the link on, to the stop or to the part.
-        Ok(cfg) => match free(top) {
-            Ok(cfg) => Ok((cfg, None)),
-            Err(touch) => Ok(bisect(start, cfg, top, touch)),
-        },
+        // Free: the spring closes the link on, to the stop or to the part, in steps no longer
+        // than SPRING_STEP (a world that tests surfaces must not see a link jump into the part).
+        Ok(cfg) => {
+            let (mut lo, mut best) = (start, cfg);
+            while lo < top {
+                let next = (lo + SPRING_STEP).min(top);
+                match free(next) {
+                    Ok(c) => (lo, best) = (next, c),
+                    Err(touch) => return Ok(bisect(lo, best, next, touch)),
+                }
+            }
+            Ok((best, None))
+        }
         Err(blocking) if !may_open => Err(blocking),
         Err(blocking) => {
             // In the way: the part pushes the link open to the nearest free angle below.

@@ -1,0 +1,149 @@
+//! [`PartClosing`] — the closing world of a part's triangle mesh and the support — closes the
+//! fingers exactly as a world of exact solids does: on the bars of the MuJoCo table
+//! (`crates/robot/data/gripper_truth/`, whose agreement with MuJoCo `pregrasp-robot`'s
+//! `closing_truth` test measures), a bar as a 12-triangle mesh in its own frame with the grasp
+//! and the table placed around it gives the same fingers as a parry cuboid and a half-space.
+
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use parry3d_f64::query::intersection_test;
+use parry3d_f64::shape::{ConvexPolyhedron, Cuboid};
+use pregrasp_collision::fixtures::box_mesh;
+use pregrasp_collision::{FingerShapes, ObjectGeometry, PartClosing};
+use pregrasp_robot::{close_fingers, ClosingWorld, FingerLinkage, PlanarPose, Touch, FINGER_LINKS};
+use serde_json::Value;
+
+fn data(name: &str) -> Value {
+    let path = format!(
+        "{}/../robot/data/gripper_truth/{name}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// The finger pieces MuJoCo collides (hulls of the Menagerie meshes, pad boxes).
+fn pieces() -> Vec<Vec<Vec<Point3<f64>>>> {
+    let json = data("menagerie_2f85_collision.json");
+    FINGER_LINKS
+        .iter()
+        .map(|name| {
+            json["links"][name]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|piece| {
+                    piece
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(|p| {
+                            let c = |k: usize| p[k].as_f64().unwrap();
+                            Point3::new(c(0), c(1), c(2))
+                        })
+                        .collect()
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// A convex piece as a parry hull and its vertices.
+type Piece = (ConvexPolyhedron, Vec<Point3<f64>>);
+
+/// The same bar and table as exact solids, in G.
+struct Solids {
+    pieces: [Vec<Vec<Piece>>; 2],
+    bar: Cuboid,
+    bar_pose: Isometry3<f64>,
+    table: Option<f64>,
+}
+
+impl ClosingWorld for Solids {
+    fn touch(&self, side: f64, link: usize, pose: &PlanarPose) -> Touch {
+        let frame = pose.to_isometry(side);
+        let pieces = &self.pieces[usize::from(side < 0.0)][link];
+        if let Some(z) = self.table {
+            if pieces
+                .iter()
+                .flat_map(|(_, v)| v.iter())
+                .any(|v| (frame * v).z > z)
+            {
+                return Touch::Support;
+            }
+        }
+        let rel = frame.inverse() * self.bar_pose;
+        if pieces.iter().any(|(hull, _)| {
+            intersection_test(&rel, &self.bar, &Isometry3::identity(), hull).unwrap()
+        }) {
+            return Touch::Part;
+        }
+        Touch::Nothing
+    }
+}
+
+#[test]
+fn a_bar_as_a_mesh_closes_the_fingers_as_the_solid_bar_does() {
+    let truth = data("closing_2f85.json");
+    let raw = pieces();
+    let shapes = FingerShapes::new(&raw).unwrap();
+    let solid_pieces = |sign: f64| -> Vec<Vec<Piece>> {
+        raw.iter()
+            .map(|link| {
+                link.iter()
+                    .map(|pts| {
+                        let v: Vec<Point3<f64>> = pts
+                            .iter()
+                            .map(|p| Point3::new(sign * p.x, p.y, p.z))
+                            .collect();
+                        (ConvexPolyhedron::from_convex_hull(&v).unwrap(), v)
+                    })
+                    .collect()
+            })
+            .collect()
+    };
+    let linkage = FingerLinkage::robotiq_2f85();
+    let (mut rows, mut worst) = (0, 0.0_f64);
+    // Every fourth simulated row: all widths, depths, tilts, with and without the table.
+    for row in truth["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|r| r["status"] == "simulated")
+        .step_by(4)
+    {
+        let bar = &row["bar"];
+        let get = |k: &str| bar[k].as_f64().unwrap();
+        let half = Vector3::new(0.5 * get("width"), 0.15, 0.5 * get("thickness"));
+        let bar_pose = Isometry3::from_parts(
+            Translation3::new(0.0, 0.0, get("z_center")),
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), get("tilt_deg").to_radians()),
+        );
+        let table = row["table_z"].as_f64();
+        let solids = Solids {
+            pieces: [solid_pieces(1.0), solid_pieces(-1.0)],
+            bar: Cuboid::new(half),
+            bar_pose,
+            table,
+        };
+        // The mesh in the bar's own frame; G and the table placed in it.
+        let object = ObjectGeometry::new(&box_mesh(Point3::origin(), half, 2)).unwrap();
+        let up = bar_pose.rotation.inverse() * Vector3::z();
+        let mesh_world = PartClosing {
+            object: &object,
+            shapes: &shapes,
+            flange_in_object: bar_pose.inverse(),
+            support: table.map(|z| (up, z - bar_pose.translation.vector.z)),
+        };
+        let a = close_fingers(&solids, &linkage);
+        let b = close_fingers(&mesh_world, &linkage);
+        for (x, y) in a.iter().zip(&b) {
+            assert_eq!(x.kind, y.kind, "{}", row["id"]);
+            assert_eq!(x.support.is_some(), y.support.is_some(), "{}", row["id"]);
+            let d = (x.config.pad_center(&linkage) - y.config.pad_center(&linkage)).norm();
+            worst = worst.max(d);
+        }
+        rows += 1;
+    }
+    eprintln!("{rows} bars: worst pad-centre difference {:.2e} m", worst);
+    assert!(rows > 100);
+    assert!(worst < 1e-4, "{worst}");
+}
