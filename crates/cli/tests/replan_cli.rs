@@ -175,3 +175,50 @@ fn replan_follows_the_grasps_an_auto_scene_chose() {
     let check = pregrasp(dir.path(), &["check", "new.json"]);
     assert_eq!(check.status.code(), Some(0), "{check:?}");
 }
+
+/// The plan's own `object.initial_pose` (the part raised by the 1 mm lift) as the measurement:
+/// brought back onto the table and planned, where taken as measured it fails (the part would
+/// hang 1 mm above the table).
+#[test]
+fn a_measured_pose_is_brought_onto_the_support_first() {
+    let dir = tempfile::tempdir().unwrap();
+    plan_chair_side(dir.path());
+    let plan: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("plan.json")).unwrap()).unwrap();
+    let pose = shifted_pose(&plan, 0.0, 0.0).replacen(" 0 ", " 0.001 ", 1);
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "replan",
+            "plan.json",
+            "--object-pose",
+            &pose,
+            "-o",
+            "re.json",
+        ];
+        args.extend_from_slice(extra);
+        pregrasp(dir.path(), &args)
+    };
+    let out = run(&[]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert!(stdout.contains("moved 1.00 mm, turned 0.00°"), "{stdout}");
+    let out = run(&["--as-measured"]);
+    assert_eq!(out.status.code(), Some(2));
+    // 3 cm above the table is no measurement error.
+    let high = shifted_pose(&plan, 0.0, 0.0).replacen(" 0 ", " 0.03 ", 1);
+    let out = pregrasp(
+        dir.path(),
+        &[
+            "replan",
+            "plan.json",
+            "--object-pose",
+            &high,
+            "-o",
+            "re2.json",
+        ],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("check the measurement"), "{err}");
+    assert!(!dir.path().join("re2.json").exists());
+}

@@ -9,6 +9,7 @@
 //! - [`hold`]: will the pinch hold the part during `μ_rot` (quasi-static grip force check);
 //! - [`pipeline`]: all of it, candidates in parallel, deterministic for any thread count;
 //! - [`replan`]: the same plan for a part measured at another pose (issue 16);
+//! - [`settle`]: a measured pose brought onto the support (the part lies on the table);
 //! - [`robustness`]: Monte-Carlo over placement errors, re-planning each sample;
 //! - [`auto_grasps`]: `[grasps] mode = "auto"`, grasps found from the mesh.
 //!
@@ -31,6 +32,7 @@ pub mod reach;
 pub mod replan;
 pub mod robustness;
 pub mod rotate;
+pub mod settle;
 pub mod timeline;
 pub mod timing;
 

@@ -15,19 +15,25 @@ use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::pipeline::PlanOptions;
 use pregrasp_planner::replan::{replan, replan_from_rot};
+use pregrasp_planner::settle::{settle, SettleTolerance};
 
 use super::{EXIT_NO_PLAN, EXIT_OK};
 
 #[derive(clap::Args)]
 #[command(
-    after_help = "The scene is the one the plan names (scene.file, found as written or beside the plan file) unless --scene is given; only the object's pose changes.\n\nExit status: 0 planned, 2 no plan at the measured pose (the file says why), 1 bad input (nothing written)."
+    after_help = "The scene is the one the plan names (scene.file, found as written or beside the plan file) unless --scene is given; only the object's pose changes. The measured pose is the part as it lies on the support, without the lift (a plan's object.initial_pose includes it, and is brought down by it); unless --as-measured, it is brought onto the support first (the hull face nearest to facing down turned to face down, the part lowered or raised onto the support) and refused if that is more than 10 mm or 5° away.\n\nExit status: 0 planned, 2 no plan at the measured pose (the file says why), 1 bad input (nothing written)."
 )]
 pub struct Args {
     /// The nominal plan file.
     pub plan: PathBuf,
-    /// The measured object pose in world: "x y z qx qy qz qw" (metres; quaternion x, y, z, w).
+    /// The measured object pose in world: "x y z qx qy qz qw" (metres; quaternion x, y, z, w),
+    /// the part as it lies (without the planner's lift). It is first brought onto the support:
+    /// the nearest resting pose, at most 10 mm and 5° away.
     #[arg(long, value_name = "POSE")]
     pub object_pose: String,
+    /// Plan at the pose exactly as given, not brought onto the support first.
+    #[arg(long)]
+    pub as_measured: bool,
     /// Follow this plan of the file (index into `plans`, 0 = best).
     #[arg(long = "plan", value_name = "K", default_value_t = 0)]
     pub plan_index: usize,
@@ -116,6 +122,23 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mesh = load_mesh(&scene.object.mesh_path, scene.object.scale)
         .with_context(|| format!("{}: object.mesh", scene_path.display()))?
         .mesh;
+    let pose = if args.as_measured {
+        pose
+    } else {
+        let settled = settle(
+            &mesh,
+            &pose,
+            scene.support_height,
+            &SettleTolerance::default(),
+        )
+        .context("--object-pose")?;
+        println!(
+            "measured pose brought onto the support: moved {:.2} mm, turned {:.2}°",
+            settled.moved * 1e3,
+            settled.turned.to_degrees()
+        );
+        settled.pose
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()?;
