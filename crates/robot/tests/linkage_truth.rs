@@ -111,3 +111,49 @@ fn the_parallel_mode_closes_as_the_menagerie_model_does_in_free_air() {
     eprintln!("free air: worst pad / tip error {:.3} mm", worst * 1e3);
     assert!(worst < 1e-3, "{worst}");
 }
+
+/// [`FingerLinkage`] against the poses `tools/geometry/derive_fingers.py` took from MuJoCo's
+/// own kinematics with the loop closed (`data/robotiq_2f85_fingers.json`, `samples`): the same
+/// joint angles and link frames, spring-held and blocked.
+#[test]
+fn the_linkage_matches_the_sampled_menagerie_poses() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/data/robotiq_2f85_fingers.json"
+    );
+    let json: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let l = FingerLinkage::robotiq_2f85();
+    let mut count = 0;
+    for mode in ["parallel", "blocked"] {
+        for s in json["samples"][mode].as_array().unwrap() {
+            let q: Vec<f64> = s["q"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect();
+            let cfg = l.assemble(q[0], q[2]).unwrap();
+            assert!((cfg.coupler - q[1]).abs() < 1e-5, "{mode} {q:?}: {cfg:?}");
+            assert!((cfg.follower - q[3]).abs() < 1e-5, "{mode} {q:?}: {cfg:?}");
+            let frames = cfg.link_frames(&l);
+            for (k, name) in pregrasp_robot::FINGER_LINKS.iter().enumerate() {
+                let want = &s["links"][name];
+                let (x, z) = (want[0].as_f64().unwrap(), want[1].as_f64().unwrap());
+                let o = frames[k].origin;
+                assert!(
+                    (o.x - x).abs() < 1e-5 && (o.y - z).abs() < 1e-5,
+                    "{name}: {o} vs {x} {z}"
+                );
+                // Their pose angle is a turn about +y: ours, counter-clockwise in (x, z), is its negative.
+                let phi = want[2].as_f64().unwrap();
+                assert!(
+                    (frames[k].angle + phi).abs() < 1e-5,
+                    "{name}: {} vs {phi}",
+                    frames[k].angle
+                );
+            }
+            count += 1;
+        }
+    }
+    assert!(count >= 30, "{count}");
+}
