@@ -90,8 +90,6 @@ pub struct FingerClosing {
     /// The first configuration of the closing in which a link touched the support:
     /// `(link, driver angle)`. The closing stops there.
     pub support: Option<(usize, f64)>,
-    /// The driver angle where the finger stopped (rad).
-    pub driver_reached: f64,
 }
 
 /// The middle plane test: the pad face (or the curled tip) of the `+x` finger has reached
@@ -287,7 +285,6 @@ pub fn close_fingers(world: &dyn ClosingWorld, linkage: &FingerLinkage) -> [Fing
         kind: ClosingKind::Closed,
         first_touch: None,
         support: None,
-        driver_reached: lo,
     }; 2];
     let mut stuck_open = false;
     for (k, side) in SIDES.into_iter().enumerate() {
@@ -349,7 +346,6 @@ pub fn close_fingers(world: &dyn ClosingWorld, linkage: &FingerLinkage) -> [Fing
     for (k, r) in result.iter_mut().enumerate() {
         let cfg = at[k];
         r.config = cfg;
-        r.driver_reached = cfg.driver;
         r.kind = match r.first_touch {
             None => ClosingKind::Closed,
             Some(FOLLOWER | PAD) => ClosingKind::Pinch,

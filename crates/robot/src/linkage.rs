@@ -15,7 +15,8 @@
 //! (`q_c = 0`, rigid with the driver), the loop is a near-parallelogram four-bar and the pad
 //! stays parallel to itself ([`FingerLinkage::parallel`]: the 1-DoF closing our table
 //! describes). When the spring link meets something, it stops (`q_s` fixed) while the driver
-//! turns on, and the follower curls inward about `J` ([`FingerLinkage::curled`]).
+//! turns on, and the follower curls inward about `J` ([`FingerLinkage::assemble`] with the
+//! spring link's angle held).
 //!
 //! Frames: everything is in the plane of the `+x` finger, in gripper-frame coordinates
 //! `(x, z)` of G (flange frame: z the approach direction, x the closing axis); the `−x` finger
@@ -25,7 +26,8 @@
 
 use nalgebra::{Isometry3, Point2, Rotation2, Translation3, UnitQuaternion, Vector2, Vector3};
 
-/// The four links of a finger, in [`FingerConfig::link_frames`] order.
+/// The links of a finger (the pad rigid on the follower), in [`FingerConfig::link_frames`]
+/// order.
 pub const FINGER_LINKS: [&str; 5] = ["driver", "coupler", "spring_link", "follower", "pad"];
 
 /// Joint ranges of the Menagerie model (rad).
@@ -213,12 +215,6 @@ impl FingerLinkage {
             spring_link,
             follower: wrap(follower_abs - spring_link),
         })
-    }
-
-    /// The finger with its spring link held at `spring_link` (it touches something) and the
-    /// driver turned on to `driver`: the follower curls about its hinge.
-    pub fn curled(&self, driver: f64, spring_link: f64) -> Option<FingerConfig> {
-        self.assemble(driver, spring_link)
     }
 
     /// Whether every joint of `config` is within its range (with `slack` rad).
