@@ -70,7 +70,7 @@ fn a_broken_mesh_exits_1_and_writes_nothing() {
 }
 
 #[test]
-fn an_unreachable_support_grasp_exits_2_with_a_no_plan_file() {
+fn a_support_grasp_through_the_table_exits_2_with_a_no_plan_file() {
     let tmp = tempfile::tempdir().unwrap();
     write_far_support_scene(&tmp.path().join("scene.toml"));
     let out = pregrasp(
@@ -82,10 +82,11 @@ fn an_unreachable_support_grasp_exits_2_with_a_no_plan_file() {
         serde_json::from_str(&std::fs::read_to_string(tmp.path().join("plan.json")).unwrap())
             .unwrap();
     assert_eq!(plan["status"], "no_plan");
-    assert!(plan["reason"]
-        .as_str()
-        .unwrap()
-        .starts_with("IK: support grasp unreachable"));
+    let reason = plan["reason"].as_str().unwrap();
+    assert!(
+        reason.starts_with("grasp: support grasp of arm") && reason.contains("into the support"),
+        "{reason}"
+    );
     assert_eq!(plan["plans"].as_array().unwrap().len(), 0);
 }
 
@@ -93,7 +94,7 @@ fn an_unreachable_support_grasp_exits_2_with_a_no_plan_file() {
 /// metres along object x, out of both arms' reach.
 fn write_far_support_scene(path: &Path) {
     // G_s turned to approach from below, through the table: the fingers still close on the
-    // bar, but no arm can reach it without touching the support.
+    // bar, but inside the support.
     let scene = std::fs::read_to_string(examples_dir().join("chair_side.toml")).unwrap();
     let mesh = examples_dir().join("meshes/chair_side.stl");
     let scene = scene.replace("meshes/chair_side.stl", mesh.to_str().unwrap());

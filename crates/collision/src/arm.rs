@@ -18,6 +18,9 @@ use crate::tight::{Lookup, Part, Tight};
 /// fixed-size buffer so that a collision check never touches the heap.
 pub const MAX_ARM_SHAPES: usize = 34;
 
+/// Most shapes a gripper may have (housing boxes and finger links).
+pub const MAX_GRIPPER_SHAPES: usize = 16;
+
 // `PosedArm::placed` holds one bit per shape.
 const _: () = assert!(MAX_ARM_SHAPES <= 64);
 
@@ -34,13 +37,13 @@ pub(crate) struct ShapeSet {
     pub local_parts: Vec<Local>,
     /// Per arm link (same order as `parts`), its exact pieces where it has them.
     pub tight: TightSet,
-    /// The gripper's primitives (flange frame) when open.
-    pub open_gripper: Vec<Primitive>,
-    /// `open_gripper` ready to be posed.
-    pub open_local: Vec<Local>,
-    /// The gripper's primitives closed at the gaps it is known to hold (see
-    /// [`ArmModel::with_closed_gaps`]); other gaps are computed when posed.
-    pub closed_grippers: Vec<(f64, Vec<Primitive>, Vec<Local>)>,
+    /// The gripper's shapes when open.
+    pub open_gripper: GripperPose,
+    /// The gripper's shapes in the finger states it is known to hold the part in (see
+    /// [`ArmModel::with_held_fingers`]); other states are computed when posed.
+    pub held_grippers: Vec<GripperPose>,
+    /// Per gripper shape, its exact pieces (the finger links'; none for the housing).
+    pub gripper_tight: Arc<Vec<Option<Tight>>>,
     /// `"<arm>/<link>"` for every part.
     pub names: Vec<String>,
     /// Whether the part belongs to the gripper (may touch a grasped part).
@@ -65,6 +68,50 @@ pub(crate) struct ShapeSet {
     pub group_radii: [[f64; SHAPE_GROUPS]; 6],
     /// Per joint, the flange origin's largest distance from the joint axis (m).
     pub flange_radii: Joints,
+}
+
+/// The gripper's shapes in one finger state, in the flange frame.
+#[derive(Clone, Debug)]
+pub(crate) struct GripperPose {
+    /// [`GripperState::key`] of the state.
+    pub key: [u64; 3],
+    pub prims: Vec<Primitive>,
+    /// `prims` ready to be posed.
+    pub locals: Vec<Local>,
+    /// Per shape, the frame its pieces are given in (flange frame for the housing, the link
+    /// frame for a finger link), in G.
+    pub frames: Vec<Isometry3<f64>>,
+}
+
+impl GripperPose {
+    fn new(gripper: &Gripper2F85, state: GripperState) -> Self {
+        let mut prims = Vec::with_capacity(gripper.shape_count());
+        gripper.for_each_shape(state, |_, _, p| prims.push(p));
+        GripperPose {
+            key: state.key(),
+            locals: prims.iter().map(|p| Local::new(p, 0.0)).collect(),
+            prims,
+            frames: gripper.shape_frames(state),
+        }
+    }
+}
+
+/// The exact pieces of the gripper's shapes (shared by every arm).
+fn gripper_tight(gripper: &Gripper2F85) -> Arc<Vec<Option<Tight>>> {
+    static TIGHT: OnceLock<Arc<Vec<Option<Tight>>>> = OnceLock::new();
+    TIGHT
+        .get_or_init(|| {
+            let mut tight: Vec<Option<Tight>> = (0..gripper.static_count()).map(|_| None).collect();
+            tight.extend(
+                gripper
+                    .finger_solids()
+                    .links
+                    .iter()
+                    .map(|s| Tight::new(&s.pieces)),
+            );
+            Arc::new(tight)
+        })
+        .clone()
 }
 
 /// An arm in the world: a UR model at `base` with a Robotiq 2F-85 on its flange.
@@ -109,7 +156,7 @@ impl ArmModel {
         let grip: Vec<LinkShape> = gripper.shapes(GripperState::Open);
         let n_links = geometry.links.len();
         let count = n_links + grip.len();
-        if count > MAX_ARM_SHAPES {
+        if count > MAX_ARM_SHAPES || grip.len() > MAX_GRIPPER_SHAPES {
             return Err(CollisionError::TooManyShapes {
                 arm: name.to_string(),
                 count,
@@ -155,9 +202,9 @@ impl ArmModel {
                 .map(|(l, t)| Local::new(&l.primitive, t.as_ref().map_or(0.0, Tight::slack)))
                 .collect(),
             tight,
-            open_gripper: grip.iter().map(|l| l.primitive).collect(),
-            open_local: grip.iter().map(|l| Local::new(&l.primitive, 0.0)).collect(),
-            closed_grippers: Vec::new(),
+            open_gripper: GripperPose::new(&gripper, GripperState::Open),
+            held_grippers: Vec::new(),
+            gripper_tight: gripper_tight(&gripper),
             names,
             is_gripper,
             gripper_forbidden,
@@ -189,25 +236,29 @@ impl ArmModel {
         })
     }
 
-    /// Caches the gripper's shapes closed at each of `gaps` (m), so that posing the arm
-    /// holding the part at one of them costs no finger kinematics.
-    pub fn with_closed_gaps(mut self, gaps: &[f64]) -> Self {
-        for &gap in gaps {
-            if self
-                .shapes
-                .closed_grippers
-                .iter()
-                .any(|(g, _, _)| *g == gap)
-            {
-                continue;
+    /// Caches the gripper's shapes in each of the finger states `held` (the closings on the
+    /// part), so that posing the arm holding the part costs no finger kinematics.
+    pub fn with_held_fingers(mut self, held: &[GripperState]) -> Self {
+        for state in held {
+            let key = state.key();
+            let known = key == self.shapes.open_gripper.key
+                || self.shapes.held_grippers.iter().any(|g| g.key == key);
+            if !known {
+                let pose = GripperPose::new(&self.gripper, *state);
+                self.shapes.held_grippers.push(pose);
             }
-            let mut prims = Vec::with_capacity(self.gripper.shape_count());
-            self.gripper
-                .for_each_shape(GripperState::Closed { gap }, |_, _, p| prims.push(p));
-            let local = prims.iter().map(|p| Local::new(p, 0.0)).collect();
-            self.shapes.closed_grippers.push((gap, prims, local));
         }
         self
+    }
+
+    /// The gripper's shapes in `state` if they are prepared.
+    fn gripper_pose(&self, state: GripperState) -> Option<&GripperPose> {
+        let key = state.key();
+        let set = &self.shapes;
+        if set.open_gripper.key == key {
+            return Some(&set.open_gripper);
+        }
+        set.held_grippers.iter().find(|g| g.key == key)
     }
 
     /// The arm model.
@@ -263,6 +314,7 @@ impl ArmModel {
         }
         posed.gripper_state = state;
         posed.placed = 0;
+        posed.gripper_frames_placed = false;
     }
 
     /// Places the shapes in `mask` (bit `k`: shape `k`) that are not placed yet.
@@ -290,16 +342,23 @@ impl ArmModel {
             todo = all & !((1u64 << n_links) - 1);
             posed.placed |= (1u64 << n_links) - 1;
         }
-        let closed = match posed.gripper_state {
-            GripperState::Open => Some(&set.open_local[..]),
-            GripperState::Closed { gap } => set
-                .closed_grippers
-                .iter()
-                .find(|(g, _, _)| *g == gap)
-                .map(|(_, _, locals)| &locals[..]),
-        };
-        if closed.is_none() && todo >> n_links != 0 {
-            // A gap without prepared shapes: the gripper is placed whole.
+        let prepared = self.gripper_pose(posed.gripper_state);
+        if todo >> n_links != 0 && !posed.gripper_frames_placed {
+            let computed;
+            let frames = match prepared {
+                Some(g) => &g.frames,
+                None => {
+                    computed = self.gripper.shape_frames(posed.gripper_state);
+                    &computed
+                }
+            };
+            for (slot, f) in posed.gripper_frames.iter_mut().zip(frames) {
+                *slot = flange * f;
+            }
+            posed.gripper_frames_placed = true;
+        }
+        if prepared.is_none() && todo >> n_links != 0 {
+            // A finger state without prepared shapes: the gripper is placed whole.
             let slots = &mut posed.shapes[n_links..];
             self.gripper
                 .for_each_shape(posed.gripper_state, |k, _, prim| {
@@ -314,7 +373,7 @@ impl ArmModel {
             posed.shapes[k] = if k < n_links {
                 set.local_parts[k].place(&posed.frames[set.parts[k].0])
             } else {
-                closed.expect("prepared gripper shapes")[k - n_links].place(&flange)
+                prepared.expect("prepared gripper shapes").locals[k - n_links].place(&flange)
             };
             posed.placed |= 1 << k;
         }
@@ -342,24 +401,32 @@ impl ArmModel {
             }
             other => crate::shape::plane_distance(&place(&flange, other), 0.0),
         };
-        let set = &self.shapes;
-        let cached = match state {
-            GripperState::Open => Some(&set.open_gripper),
-            GripperState::Closed { gap } => set
-                .closed_grippers
-                .iter()
-                .find(|(g, _, _)| *g == gap)
-                .map(|(_, prims, _)| prims),
-        };
-        match cached {
-            Some(prims) => prims.iter().map(lowest).fold(f64::INFINITY, f64::min),
+        let statics = self.gripper.static_count();
+        let frames;
+        let (prims, shape_frames) = match self.gripper_pose(state) {
+            Some(g) => (&g.prims, &g.frames),
             None => {
-                let mut low = f64::INFINITY;
-                self.gripper
-                    .for_each_shape(state, |_, _, p| low = low.min(lowest(&p)));
-                low
+                let g = GripperPose::new(&self.gripper, state);
+                frames = g;
+                (&frames.prims, &frames.frames)
             }
-        }
+        };
+        let housing = prims[..statics]
+            .iter()
+            .map(lowest)
+            .fold(f64::INFINITY, f64::min);
+        // The finger links by their pieces' lowest vertex.
+        let tight = &self.shapes.gripper_tight;
+        let fingers = (statics..prims.len())
+            .map(|k| match &tight[k] {
+                Some(t) => {
+                    let frame = flange * shape_frames[k];
+                    t.lowest(&frame)
+                }
+                None => lowest(&prims[k]),
+            })
+            .fold(f64::INFINITY, f64::min);
+        housing.min(fingers)
     }
 
     /// Every primitive of the arm placed in the world at `q` (for viewers and debugging):
@@ -393,13 +460,8 @@ fn gripper_sphere(gripper: &Gripper2F85) -> (nalgebra::Point3<f64>, f64) {
 
 fn gripper_sphere_of(gripper: &Gripper2F85) -> (nalgebra::Point3<f64>, f64) {
     let center = nalgebra::Point3::new(0.0, 0.0, 0.09);
-    let stroke = gripper.fingers().stroke();
     let mut radius: f64 = 0.0;
-    let states = (0..=64)
-        .map(|k| GripperState::Closed {
-            gap: stroke * k as f64 / 64.0,
-        })
-        .chain([GripperState::Open]);
+    let states = gripper.sample_states();
     for state in states {
         gripper.for_each_shape(state, |_, _, prim| {
             let b = Bounded::new(place(&Isometry3::identity(), &prim));
@@ -559,6 +621,11 @@ pub(crate) struct PosedArm {
     frame_spheres: [Bounded; 7],
     /// The DH frames 0..=6 in the world.
     frames: [Isometry3<f64>; 7],
+    /// Per gripper shape, the frame its pieces are given in, in the world (valid where the
+    /// gripper's shapes are placed).
+    gripper_frames: [Isometry3<f64>; MAX_GRIPPER_SHAPES],
+    /// Whether `gripper_frames` are placed for the current pose.
+    gripper_frames_placed: bool,
     /// A sphere holding the whole gripper.
     gripper: Bounded,
     /// The gripper's state the shapes are placed for.
@@ -575,6 +642,8 @@ impl PosedArm {
         links: 0,
         frame_spheres: [Bounded::EMPTY; 7],
         frames: [IDENTITY; 7],
+        gripper_frames: [IDENTITY; MAX_GRIPPER_SHAPES],
+        gripper_frames_placed: false,
         gripper: Bounded::EMPTY,
         gripper_state: GripperState::Open,
         placed: 0,
@@ -604,6 +673,8 @@ impl PosedArm {
                 tight: &set.tight,
                 parts: &set.parts,
                 frames: &self.frames,
+                gripper_tight: &set.gripper_tight,
+                gripper_frames: &self.gripper_frames,
                 k,
             }),
         }

@@ -8,17 +8,19 @@
 //! grasp (`flange_in_object`); the support plane is given in the object frame as `(n, d)`: the
 //! points `p` with `n · p > d` are below it (inside the table).
 
+use std::cell::RefCell;
+use std::collections::HashMap;
+
 use nalgebra::{Isometry3, Point3, Vector3};
-use parry3d_f64::query;
 use parry3d_f64::shape::ConvexPolyhedron;
-use pregrasp_robot::{ClosingWorld, PlanarPose, Touch, FINGER_LINKS};
+use pregrasp_robot::{ClosingWorld, ConvexPieces, PlanarPose, Touch, FINGER_LINKS};
 
 use crate::object::ObjectGeometry;
+use crate::tight::{Posed, Tight};
 
-/// One convex piece of a finger link: its hull, and its vertices (for the support test).
+/// One convex piece of a finger link: its vertices (for the support test and the boxes).
 #[derive(Clone, Debug)]
 struct Piece {
-    hull: ConvexPolyhedron,
     vertices: Vec<Point3<f64>>,
 }
 
@@ -27,6 +29,16 @@ struct Piece {
 pub struct FingerShapes {
     /// `[side][link][piece]`, side 0 the `+x` finger, links in [`FINGER_LINKS`] order.
     pieces: [Vec<Vec<Piece>>; 2],
+    /// `[side][link]`: the box (centre in the link frame, half extents) holding the link's
+    /// pieces — a link whose box misses the part misses it.
+    boxes: [Vec<(Vector3<f64>, Vector3<f64>)>; 2],
+    /// `[side][link]`: the pieces for the exact test (GJK on their support maps).
+    tight: [Vec<Tight>; 2],
+    /// `[side][link]`: the link's convex hull as one piece: a link whose hull misses the part
+    /// misses it (one GJK per triangle rather than one per piece).
+    hulls: [Vec<Tight>; 2],
+    /// `[side][link]`: the largest distance of a piece vertex from the link frame's origin.
+    reach: [Vec<f64>; 2],
 }
 
 impl FingerShapes {
@@ -48,33 +60,181 @@ impl FingerShapes {
                                 .iter()
                                 .map(|p| Point3::new(sign * p.x, p.y, p.z))
                                 .collect();
-                            let hull = ConvexPolyhedron::from_convex_hull(&vertices)?;
-                            Some(Piece { hull, vertices })
+                            // A piece must be a solid: four points not in one plane.
+                            ConvexPolyhedron::from_convex_hull(&vertices)?;
+                            Some(Piece { vertices })
                         })
                         .collect()
                 })
                 .collect()
         };
+        let boxes = |pieces: &Vec<Vec<Piece>>| -> Vec<(Vector3<f64>, Vector3<f64>)> {
+            pieces
+                .iter()
+                .map(|link| {
+                    let mut lo = Vector3::repeat(f64::INFINITY);
+                    let mut hi = Vector3::repeat(f64::NEG_INFINITY);
+                    for v in link.iter().flat_map(|p| &p.vertices) {
+                        lo = lo.inf(&v.coords);
+                        hi = hi.sup(&v.coords);
+                    }
+                    ((lo + hi) * 0.5, (hi - lo) * 0.5)
+                })
+                .collect()
+        };
+        let pieces = [side(1.0)?, side(-1.0)?];
+        let tight = |pieces: &Vec<Vec<Piece>>| -> Option<Vec<Tight>> {
+            pieces
+                .iter()
+                .map(|link| {
+                    Tight::new(&ConvexPieces {
+                        pieces: link.iter().map(|p| p.vertices.clone()).collect(),
+                        slack: 0.0,
+                    })
+                })
+                .collect()
+        };
+        let reach = |pieces: &Vec<Vec<Piece>>| -> Vec<f64> {
+            pieces
+                .iter()
+                .map(|link| {
+                    link.iter()
+                        .flat_map(|p| &p.vertices)
+                        .map(|v| v.coords.norm())
+                        .fold(0.0, f64::max)
+                })
+                .collect()
+        };
+        let hulls = |pieces: &Vec<Vec<Piece>>| -> Option<Vec<Tight>> {
+            pieces
+                .iter()
+                .map(|link| {
+                    let all: Vec<Point3<f64>> = link
+                        .iter()
+                        .flat_map(|p| p.vertices.iter().copied())
+                        .collect();
+                    Tight::new(&ConvexPieces {
+                        pieces: vec![crate::tight::hull_points(&all)],
+                        slack: 0.0,
+                    })
+                })
+                .collect()
+        };
         Some(FingerShapes {
-            pieces: [side(1.0)?, side(-1.0)?],
+            hulls: [hulls(&pieces[0])?, hulls(&pieces[1])?],
+            reach: [reach(&pieces[0]), reach(&pieces[1])],
+            boxes: [boxes(&pieces[0]), boxes(&pieces[1])],
+            tight: [tight(&pieces[0])?, tight(&pieces[1])?],
+            pieces,
         })
     }
 }
 
+/// A link's pose as a memo key: (side, link, bits of the planar pose).
+type PoseKey = (u8, u8, [u64; 3]);
+
 /// The part and the support at one grasp (see the module documentation).
 pub struct PartClosing<'a> {
-    pub object: &'a ObjectGeometry,
-    pub shapes: &'a FingerShapes,
+    object: &'a ObjectGeometry,
+    shapes: &'a FingerShapes,
     /// The gripper frame G (the flange) in the object frame.
-    pub flange_in_object: Isometry3<f64>,
+    flange_in_object: Isometry3<f64>,
     /// The support plane in the object frame: `n · p > d` is below it. `None`: no support.
-    pub support: Option<(Vector3<f64>, f64)>,
+    support: Option<(Vector3<f64>, f64)>,
+    /// The part test's answers by (side, link, pose bits): a closing asks the same pose of a
+    /// link many times (the spring link turns about a pivot on the housing, so while it rests
+    /// on the part its searches probe the same angles at every driver step).
+    memo: RefCell<HashMap<PoseKey, bool>>,
+    /// Per `[side][link]`, a pose at which the link's box grown by [`FREE_BALL`] missed the
+    /// part: the link misses it in every pose that moves none of its points that far.
+    free: RefCell<[[Option<PlanarPose>; 5]; 2]>,
+}
+
+/// How far a link's box is grown for [`PartClosing`]'s free-pose cache (m).
+const FREE_BALL: f64 = 0.004;
+
+impl<'a> PartClosing<'a> {
+    /// The closing world of the part `object` with the gripper at `flange_in_object` (G → object
+    /// frame) and the support plane `support` (object frame, see the type).
+    pub fn new(
+        object: &'a ObjectGeometry,
+        shapes: &'a FingerShapes,
+        flange_in_object: Isometry3<f64>,
+        support: Option<(Vector3<f64>, f64)>,
+    ) -> Self {
+        PartClosing {
+            object,
+            shapes,
+            flange_in_object,
+            support,
+            memo: RefCell::new(HashMap::new()),
+            free: RefCell::new([[None; 5]; 2]),
+        }
+    }
+
+    /// Whether link `link` of finger `s` is known to miss the part at `pose`: a pose it was
+    /// found clear by [`FREE_BALL`] at moves none of its points farther than that
+    /// (`|Δorigin| + |Δangle| · reach`).
+    fn known_free(&self, s: usize, link: usize, pose: &PlanarPose) -> bool {
+        self.free.borrow()[s][link].is_some_and(|at| {
+            let moved = (pose.origin - at.origin).norm()
+                + (pose.angle - at.angle).abs() * self.shapes.reach[s][link];
+            moved < FREE_BALL
+        })
+    }
+
+    /// Whether link `link` of finger `s` (0: `+x`) touches the part at `pose` (its frame in
+    /// the object frame `in_object`).
+    fn touches_part(
+        &self,
+        s: usize,
+        link: usize,
+        pose: &PlanarPose,
+        in_object: &Isometry3<f64>,
+    ) -> bool {
+        if self.known_free(s, link, pose) {
+            return false;
+        }
+        let (center, half) = &self.shapes.boxes[s][link];
+        let box_pose = in_object * nalgebra::Translation3::from(*center);
+        if !self
+            .object
+            .box_touches(&box_pose, &(half + Vector3::repeat(FREE_BALL)))
+        {
+            self.free.borrow_mut()[s][link] = Some(*pose);
+            return false;
+        }
+        if !self.object.box_touches(&box_pose, half) {
+            return false;
+        }
+        let hull = Posed {
+            tight: &self.shapes.hulls[s][link],
+            frame: in_object,
+        };
+        if !self
+            .object
+            .pieces_intersect(&Isometry3::identity(), &hull, 0.0)
+        {
+            return false;
+        }
+        let posed = Posed {
+            tight: &self.shapes.tight[s][link],
+            frame: in_object,
+        };
+        self.object
+            .pieces_intersect(&Isometry3::identity(), &posed, 0.0)
+    }
 }
 
 impl ClosingWorld for PartClosing<'_> {
+    fn has_support(&self) -> bool {
+        self.support.is_some()
+    }
+
     fn touch(&self, side: f64, link: usize, pose: &PlanarPose) -> Touch {
         let in_object = self.flange_in_object * pose.to_isometry(side);
-        let pieces = &self.shapes.pieces[usize::from(side < 0.0)][link];
+        let s = usize::from(side < 0.0);
+        let pieces = &self.shapes.pieces[s][link];
         if let Some((n, d)) = self.support {
             let below = pieces
                 .iter()
@@ -84,14 +244,20 @@ impl ClosingWorld for PartClosing<'_> {
                 return Touch::Support;
             }
         }
-        let mesh = self.object.trimesh();
-        for piece in pieces {
-            if query::intersection_test(&in_object, &piece.hull, &Isometry3::identity(), mesh)
-                .unwrap_or(false)
-            {
-                return Touch::Part;
-            }
+        let key = (
+            s as u8,
+            link as u8,
+            [pose.origin.x, pose.origin.y, pose.angle].map(f64::to_bits),
+        );
+        if let Some(&hit) = self.memo.borrow().get(&key) {
+            return if hit { Touch::Part } else { Touch::Nothing };
         }
-        Touch::Nothing
+        let hit = self.touches_part(s, link, pose, &in_object);
+        self.memo.borrow_mut().insert(key, hit);
+        if hit {
+            Touch::Part
+        } else {
+            Touch::Nothing
+        }
     }
 }

@@ -1,87 +1,307 @@
-//! The width a gripper closes on: from the part's real mesh, at a grasp.
+//! How a gripper closes on the part at a grasp: the 2F-85's adaptive closing
+//! ([`pregrasp_robot::close_fingers`]) against the part's real mesh.
 //!
-//! A Robotiq 2F-85 closing on a part stops where its pads (or the finger tips that carry them)
-//! first touch it. With the flange at a grasp, the fingers are closed step by step from the full
-//! stroke — each finger where the linkage puts it at that gap, so the pads rise as they close —
-//! until a contact shape touches the part's surface; the contact gap is then refined by
-//! bisection to [`GAP_TOLERANCE`]. The fingers are symmetric about the flange axis (the grasp
-//! centres the part between them).
+//! With the flange at a grasp, both fingers close from fully open as the linkage closes: in
+//! the parallel mode until a link touches the part; a pad touching first makes a pinch, a
+//! proximal link (the inner knuckle) touching first lets the finger tip curl around the bar
+//! (an encompassing grasp, or the bar caged). The result ([`Grip`]) is where the fingers
+//! stopped and the convex hull of every pose they passed through on the way (in the gripper
+//! frame G), which is what the support must clear: the closing is a property of the grasp and
+//! the part, the support a property of where the part is, so one closing serves every pose of
+//! the part ([`Grip::lowest`]).
 
-use nalgebra::Isometry3;
-use pregrasp_robot::{Gripper2F85, GripperState, Primitive};
+use std::sync::{Arc, OnceLock};
 
+use nalgebra::{Isometry3, Point3};
+use pregrasp_robot::{
+    close_fingers_traced, linkage, ClosingKind, FingerConfig, FingerPair, FingerSolids,
+    GripperState, COUPLER, DRIVER, FINGER_LINKS, FOLLOWER, LINKS_PER_FINGER, PAD, SPRING_LINK,
+};
+
+use crate::closing::{FingerShapes, PartClosing};
 use crate::object::ObjectGeometry;
 
-/// Resolution of the contact gap (m).
-pub const GAP_TOLERANCE: f64 = 2e-5;
+/// Largest joint turn (rad) between two poses of a closing kept for the support test. Between
+/// two kept poses a finger point moves on arcs of at most two stacked rotations (a link and
+/// the one carrying it) with levers under 0.15 m, so it strays at most
+/// `2 · 0.15 · 0.05² / 8` ≈ 94 µm (the sagittas) from the segment joining its two kept
+/// positions; [`SWEEP_SAG`] covers it, so the support test stays on the safe side.
+const SWEEP_STEP: f64 = 0.05;
+/// Bound (m) on how far a finger point may lie below the kept poses' hull between them.
+const SWEEP_SAG: f64 = 1e-4;
 
-/// Step of the coarse closing search (m): thinner than any bar worth grasping.
-const COARSE_STEP: f64 = 0.001;
+/// The largest joint turn between two poses of both fingers.
+fn turned(a: &[FingerConfig; 2], b: &[FingerConfig; 2]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(a, b)| {
+            (a.driver - b.driver)
+                .abs()
+                .max((a.coupler - b.coupler).abs())
+                .max((a.spring_link - b.spring_link).abs())
+                .max((a.follower - b.follower).abs())
+        })
+        .fold(0.0, f64::max)
+}
 
 /// Why a gripper cannot close on the part at a grasp.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum GripFailure {
-    /// The fully open fingers already touch the part: it is wider than the 85 mm stroke there,
+    /// The fully open fingers already touch the part: it is wider than the stroke there,
     /// or material lies where an open finger must go.
     #[error("the open fingers already touch the part (wider than the stroke, or material where a finger goes)")]
     OpenTouches,
     /// The fingers close fully without touching the part.
     #[error("the pads close on nothing (no part between the fingers)")]
     ClosesOnNothing,
+    /// A link that cannot hold the part (the outer knuckle or outer finger) meets it before
+    /// the pads or inner knuckles do: the gripper would jam on it.
+    #[error("the {link} meets the part before the pads do")]
+    Jams { link: &'static str },
 }
 
-/// Whether the gripper's contact shapes (pads and finger tips) touch the part at `gap`, with
-/// the flange at `flange_in_object` (flange → object frame).
-fn contact_at(
-    object: &ObjectGeometry,
-    gripper: &Gripper2F85,
-    contacts: &[usize],
-    flange_in_object: &Isometry3<f64>,
-    gap: f64,
-) -> bool {
-    let mut touches = false;
-    gripper.for_each_shape(GripperState::Closed { gap }, |k, _, prim| {
-        if touches || !contacts.contains(&k) {
-            return;
-        }
-        if let Primitive::Cuboid { pose, half_extents } = prim {
-            touches = object.box_touches(&(flange_in_object * pose), &half_extents);
-        }
-    });
-    touches
+/// The closing of a gripper at one grasp (see the module documentation).
+#[derive(Clone, Debug)]
+pub struct Grip {
+    /// Where the fingers stopped.
+    pub fingers: FingerPair,
+    /// How each finger's closing ended, `[+x, −x]`.
+    pub kinds: [ClosingKind; 2],
+    /// The finger links in every pose of the closing, by planes `y = const` (in G).
+    swept: Arc<Vec<Level>>,
 }
 
-/// The gap (m) at which the gripper, its flange at `flange_in_object` (flange → object frame),
-/// closes on the part: the largest gap at which a pad or finger tip touches the part's surface.
-pub fn closing_gap(
-    object: &ObjectGeometry,
-    gripper: &Gripper2F85,
-    flange_in_object: &Isometry3<f64>,
-) -> Result<f64, GripFailure> {
-    let contacts = gripper.contact_shapes();
-    let touch = |gap: f64| contact_at(object, gripper, &contacts, flange_in_object, gap);
-    let stroke = gripper.fingers().stroke();
-    if touch(stroke) {
-        return Err(GripFailure::OpenTouches);
+impl PartialEq for Grip {
+    fn eq(&self, other: &Grip) -> bool {
+        self.fingers == other.fingers && self.kinds == other.kinds
     }
-    let mut open = stroke;
-    let mut gap = stroke;
-    while gap > 0.0 {
-        gap = (gap - COARSE_STEP).max(0.0);
-        if touch(gap) {
-            // The first contact lies in (gap, open]: bisect it.
-            let mut closed = gap;
-            while open - closed > GAP_TOLERANCE {
-                let mid = 0.5 * (open + closed);
-                if touch(mid) {
-                    closed = mid;
-                } else {
-                    open = mid;
+}
+
+impl Grip {
+    /// The gripper state holding the part.
+    pub fn state(&self) -> GripperState {
+        GripperState::Closed(self.fingers)
+    }
+
+    /// The width held: distance between the pad faces' centres (m).
+    pub fn width(&self) -> f64 {
+        self.fingers.gap()
+    }
+
+    /// The grasp's kind: a pinch unless a finger wrapped the part.
+    pub fn kind(&self) -> ClosingKind {
+        self.kinds
+            .into_iter()
+            .find(|k| matches!(k, ClosingKind::Encompassing | ClosingKind::Caged))
+            .unwrap_or(ClosingKind::Pinch)
+    }
+
+    /// Lowest world `z` the fingers reach while closing, the flange at `flange_world`.
+    pub fn lowest(&self, flange_world: &Isometry3<f64>) -> f64 {
+        let r = flange_world.rotation.to_rotation_matrix();
+        let d = r.matrix().row(2).transpose();
+        let planar = d.x.hypot(d.z);
+        // An upper bound first (each level's circle's far side), then only the levels whose
+        // circle can reach below it are scanned.
+        let mut best = self
+            .swept
+            .iter()
+            .map(|l| d.y * l.y + d.x * l.center[0] + d.z * l.center[1] + planar * l.radius)
+            .fold(f64::INFINITY, f64::min);
+        for l in self.swept.iter() {
+            let base = d.y * l.y;
+            let bound = base + d.x * l.center[0] + d.z * l.center[1] - planar * l.radius;
+            if bound >= best {
+                continue;
+            }
+            for p in &l.pts {
+                best = best.min(base + d.x * p[0] + d.z * p[1]);
+            }
+        }
+        best + flange_world.translation.vector.z - SWEEP_SAG
+    }
+
+    /// The points (in G) that bound the closing fingers: every pose's finger links lie in
+    /// their convex hull.
+    pub fn swept_points(&self) -> Vec<Point3<f64>> {
+        self.swept
+            .iter()
+            .flat_map(|l| l.pts.iter().map(|p| Point3::new(p[0], l.y, p[1])))
+            .collect()
+    }
+}
+
+/// The finger links' convex pieces for the closing world (the `+x` finger's).
+fn finger_shapes() -> &'static FingerShapes {
+    static SHAPES: OnceLock<FingerShapes> = OnceLock::new();
+    SHAPES.get_or_init(|| {
+        let solids = FingerSolids::robotiq_2f85();
+        let right = &solids.links[LINKS_PER_FINGER..];
+        let links: Vec<Vec<Vec<Point3<f64>>>> =
+            right.iter().map(|s| s.pieces.pieces.clone()).collect();
+        FingerShapes::new(&links).expect("the built-in finger pieces are solids")
+    })
+}
+
+/// The points of a link's pieces that can be extreme in some direction (its hull's vertices,
+/// link frame of the `+x` finger), grouped by their `y`: the linkage turns links about `y`, so
+/// each group stays in its own plane `y = const` as the finger closes.
+type Levels = Vec<(f64, Vec<[f64; 2]>)>;
+
+/// [`Levels`] of each link of the `+x` finger.
+fn link_levels() -> &'static [Levels] {
+    static LEVELS: OnceLock<Vec<Levels>> = OnceLock::new();
+    LEVELS.get_or_init(|| {
+        let solids = FingerSolids::robotiq_2f85();
+        solids.links[LINKS_PER_FINGER..]
+            .iter()
+            .map(|s| {
+                let all: Vec<Point3<f64>> = s.pieces.pieces.iter().flatten().copied().collect();
+                let mut levels: Levels = Vec::new();
+                for p in crate::tight::hull_points(&all) {
+                    match levels.iter_mut().find(|(y, _)| *y == p.y) {
+                        Some((_, pts)) => pts.push([p.x, p.z]),
+                        None => levels.push((p.y, vec![[p.x, p.z]])),
+                    }
+                }
+                levels
+            })
+            .collect()
+    })
+}
+
+/// The finger points swept while closing, per side, link and `y` level (`(x, z)` in G), in
+/// the order [`Sweep::add`] visits them.
+struct Sweep {
+    levels: Vec<Vec<[f64; 2]>>,
+}
+
+impl Sweep {
+    fn new() -> Sweep {
+        let n = 2 * link_levels().iter().map(Vec::len).sum::<usize>();
+        Sweep {
+            levels: vec![Vec::new(); n],
+        }
+    }
+
+    /// The `y` of each level, in [`Sweep::levels`] order (the `−x` finger's mirror keeps `y`).
+    fn ys() -> impl Iterator<Item = f64> {
+        [1.0, -1.0].into_iter().flat_map(|_| {
+            link_levels()
+                .iter()
+                .flat_map(|levels| levels.iter().map(|(y, _)| *y))
+        })
+    }
+
+    /// Adds both fingers at `configs` (`[+x, −x]`).
+    fn add(&mut self, configs: &[FingerConfig; 2]) {
+        let l = linkage();
+        let mut slot = 0;
+        for (cfg, side) in configs.iter().zip([1.0, -1.0]) {
+            for (frame, levels) in cfg.link_frames(l).iter().zip(link_levels()) {
+                let iso = frame.to_isometry(side);
+                for (y, pts) in levels {
+                    self.levels[slot].extend(pts.iter().map(|[x, z]| {
+                        let p = iso * Point3::new(side * x, *y, *z);
+                        [p.x, p.z]
+                    }));
+                    slot += 1;
                 }
             }
-            return Ok(open);
         }
-        open = gap;
     }
-    Err(GripFailure::ClosesOnNothing)
+
+    /// Each level's points with a circle holding them ([`Grip::lowest`] scans only the levels
+    /// whose circle reaches below the best point so far).
+    fn finish(self) -> Vec<Level> {
+        self.levels
+            .into_iter()
+            .zip(Sweep::ys())
+            .map(|(pts, y)| {
+                let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                for p in &pts {
+                    lo = [lo[0].min(p[0]), lo[1].min(p[1])];
+                    hi = [hi[0].max(p[0]), hi[1].max(p[1])];
+                }
+                let center = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+                let radius = pts
+                    .iter()
+                    .map(|p| (p[0] - center[0]).hypot(p[1] - center[1]))
+                    .fold(0.0, f64::max);
+                Level {
+                    y,
+                    center,
+                    radius,
+                    pts,
+                }
+            })
+            .filter(|l| !l.pts.is_empty())
+            .collect()
+    }
+}
+
+/// The swept points of one plane `y = const` of one finger link (`(x, z)` in G) and a circle
+/// holding them.
+#[derive(Clone, Debug)]
+struct Level {
+    y: f64,
+    center: [f64; 2],
+    radius: f64,
+    pts: Vec<[f64; 2]>,
+}
+
+/// The ROS name of finger link `link` ([`FINGER_LINKS`] order).
+fn link_name(link: usize) -> &'static str {
+    FingerSolids::robotiq_2f85()
+        .links
+        .get(link)
+        .map_or(FINGER_LINKS[link.min(4)], |s| s.name)
+}
+
+/// Closes the gripper on the part with its flange at `flange_in_object` (flange → object
+/// frame): the [`Grip`], or why it cannot hold the part there.
+pub fn close_on_part(
+    object: &ObjectGeometry,
+    flange_in_object: &Isometry3<f64>,
+) -> Result<Grip, GripFailure> {
+    let world = PartClosing::new(object, finger_shapes(), *flange_in_object, None);
+    let mut sweep = Sweep::new();
+    let mut poses = 0usize;
+    let mut last: Option<[FingerConfig; 2]> = None;
+    let result = close_fingers_traced(&world, linkage(), &mut |configs| {
+        poses += 1;
+        let moved = last.is_none_or(|l| turned(&l, configs) >= SWEEP_STEP);
+        if moved {
+            sweep.add(configs);
+            last = Some(*configs);
+        }
+    });
+    let opened = poses <= 1
+        && result
+            .iter()
+            .any(|r| r.kind == ClosingKind::Stuck && r.config.driver <= linkage().limits.driver.0);
+    if opened {
+        return Err(GripFailure::OpenTouches);
+    }
+    if let Some(r) = result.iter().find(|r| r.kind == ClosingKind::Stuck) {
+        let link = r.first_touch.unwrap_or(DRIVER);
+        debug_assert!(matches!(link, DRIVER | COUPLER));
+        return Err(GripFailure::Jams {
+            link: link_name(link),
+        });
+    }
+    let touched = result
+        .iter()
+        .any(|r| matches!(r.first_touch, Some(FOLLOWER | PAD | SPRING_LINK)));
+    if !touched {
+        return Err(GripFailure::ClosesOnNothing);
+    }
+    let configs = [result[0].config, result[1].config];
+    sweep.add(&configs);
+    let swept = sweep.finish();
+    Ok(Grip {
+        fingers: FingerPair::from_configs(&configs),
+        kinds: [result[0].kind, result[1].kind],
+        swept: Arc::new(swept),
+    })
 }

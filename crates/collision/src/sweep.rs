@@ -35,7 +35,7 @@
 
 use nalgebra::{Point3, Vector3};
 use pregrasp_motion::Doubts;
-use pregrasp_robot::{GripperState, Joints, SHAPE_GROUPS};
+use pregrasp_robot::{Joints, SHAPE_GROUPS};
 
 use crate::arm::{ArmModel, PosedArm};
 use crate::shape::Bounded;
@@ -771,12 +771,10 @@ fn same_run(a: &WorldState, b: &WorldState) -> bool {
         ) => a1 == a2 && f1 == f2,
         _ => false,
     };
-    let grippers = a.gripper.iter().zip(&b.gripper).all(|(x, y)| match (x, y) {
-        (GripperState::Open, GripperState::Open) => true,
-        (GripperState::Closed { gap: g1 }, GripperState::Closed { gap: g2 }) => {
-            g1.to_bits() == g2.to_bits()
-        }
-        _ => false,
-    });
+    let grippers = a
+        .gripper
+        .iter()
+        .zip(&b.gripper)
+        .all(|(x, y)| x.key() == y.key());
     placement && grippers && a.grasping == b.grasping
 }

@@ -355,6 +355,9 @@ pub struct Piece {
 #[derive(Clone, Debug)]
 pub struct Tight {
     pieces: Vec<Piece>,
+    /// The vertices of the hull of all pieces: a linear function's least value over the
+    /// pieces is its least value over these (the support-plane tests).
+    hull: Vec<P>,
     slack: f64,
 }
 
@@ -391,8 +394,11 @@ impl Tight {
                 })
             })
             .collect::<Option<Vec<_>>>()?;
+        let all: Vec<P> = src.pieces.iter().flatten().copied().collect();
+        let hull = hull_points(&all);
         Some(Tight {
             pieces,
+            hull,
             slack: src.slack,
         })
     }
@@ -400,6 +406,31 @@ impl Tight {
     /// How far the pieces reach outside the link shape (m).
     pub fn slack(&self) -> f64 {
         self.slack
+    }
+
+    /// World `z` of the lowest vertex of the pieces with their frame at `frame`.
+    pub fn lowest(&self, frame: &Isometry3<f64>) -> f64 {
+        let row = frame
+            .rotation
+            .to_rotation_matrix()
+            .matrix()
+            .row(2)
+            .transpose();
+        let low = self
+            .hull
+            .iter()
+            .map(|v| row.dot(&v.coords))
+            .fold(f64::INFINITY, f64::min);
+        low + frame.translation.vector.z
+    }
+}
+
+/// The points of `all` that are vertices of its convex hull, exactly as given (parry returns
+/// the input points it keeps); every point where no hull can be computed.
+pub(crate) fn hull_points(all: &[P]) -> Vec<P> {
+    match parry3d_f64::transformation::try_convex_hull(all) {
+        Ok((verts, _)) => verts,
+        Err(_) => all.to_vec(),
     }
 }
 
@@ -417,6 +448,9 @@ pub(crate) struct Lookup<'a> {
     pub tight: &'a [Option<Tight>],
     pub parts: &'a [(usize, pregrasp_robot::Primitive)],
     pub frames: &'a [Isometry3<f64>; 7],
+    /// The gripper's pieces per gripper shape (index `k − parts.len()`) and their frames.
+    pub gripper_tight: &'a [Option<Tight>],
+    pub gripper_frames: &'a [Isometry3<f64>],
     pub k: usize,
 }
 
@@ -454,11 +488,19 @@ impl<'a> Part<'a> {
     #[inline]
     pub fn tight(&self) -> Option<Posed<'a>> {
         let l = self.lookup?;
-        let tight = l.tight.get(l.k)?.as_ref()?;
-        Some(Posed {
-            tight,
-            frame: &l.frames[l.parts[l.k].0],
-        })
+        match l.parts.get(l.k) {
+            Some((frame, _)) => Some(Posed {
+                tight: l.tight.get(l.k)?.as_ref()?,
+                frame: &l.frames[*frame],
+            }),
+            None => {
+                let j = l.k - l.parts.len();
+                Some(Posed {
+                    tight: l.gripper_tight.get(j)?.as_ref()?,
+                    frame: l.gripper_frames.get(j)?,
+                })
+            }
+        }
     }
 
     /// Calls `f(key, pose, convex, inflation)` for each convex part of the exact solid,
@@ -505,9 +547,8 @@ impl<'a> Part<'a> {
             .transpose();
         let tz = frame.translation.vector.z;
         let low = tight
-            .pieces
+            .hull
             .iter()
-            .flat_map(|p| p.poly.points.iter())
             .map(|v| row.dot(&v.coords))
             .fold(f64::INFINITY, f64::min);
         Some(low + tz - height)
@@ -876,6 +917,8 @@ mod tests {
                     tight: &own_table,
                     parts: &parts,
                     frames: &frames,
+                    gripper_tight: &[],
+                    gripper_frames: &[],
                     k: 0,
                 }),
             };
@@ -895,6 +938,8 @@ mod tests {
                         tight: &other_table,
                         parts: &parts,
                         frames: &ids,
+                        gripper_tight: &[],
+                        gripper_frames: &[],
                         k: 0,
                     }),
                 }

@@ -136,7 +136,7 @@ pub struct CollisionWorld {
 static NEXT_WORLD_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
 
 /// Key of a posed arm in the cache: world id, arm, joint bits, gripper gap bits (open: `u64::MAX`).
-type PoseKey = (u64, usize, [u64; 6], u64);
+type PoseKey = (u64, usize, [u64; 6], [u64; 3]);
 
 /// Both arms as last posed on this thread, with the keys they were posed for.
 type PosedPair = ([Option<PoseKey>; 2], [PosedArm; 2]);
@@ -272,11 +272,11 @@ impl CollisionWorld {
         self.margin
     }
 
-    /// Caches each arm's gripper shapes closed at the given gaps (m) — the widths it holds
-    /// the part with — see [`ArmModel::with_closed_gaps`].
-    pub fn with_closed_gaps(mut self, gaps: [&[f64]; 2]) -> Self {
+    /// Caches each arm's gripper shapes in the finger states it holds the part in — see
+    /// [`ArmModel::with_held_fingers`].
+    pub fn with_held_fingers(mut self, held: [&[GripperState]; 2]) -> Self {
         let [a0, a1] = self.arms.clone();
-        self.arms = [a0.with_closed_gaps(gaps[0]), a1.with_closed_gaps(gaps[1])];
+        self.arms = [a0.with_held_fingers(held[0]), a1.with_held_fingers(held[1])];
         self
     }
 
@@ -719,11 +719,12 @@ impl CollisionWorld {
 
     /// What arm `i`'s pose at `state` depends on.
     fn pose_key(&self, i: usize, state: &WorldState) -> PoseKey {
-        let gap = match state.gripper[i] {
-            GripperState::Open => u64::MAX,
-            GripperState::Closed { gap } => gap.to_bits(),
-        };
-        (self.id, i, state.q[i].map(f64::to_bits), gap)
+        (
+            self.id,
+            i,
+            state.q[i].map(f64::to_bits),
+            state.gripper[i].key(),
+        )
     }
 
     /// [`object_pose`](Self::object_pose), reusing the flange of an already posed arm.

@@ -127,12 +127,12 @@ fn a_bar_as_a_mesh_closes_the_fingers_as_the_solid_bar_does() {
         // The mesh in the bar's own frame; G and the table placed in it.
         let object = ObjectGeometry::new(&box_mesh(Point3::origin(), half, 2)).unwrap();
         let up = bar_pose.rotation.inverse() * Vector3::z();
-        let mesh_world = PartClosing {
-            object: &object,
-            shapes: &shapes,
-            flange_in_object: bar_pose.inverse(),
-            support: table.map(|z| (up, z - bar_pose.translation.vector.z)),
-        };
+        let mesh_world = PartClosing::new(
+            &object,
+            &shapes,
+            bar_pose.inverse(),
+            table.map(|z| (up, z - bar_pose.translation.vector.z)),
+        );
         let a = close_fingers(&solids, &linkage);
         let b = close_fingers(&mesh_world, &linkage);
         for (x, y) in a.iter().zip(&b) {

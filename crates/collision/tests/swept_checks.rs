@@ -24,7 +24,7 @@ fn cell() -> CollisionWorld {
     CollisionWorld::new(0.0, Some(&mesh), [arm("left", 0.45), arm("right", -0.45)])
         .with_margin(0.008)
         .with_grasp_support_margin(0.0026)
-        .with_closed_gaps([&[0.02], &[0.02]])
+        .with_held_fingers([&[GripperState::at_gap(0.02)], &[GripperState::at_gap(0.02)]])
 }
 
 /// The part's pose: lying 0.5 m in front of the arms, turned by `theta` about its long edge.
@@ -52,7 +52,7 @@ fn random_state(rng: &mut ChaCha8Rng) -> WorldState {
     let attached = rng.random_bool(0.3);
     WorldState {
         q: [q, other],
-        gripper: [GripperState::Closed { gap: 0.02 }, GripperState::Open],
+        gripper: [GripperState::at_gap(0.02), GripperState::Open],
         object: if attached {
             ObjectPlacement::Attached {
                 arm: 0,
@@ -83,7 +83,7 @@ fn random_motion(rng: &mut ChaCha8Rng, step: f64) -> Vec<WorldState> {
         if rng.random_bool(0.3) {
             grasping[0] = !grasping[0];
             gripper[0] = if grasping[0] {
-                GripperState::Closed { gap: 0.02 }
+                GripperState::at_gap(0.02)
             } else {
                 GripperState::Open
             };

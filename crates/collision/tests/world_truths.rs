@@ -154,7 +154,7 @@ fn gripper_may_touch_the_bar_it_grasps_only_with_the_grasp_flag() {
     let q = UP;
     let flange = world.arms()[0].flange_world(&q);
     let mut s = WorldState::new([q, [0.0; 6]]);
-    s.gripper[0] = GripperState::FULLY_CLOSED;
+    s.gripper[0] = GripperState::fully_closed();
     for placement in [
         ObjectPlacement::Fixed(flange * g.power_point()),
         ObjectPlacement::Attached {
@@ -247,7 +247,7 @@ fn attached_part_moves_with_the_flange_and_hits_obstacles() {
         Vector3::new(0.02, 0.02, 0.02),
     );
     let mut s = WorldState::new([UP, [0.0; 6]]);
-    s.gripper[0] = GripperState::FULLY_CLOSED;
+    s.gripper[0] = GripperState::fully_closed();
     s.grasping[0] = true;
     s.object = ObjectPlacement::Attached {
         arm: 0,
@@ -262,7 +262,7 @@ fn attached_part_moves_with_the_flange_and_hits_obstacles() {
         flange_to_object: g.power_point(),
     };
     s.grasping = [false, true];
-    s.gripper = [GripperState::Open, GripperState::FULLY_CLOSED];
+    s.gripper = [GripperState::Open, GripperState::fully_closed()];
     assert_eq!(world.check(&s), Ok(()));
 }
 

@@ -503,8 +503,8 @@ pub fn export(timeline: &Timeline, mesh: &Mesh) -> Result<Vec<u8>, ExportError> 
         // Grippers under the flange: open, and one per segment that closes it.
         let mut variants: Vec<(Option<usize>, GripperState)> = vec![(None, GripperState::Open)];
         for e in arm.grip.iter().filter(|e| e.close) {
-            let gap = e.width.unwrap_or(0.0);
-            variants.push((Some(e.segment), GripperState::Closed { gap }));
+            let held = e.fingers.unwrap_or_else(GripperState::fully_closed);
+            variants.push((Some(e.segment), held));
         }
         for (seg, state) in &variants {
             let mut t = Tris::default();

@@ -10,7 +10,7 @@
 
 use nalgebra::Isometry3;
 use pregrasp_io::plan_file::{PlanFile, PlanJson};
-use pregrasp_robot::{Joints, UrModel};
+use pregrasp_robot::{GripperState, Joints, UrModel};
 
 use crate::ExportError;
 
@@ -27,6 +27,8 @@ pub struct GripEvent {
     pub close: bool,
     /// For a close: the segment's `grip_width` (m), when the plan gives it.
     pub width: Option<f64>,
+    /// For a close: where the fingers stop on the part, when the plan gives it.
+    pub fingers: Option<GripperState>,
     /// The segment the command belongs to.
     pub segment: usize,
 }
@@ -222,12 +224,14 @@ impl Timeline {
                     t,
                     close: false,
                     width: None,
+                    fingers: None,
                     segment: si,
                 });
                 a.grip.push(GripEvent {
                     t: points.last().expect("non-empty").0,
                     close: true,
                     width: seg.grip_width,
+                    fingers: seg.held_fingers(),
                     segment: si,
                 });
             }

@@ -270,7 +270,38 @@ pub struct SegmentJson {
     /// checker measures it again from the mesh.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub grip_width: Option<f64>,
+    /// Where this segment's gripper fingers stopped closing on the part (same instants as
+    /// `grip_width`): informative, for viewers and exporters to draw and command the fingers
+    /// as they really hold it (curled around a bar in a power grasp).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fingers: Option<FingersJson>,
     pub points: Vec<PointJson>,
+}
+
+impl SegmentJson {
+    /// The gripper state this segment holds the part with, as the file records it: its
+    /// `fingers`, else the parallel closing at its `grip_width`; `None` if it records neither.
+    pub fn held_fingers(&self) -> Option<pregrasp_robot::GripperState> {
+        use pregrasp_robot::{FingerPair, GripperState};
+        match (&self.fingers, self.grip_width) {
+            (Some(f), _) => Some(GripperState::Closed(FingerPair {
+                driver: f.driver,
+                spring_link: f.spring_link,
+            })),
+            (None, Some(w)) => Some(GripperState::at_gap(w)),
+            (None, None) => None,
+        }
+    }
+}
+
+/// The 2F-85's finger joints holding the part (rad, MuJoCo Menagerie's joint angles): the
+/// common driver (outer knuckle) angle and each finger's spring-link (inner knuckle) angle,
+/// `[+x finger, −x finger]` of the tool frame. Equal spring-link angles on the coupler's stop
+/// are the parallel closing; smaller ones mean the finger tips curled around the part.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FingersJson {
+    pub driver: f64,
+    pub spring_link: [f64; 2],
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

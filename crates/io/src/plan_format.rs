@@ -128,6 +128,12 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
             if let Some(w) = seg.grip_width {
                 number(&format!("{at}.grip_width"), w, 1.0)?;
             }
+            if let Some(f) = &seg.fingers {
+                number(&format!("{at}.fingers.driver"), f.driver, 1.0)?;
+                for (i, q) in f.spring_link.iter().enumerate() {
+                    number(&format!("{at}.fingers.spring_link[{i}]"), *q, 1.0)?;
+                }
+            }
             for (p, point) in seg.points.iter().enumerate() {
                 number(&format!("{at}.points[{p}].t"), point.t, MAX_TIME)?;
                 joints(&format!("{at}.points[{p}].q"), &point.q)?;

@@ -14,13 +14,15 @@
 use std::sync::Arc;
 
 use nalgebra::{Isometry3, Point3, Vector3};
-use pregrasp_collision::{ArmModel, CollisionWorld, ObjectGeometry, ObjectPlacement, WorldState};
+use pregrasp_collision::{
+    ArmModel, CollisionWorld, Grip, GripFailure, ObjectGeometry, ObjectPlacement, WorldState,
+};
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{PlanFile, PlanJson, PointJson, PoseJson, SegmentJson};
 use pregrasp_io::scene::{DEFAULT_FINGER_SUPPORT_CLEARANCE, DEFAULT_LINK_CLEARANCE};
 use pregrasp_robot::{joint_sweep_radii, Gripper2F85, GripperState, Joints, UrModel};
 
-use crate::context::grip_widths;
+use crate::context::{grips as close_grips, Grips};
 use crate::timeline::{lerp_joints, lerp_pose, substeps, CONTACT_ZONE};
 
 /// Largest travel of any arm point between two checked states (m).
@@ -167,7 +169,7 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
 pub struct PlanChecker {
     arms: [ArmModel; 2],
     world: CollisionWorld,
-    grips: Result<GripGaps, String>,
+    grips: Result<HeldGrips, String>,
     lowest_candidates: Vec<Point3<f64>>,
     clearances: (f64, f64),
 }
@@ -175,17 +177,19 @@ pub struct PlanChecker {
 impl PlanChecker {
     /// The models of `file`'s header; an error when its robots cannot be modelled.
     pub fn new(file: &PlanFile, mesh: &Mesh) -> Result<PlanChecker, String> {
-        Self::sharing_part(file, mesh, None)
+        Self::sharing_part(file, mesh, None, None)
     }
 
     /// [`PlanChecker::new`] with the part's collision geometry (its mesh `mesh`, with the BVH)
     /// taken from another world of the same part rather than built again: the planner hands
-    /// its own, the geometry of the mesh alone; the checker's clearances, grips and hull are
-    /// its own.
+    /// its own, the geometry of the mesh alone; the checker's clearances and hull are its own.
+    /// `grips`: how the grippers close at the file's grasps, when the caller has closed them
+    /// on the same part (the planner verifying its own plans); closed again otherwise.
     pub fn sharing_part(
         file: &PlanFile,
         mesh: &Mesh,
         part: Option<Arc<ObjectGeometry>>,
+        grips: Option<&Grips>,
     ) -> Result<PlanChecker, String> {
         let arms = arm_models(file)?;
         let link_clearance = file
@@ -204,11 +208,12 @@ impl PlanChecker {
         }
         .with_margin(link_clearance)
         .with_grasp_support_margin(finger_clearance);
-        let grips = grip_gaps(file, &world);
+        let grips = held_grips(file, &world, grips);
         let world = match &grips {
-            Ok(g) => {
-                world.with_closed_gaps([&[g.support[0], g.power[0]], &[g.support[1], g.power[1]]])
-            }
+            Ok(g) => world.with_held_fingers([
+                &[g.support[0].state(), g.power[0].state()],
+                &[g.support[1].state(), g.power[1].state()],
+            ]),
             Err(_) => world,
         };
         // The lowest point of the part is always a vertex of its convex hull.
@@ -241,13 +246,10 @@ impl PlanChecker {
         let (link_clearance, finger_clearance) = self.clearances;
         let (arms, world, lowest_candidates) = (&self.arms, &self.world, &self.lowest_candidates);
         let grips = match &self.grips {
-            Ok(g) => g.clone(),
+            Ok(g) => Some(g.clone()),
             Err(e) => {
                 collisions.fail(e.clone());
-                GripGaps {
-                    support: [0.0; 2],
-                    power: [0.0; 2],
-                }
+                None
             }
         };
         let mut finger_support = f64::INFINITY;
@@ -320,28 +322,37 @@ impl PlanChecker {
     }
 }
 
-/// The widths the grippers close on (m), per arm: at G_s and at its power grasp.
+/// How the grippers close on the part, per arm: at G_s and at its power grasp.
 #[derive(Clone)]
-struct GripGaps {
-    support: [f64; 2],
-    power: [f64; 2],
+struct HeldGrips {
+    support: [Grip; 2],
+    power: [Grip; 2],
 }
 
-/// Measures, from the mesh, the gap each gripper closes to at each grasp.
-fn grip_gaps(file: &PlanFile, world: &CollisionWorld) -> Result<GripGaps, String> {
+/// Closes, on the mesh, each gripper at each grasp.
+fn held_grips(
+    file: &PlanFile,
+    world: &CollisionWorld,
+    known: Option<&Grips>,
+) -> Result<HeldGrips, String> {
     let power = file.grasps.power.each_ref().map(PoseJson::to_isometry);
-    let widths = grip_widths(world, &file.grasps.support.to_isometry(), &power);
-    let name = |arm: usize| &file.robots[arm].name;
-    let mut gaps = GripGaps {
-        support: [0.0; 2],
-        power: [0.0; 2],
+    let closed = match known {
+        Some(g) => g.clone(),
+        None => close_grips(world, &file.grasps.support.to_isometry(), &power),
     };
-    for arm in 0..2 {
-        gaps.support[arm] =
-            widths.support[arm].map_err(|e| format!("support grasp of arm {}: {e}", name(arm)))?;
-        gaps.power[arm] =
-            widths.power[arm].map_err(|e| format!("power grasp of arm {}: {e}", name(arm)))?;
-    }
+    let name = |arm: usize| &file.robots[arm].name;
+    let [s0, s1] = closed.support;
+    let [p0, p1] = closed.power;
+    let support = |arm: usize, g: Result<Grip, GripFailure>| {
+        g.map_err(|e| format!("support grasp of arm {}: {e}", name(arm)))
+    };
+    let power = |arm: usize, g: Result<Grip, GripFailure>| {
+        g.map_err(|e| format!("power grasp of arm {}: {e}", name(arm)))
+    };
+    let gaps = HeldGrips {
+        support: [support(0, s0)?, support(1, s1)?],
+        power: [power(0, p0)?, power(1, p1)?],
+    };
     Ok(gaps)
 }
 
@@ -410,7 +421,8 @@ struct PlanCheck<'a> {
     index: usize,
     arms: &'a [ArmModel; 2],
     world: &'a CollisionWorld,
-    grips: &'a GripGaps,
+    /// How the grippers close at each grasp (`None`: a grip that cannot close, reported once).
+    grips: &'a Option<HeldGrips>,
     /// Closest a grasping gripper came to the support (m).
     finger_support: &'a mut f64,
     /// The part's points that can be its lowest (its convex hull's vertices).
@@ -585,9 +597,7 @@ impl<'a> PlanCheck<'a> {
             self.check_limits(arm, seg);
             match seg.kind.as_str() {
                 "rotate" => {
-                    gripper[arm] = GripperState::Closed {
-                        gap: self.grips.support[arm],
-                    };
+                    gripper[arm] = self.held(arm, true);
                     holding[arm] = true;
                     self.check_rotation(arm, seg, &q, &gripper, &holding, &axis, &p_init, &g_s);
                     let last = seg.points.last().expect("≥ 2 points");
@@ -610,13 +620,7 @@ impl<'a> PlanCheck<'a> {
                     };
                     gripper[arm] = GripperState::Open;
                     holding[arm] = false;
-                    let closed = GripperState::Closed {
-                        gap: if precision {
-                            self.grips.support[arm]
-                        } else {
-                            self.grips.power[arm]
-                        },
-                    };
+                    let closed = self.held(arm, precision);
                     self.check_reach(
                         arm, seg, &q, &gripper, &holding, &object, precision, &goal, closed,
                     );
@@ -728,6 +732,43 @@ impl<'a> PlanCheck<'a> {
     }
 
     /// Rule 2 at one state: queued for [`collide_all`](Self::collide_all) with its point.
+    /// The fingers of arm `arm` holding G_s (`support`) or its power grasp.
+    fn held(&self, arm: usize, support: bool) -> GripperState {
+        match self.grips {
+            Some(g) if support => g.support[arm].state(),
+            Some(g) => g.power[arm].state(),
+            None => GripperState::fully_closed(),
+        }
+    }
+
+    /// Rule 2 for the closing itself: the fingers of arm `arm`, closing at the last point
+    /// `q` of `seg` on G_s (`support`) or its power grasp, keep the finger–support clearance
+    /// in every pose they pass through ([`Grip::lowest`]).
+    fn check_closing(&mut self, arm: usize, seg: &SegmentJson, q: &Joints, support: bool) {
+        let Some(grips) = self.grips else {
+            return;
+        };
+        let grip = if support {
+            &grips.support[arm]
+        } else {
+            &grips.power[arm]
+        };
+        let flange = self.arms[arm].flange_world(q);
+        let above = grip.lowest(&flange) - self.file.support_height;
+        *self.finger_support = self.finger_support.min(above);
+        let clearance = self.world.grasp_support_margin();
+        if above < clearance {
+            let n = seg.points.len();
+            self.collisions.fail(format!(
+                "{}: the closing fingers of arm {} come {:.2} mm from the support (clearance {:.2} mm)",
+                at(self.index, seg, n - 1),
+                self.file.robots[arm].name,
+                above * 1e3,
+                clearance * 1e3
+            ));
+        }
+    }
+
     fn collide(&mut self, state: WorldState, at: (usize, f64), queue: &mut Queued) {
         *self.states_checked += 1;
         queue.states.push(state);
@@ -851,6 +892,7 @@ impl<'a> PlanCheck<'a> {
         self.collide_all(arm, &queue, |k, f| {
             format!("plan {index} {} point {k} (+{f:.2})", seg.name)
         });
+        self.check_closing(arm, seg, &pts[n - 1].q, precision);
     }
 
     /// Rules 2, 3 and 4 along `rot`.

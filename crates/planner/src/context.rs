@@ -6,12 +6,13 @@ use std::sync::OnceLock;
 
 use nalgebra::Isometry3;
 use pregrasp_collision::{
-    closing_gap, ArmModel, CollisionWorld, Contact, GripFailure, ObjectPlacement, WorldState,
+    close_on_part, ArmModel, CollisionWorld, Contact, Grip, GripFailure, ObjectPlacement,
+    WorldState,
 };
 use pregrasp_geometry::Mesh;
 use pregrasp_io::scene::Scene;
 use pregrasp_motion::{JointSpace, MotionValidator};
-use pregrasp_robot::{wrap_angle, Gripper2F85, Joints, UrKinematics, UrModel};
+use pregrasp_robot::{wrap_angle, Gripper2F85, GripperState, Joints, UrKinematics, UrModel};
 
 use crate::clock::StageClock;
 use crate::timeline::Moment;
@@ -36,14 +37,14 @@ pub const PLANNING_MARGIN: f64 = 0.003;
 /// are validated at [`FINE_RESOLUTION`].
 pub const FINE_PLANNING_MARGIN: f64 = 0.0006;
 
-/// The widths the grippers close on, measured from the part's mesh: per arm, at the support
-/// grasp G_s (by its precision point) and at its own power grasp.
+/// How the grippers close on the part, from its mesh: per arm, at the support grasp G_s (by
+/// its precision point) and at its own power grasp.
 #[derive(Clone, Debug)]
-pub struct GripWidths {
-    /// Gap at G_s of each arm, should it support.
-    pub support: [Result<f64, GripFailure>; 2],
-    /// Gap of each arm at its power grasp.
-    pub power: [Result<f64, GripFailure>; 2],
+pub struct Grips {
+    /// Closing at G_s of each arm, should it support.
+    pub support: [Result<Grip, GripFailure>; 2],
+    /// Closing of each arm at its power grasp.
+    pub power: [Result<Grip, GripFailure>; 2],
 }
 
 /// A scene that cannot be turned into models.
@@ -69,8 +70,8 @@ pub struct PlanningContext<'a> {
     pub spaces: [JointSpace<6>; 2],
     /// Arm names, for messages.
     pub names: [String; 2],
-    /// The widths the grippers close on.
-    pub grips: GripWidths,
+    /// How the grippers close on the part.
+    pub grips: Grips,
     /// When `sup1` has already run (re-planning `--from rot`): the supportive arm's joints,
     /// which μ_rot must start from (within [`FIXED_START_TOLERANCE`]).
     pub fixed_rot_start: Option<(usize, Joints)>,
@@ -92,14 +93,15 @@ impl<'a> PlanningContext<'a> {
         let world = CollisionWorld::new(scene.support_height, Some(mesh), arms)
             .with_margin(params.link_clearance + PLANNING_MARGIN)
             .with_grasp_support_margin(params.finger_support_clearance + FINE_PLANNING_MARGIN);
-        let grips = grip_widths(&world, &scene.grasps.support, &scene.grasps.power);
-        let held = |arm: usize| -> Vec<f64> {
-            [grips.support[arm], grips.power[arm]]
+        let grips = grips(&world, &scene.grasps.support, &scene.grasps.power);
+        let held = |arm: usize| -> Vec<GripperState> {
+            [&grips.support[arm], &grips.power[arm]]
                 .into_iter()
                 .flatten()
+                .map(Grip::state)
                 .collect()
         };
-        let world = world.with_closed_gaps([&held(0), &held(1)]);
+        let world = world.with_held_fingers([&held(0), &held(1)]);
         Ok(PlanningContext {
             scene,
             mesh,
@@ -113,14 +115,29 @@ impl<'a> PlanningContext<'a> {
         })
     }
 
-    /// The gap arm `arm` holds G_s with (only called for an arm whose support grip closes).
-    pub fn support_gap(&self, arm: usize) -> f64 {
-        self.grips.support[arm].unwrap_or(0.0)
+    /// The fingers of arm `arm` holding G_s (only called for an arm whose support grip
+    /// closes; fully closed otherwise).
+    pub fn support_grip(&self, arm: usize) -> GripperState {
+        self.grips.support[arm]
+            .as_ref()
+            .map_or_else(|_| GripperState::fully_closed(), Grip::state)
     }
 
-    /// The gap arm `arm` holds its power grasp with.
-    pub fn power_gap(&self, arm: usize) -> f64 {
-        self.grips.power[arm].unwrap_or(0.0)
+    /// The width arm `arm` holds G_s with (m; 0 where its grip does not close).
+    pub fn support_width(&self, arm: usize) -> f64 {
+        self.grips.support[arm].as_ref().map_or(0.0, Grip::width)
+    }
+
+    /// The width arm `arm` holds its power grasp with (m; 0 where its grip does not close).
+    pub fn power_width(&self, arm: usize) -> f64 {
+        self.grips.power[arm].as_ref().map_or(0.0, Grip::width)
+    }
+
+    /// The fingers of arm `arm` holding its power grasp.
+    pub fn power_grip(&self, arm: usize) -> GripperState {
+        self.grips.power[arm]
+            .as_ref()
+            .map_or_else(|_| GripperState::fully_closed(), Grip::state)
     }
 
     pub fn arm(&self, i: usize) -> &ArmModel {
@@ -166,7 +183,7 @@ impl<'a> PlanningContext<'a> {
     }
 
     /// Every IK solution of arm `arm` for a world flange pose, within limits, sorted by distance
-    /// to the arm's start, that is collision-free with the gripper closed on the part to `gap`
+    /// to the arm's start, that is collision-free with the gripper closed on the part (`grip`)
     /// at `object` (gripper–part contact allowed) and the other arm at its start configuration —
     /// checked one by one as they are asked for ([`IkSet::free`]).
     pub fn free_ik(
@@ -174,7 +191,7 @@ impl<'a> PlanningContext<'a> {
         arm: usize,
         flange_world: &Isometry3<f64>,
         object: &Isometry3<f64>,
-        gap: f64,
+        grip: GripperState,
     ) -> IkSet {
         let model = self.arm(arm);
         let target = model.base.inverse() * flange_world;
@@ -182,7 +199,7 @@ impl<'a> PlanningContext<'a> {
         IkSet {
             arm,
             object: *object,
-            gap,
+            grip,
             free: solutions.iter().map(|_| OnceLock::new()).collect(),
             solutions,
         }
@@ -197,7 +214,7 @@ impl<'a> PlanningContext<'a> {
 pub struct IkSet {
     arm: usize,
     object: Isometry3<f64>,
-    gap: f64,
+    grip: GripperState,
     solutions: Vec<Joints>,
     free: Vec<OnceLock<bool>>,
 }
@@ -210,8 +227,8 @@ impl IkSet {
             .zip(&self.free)
             .filter(move |(q, free)| {
                 *free.get_or_init(|| {
-                    let moment =
-                        Moment::at_rest(ctx.starts(), self.object).holding(self.arm, **q, self.gap);
+                    let moment = Moment::at_rest(ctx.starts(), self.object)
+                        .holding(self.arm, **q, self.grip);
                     ctx.check_arm(self.arm, &moment).is_ok()
                 })
             })
@@ -262,21 +279,21 @@ pub fn arm_models(scene: &Scene) -> Result<[ArmModel; 2], ContextError> {
     Ok([build(0)?, build(1)?])
 }
 
-/// The widths both grippers close on at G_s (`support`, by the precision point) and at their
+/// How both grippers close on the part at G_s (`support`, by the precision point) and at their
 /// power grasps (`power`, by the power point), from the part's mesh in `world`.
-pub fn grip_widths(
+pub fn grips(
     world: &CollisionWorld,
     support: &Isometry3<f64>,
     power: &[Isometry3<f64>; 2],
-) -> GripWidths {
+) -> Grips {
     let object = world.object().expect("the world has the part");
     let gripper = |arm: usize| &world.arms()[arm].gripper;
-    let measure = |arm: usize, grasp: &Isometry3<f64>, point: Isometry3<f64>| {
-        closing_gap(object, gripper(arm), &(grasp * point.inverse()))
+    let close = |grasp: &Isometry3<f64>, point: Isometry3<f64>| {
+        close_on_part(object, &(grasp * point.inverse()))
     };
-    GripWidths {
-        support: [0, 1].map(|arm| measure(arm, support, gripper(arm).precision_point())),
-        power: [0, 1].map(|arm| measure(arm, &power[arm], gripper(arm).power_point())),
+    Grips {
+        support: [0, 1].map(|arm| close(support, gripper(arm).precision_point())),
+        power: [0, 1].map(|arm| close(&power[arm], gripper(arm).power_point())),
     }
 }
 

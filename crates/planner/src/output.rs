@@ -4,11 +4,11 @@ use std::collections::BTreeMap;
 
 use nalgebra::Isometry3;
 use pregrasp_io::plan_file::{
-    GraspsJson, ObjectJson, PlanFile, PlanJson, PointJson, PoseJson, RobotJson, SceneRef,
-    SegmentJson, PLAN_FORMAT,
+    FingersJson, GraspsJson, ObjectJson, PlanFile, PlanJson, PointJson, PoseJson, RobotJson,
+    SceneRef, SegmentJson, PLAN_FORMAT,
 };
 use pregrasp_io::scene::Scene;
-use pregrasp_robot::{Gripper2F85, Joints, JOINT_NAMES};
+use pregrasp_robot::{Gripper2F85, GripperState, Joints, JOINT_NAMES};
 
 use crate::context::PlanningContext;
 use crate::paths::IntegratedPath;
@@ -76,9 +76,18 @@ fn points(q: &[Joints], t: &[f64]) -> Vec<PointJson> {
         .collect()
 }
 
+/// The fingers of a grip as the plan file records them.
+fn fingers_json(grip: GripperState) -> FingersJson {
+    let f = grip.fingers();
+    FingersJson {
+        driver: f.driver,
+        spring_link: f.spring_link,
+    }
+}
+
 fn reach_segment(
     (name, robot, kind, grasp): (&str, &str, &str, &str),
-    grip_width: f64,
+    (grip_width, grip): (f64, GripperState),
     m: &ReachMotion,
 ) -> SegmentJson {
     SegmentJson {
@@ -89,6 +98,7 @@ fn reach_segment(
         retreat_to: m.retreat_to,
         approach_from: Some(m.approach_from),
         grip_width: Some(grip_width),
+        fingers: Some(fingers_json(grip)),
         points: points(&m.q, &m.t),
     }
 }
@@ -106,18 +116,24 @@ pub fn plan_json(
     let segments = vec![
         reach_segment(
             ("sup1", sup, "reach", "support"),
-            ctx.support_gap(pose.supportive),
+            (
+                ctx.support_width(pose.supportive),
+                ctx.support_grip(pose.supportive),
+            ),
             &path.sup1,
         ),
         rot_segment(ctx, pose, &path.rot),
         reach_segment(
             ("mas1", mas, "reach", "power"),
-            ctx.power_gap(pose.master),
+            (ctx.power_width(pose.master), ctx.power_grip(pose.master)),
             &path.mas1,
         ),
         reach_segment(
             ("sup2", sup, "regrasp", "power"),
-            ctx.power_gap(pose.supportive),
+            (
+                ctx.power_width(pose.supportive),
+                ctx.power_grip(pose.supportive),
+            ),
             &path.sup2,
         ),
     ];
@@ -178,7 +194,8 @@ pub fn rot_segment(
         grasp: "support".to_string(),
         retreat_to: None,
         approach_from: None,
-        grip_width: Some(ctx.support_gap(pose.supportive)),
+        grip_width: Some(ctx.support_width(pose.supportive)),
+        fingers: Some(fingers_json(ctx.support_grip(pose.supportive))),
         points,
     }
 }

@@ -143,7 +143,7 @@ pub fn integrated_path<T, E>(
 
         // μ_mas1 scene: the supportive arm holds the part at P_obj.
         let mas1_scene =
-            Moment::at_rest(starts, pose.p_obj).holding(sup, last, ctx.support_gap(sup));
+            Moment::at_rest(starts, pose.p_obj).holding(sup, last, ctx.support_grip(sup));
 
         'master: for c_ik_p in pose.power_ik[mas].free(ctx).take(MAX_IK_TRIES) {
             let mas1_query = ReachQuery {
@@ -168,11 +168,11 @@ pub fn integrated_path<T, E>(
 
             // μ_sup2 scene: the master holds the part at P_obj.
             let sup2_scene =
-                Moment::at_rest(starts, pose.p_obj).holding(mas, *c_ik_p, ctx.power_gap(mas));
+                Moment::at_rest(starts, pose.p_obj).holding(mas, *c_ik_p, ctx.power_grip(mas));
 
             for goal in pose.power_ik[sup].free(ctx).take(MAX_IK_TRIES) {
                 // Both grippers end closed on the part: the final state must be free.
-                let end = sup2_scene.clone().holding(sup, *goal, ctx.power_gap(sup));
+                let end = sup2_scene.clone().holding(sup, *goal, ctx.power_grip(sup));
                 if let Err(c) = ctx.check(&end) {
                     failure.note(4, format!("μ_sup2: final grasp: {} touches {}", c.a, c.b));
                     continue;

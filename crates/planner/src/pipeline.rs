@@ -160,7 +160,7 @@ pub fn plan(
             .collect();
         h
     };
-    let checker = PlanChecker::sharing_part(&header, mesh, ctx.world.part());
+    let checker = PlanChecker::sharing_part(&header, mesh, ctx.world.part(), Some(&ctx.grips));
     let hold_check = HoldCheck::new(scene, &header, mesh);
     let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose| {
         // The grip check reads μ_rot alone: Algorithm 3 asks it once a candidate's straight
@@ -418,7 +418,7 @@ fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) -> String {
             GraspNearAxis { .. } => 0,
             CannotClose { support: false, .. } => 1,
             DummiesNeverClear { .. } => 2,
-            CannotClose { support: true, .. } => 3,
+            CannotClose { support: true, .. } | SupportClosingMeetsSupport { .. } => 3,
             PowerGraspUnreachable { .. } | SupportGraspUnreachable { .. } => 4,
         };
         let furthest = rejections.iter().map(|r| stage(r)).max().unwrap_or(0);
@@ -441,7 +441,9 @@ fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) -> String {
         return match furthest {
             0 => "no candidate: every power grasp within Δd_a of every axis".to_string(),
             1 | 3 => format!("grasp: {}", at[0].describe(&ctx.names)),
-            2 => "Algorithm 2: the gripper dummies never clear the support within θ_max".to_string(),
+            2 => "Algorithm 2: the gripper dummies (housing and closing fingers) never clear the \
+                  support within θ_max"
+                .to_string(),
             _ if at.iter().all(|r| matches!(r, SupportGraspUnreachable { .. })) => {
                 format!("IK: support grasp unreachable for arm {} at every P_obj", arms(true))
             }

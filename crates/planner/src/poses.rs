@@ -53,6 +53,9 @@ pub enum PoseRejection {
     PowerGraspUnreachable { arm: usize },
     /// No collision-free IK solution for the supportive arm at G_s at P_obj.
     SupportGraspUnreachable { arm: usize },
+    /// The fingers of the supportive arm, closing on G_s at P_init, come within the
+    /// finger–support clearance of the support (`height` above it, m).
+    SupportClosingMeetsSupport { arm: usize, height: f64 },
     /// The gripper of `arm` cannot close on the part at a grasp (`support`: G_s, else its
     /// power grasp).
     CannotClose {
@@ -71,7 +74,7 @@ impl PoseRejection {
                 names[*arm], distance
             ),
             PoseRejection::DummiesNeverClear { theta_max } => format!(
-                "gripper dummies do not clear the support within θ_max = {:.1}°",
+                "gripper dummies (housing and closing fingers) do not clear the support within θ_max = {:.1}°",
                 theta_max.to_degrees()
             ),
             PoseRejection::PowerGraspUnreachable { arm } => {
@@ -86,6 +89,20 @@ impl PoseRejection {
                     names[*arm]
                 )
             }
+            PoseRejection::SupportClosingMeetsSupport { arm, height } if *height < 0.0 => {
+                format!(
+                    "support grasp of arm {}: its closing fingers reach {:.1} mm into the support \
+                     at P_init",
+                    names[*arm],
+                    -height * 1e3
+                )
+            }
+            PoseRejection::SupportClosingMeetsSupport { arm, height } => format!(
+                "support grasp of arm {}: its closing fingers come within {:.1} mm of the support \
+                 at P_init",
+                names[*arm],
+                height * 1e3
+            ),
             PoseRejection::CannotClose {
                 arm,
                 support,
@@ -132,27 +149,30 @@ pub fn object_pose_for_power_grasp(
     }
 
     // Both power grasps must close on the part (a property of the grasps and the mesh).
-    for (arm, gap) in ctx.grips.power.iter().enumerate() {
-        if let Err(failure) = gap {
-            return Err(PoseRejection::CannotClose {
-                arm,
-                support: false,
-                failure: *failure,
-            });
+    let mut power_grips = Vec::with_capacity(2);
+    for (arm, grip) in ctx.grips.power.iter().enumerate() {
+        match grip {
+            Ok(grip) => power_grips.push(grip),
+            Err(failure) => {
+                return Err(PoseRejection::CannotClose {
+                    arm,
+                    support: false,
+                    failure: *failure,
+                })
+            }
         }
     }
 
     // RotObjDummy: rotate part + dummies in steps of Δφ until the dummies clear the support,
     // then n_ext further steps that must stay clear.
-    // The dummy is the open gripper of the paper plus the same gripper closed on the part at
-    // the width it grasps: the pads go deeper as the fingers close. Both are grasping (they
-    // close on the part there), so they keep the finger–support clearance.
-    let dummy_shapes: [Vec<_>; 2] = [0, 1].map(|arm| {
+    // The dummy is the gripper's housing plus its fingers in every pose they pass through
+    // while closing on the part there (the adaptive closing: the finger tips may curl under a
+    // bar and rise again, so the deepest pose need not be the last). They are grasping, so they
+    // keep the finger–support clearance.
+    let housing: [Vec<_>; 2] = [0, 1].map(|arm| {
         let g = &ctx.arm(arm).gripper;
         let mut shapes = g.shapes(GripperState::Open);
-        shapes.extend(g.shapes(GripperState::Closed {
-            gap: ctx.power_gap(arm),
-        }));
+        shapes.truncate(g.static_count());
         shapes
     });
     let clearance = params.finger_support_clearance + FINE_PLANNING_MARGIN;
@@ -160,7 +180,8 @@ pub fn object_pose_for_power_grasp(
         let pose = candidate.rotated_pose(&ctx.p_init, theta);
         (0..2).all(|arm| {
             let flange = pose * grasps.power[arm] * ctx.arm(arm).gripper.power_point().inverse();
-            lowest_point(&dummy_shapes[arm], &flange) > ctx.scene.support_height + clearance
+            let low = lowest_point(&housing[arm], &flange).min(power_grips[arm].lowest(&flange));
+            low > ctx.scene.support_height + clearance
         })
     };
     let step = params.step;
@@ -197,7 +218,7 @@ pub fn object_pose_for_power_grasp(
     // gripper closed on the part (contact with the part allowed).
     let power_ik = [0, 1].map(|arm| {
         let tool = p_obj * grasps.power[arm] * ctx.arm(arm).gripper.power_point().inverse();
-        ctx.free_ik(arm, &tool, &p_obj, ctx.power_gap(arm))
+        ctx.free_ik(arm, &tool, &p_obj, ctx.power_grip(arm))
     });
     for (arm, solutions) in power_ik.iter().enumerate() {
         if solutions.none_free(ctx) {
@@ -205,15 +226,29 @@ pub fn object_pose_for_power_grasp(
         }
     }
     // IKSolSup: the supportive arm's precision point at G_s on the part at P_obj.
-    if let Err(failure) = ctx.grips.support[supportive] {
-        return Err(PoseRejection::CannotClose {
+    let support_grip = match &ctx.grips.support[supportive] {
+        Ok(grip) => grip,
+        Err(failure) => {
+            return Err(PoseRejection::CannotClose {
+                arm: supportive,
+                support: true,
+                failure: *failure,
+            })
+        }
+    };
+    // The support grasp closes at P_init, where the part lies on the support: its fingers keep
+    // the finger–support clearance in every pose of the closing.
+    let flange =
+        ctx.p_init * grasps.support * ctx.arm(supportive).gripper.precision_point().inverse();
+    let above = support_grip.lowest(&flange) - ctx.scene.support_height;
+    if above <= clearance {
+        return Err(PoseRejection::SupportClosingMeetsSupport {
             arm: supportive,
-            support: true,
-            failure,
+            height: above,
         });
     }
     let tool = p_obj * grasps.support * ctx.arm(supportive).gripper.precision_point().inverse();
-    let support_ik = ctx.free_ik(supportive, &tool, &p_obj, ctx.support_gap(supportive));
+    let support_ik = ctx.free_ik(supportive, &tool, &p_obj, ctx.support_grip(supportive));
     if support_ik.none_free(ctx) {
         return Err(PoseRejection::SupportGraspUnreachable { arm: supportive });
     }

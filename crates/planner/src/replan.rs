@@ -215,9 +215,18 @@ pub fn replan_from_rot(
     let mut moved = scene.clone();
     moved.object.pose = object_pose;
     let arms = arm_models(&moved)?;
-    moved.grasps.support = moved.initial_object_pose().inverse()
+    let held = moved.initial_object_pose().inverse()
         * arms[sup].flange_world(&q_sup)
         * arms[sup].gripper.precision_point();
+    // The grasp the fingers hold, unless it is the planned one but for round-off (FK of the
+    // planned joints gives it back within 1e-15): then the planned one, so that an unchanged
+    // pose replans the nominal plan exactly.
+    let round_off = (held.translation.vector - moved.grasps.support.translation.vector).norm()
+        < 1e-9
+        && held.rotation.angle_to(&moved.grasps.support.rotation) < 1e-9;
+    if !round_off {
+        moved.grasps.support = held;
+    }
 
     let matched = candidate_at(&moved, mesh, nominal, plan_index);
     let options = PlanOptions {

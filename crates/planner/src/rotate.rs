@@ -79,7 +79,7 @@ pub fn rotation_moment(
     Moment::at_rest(ctx.starts(), object).holding(
         pose.supportive,
         q,
-        ctx.support_gap(pose.supportive),
+        ctx.support_grip(pose.supportive),
     )
 }
 

@@ -58,11 +58,11 @@ impl Moment {
         }
     }
 
-    /// The same moment with arm `arm` at `q` holding the part: gripper closed on it at `gap`
-    /// (the width it holds, m), contact between that gripper and the part allowed.
-    pub fn holding(mut self, arm: usize, q: Joints, gap: f64) -> Moment {
+    /// The same moment with arm `arm` at `q` holding the part: gripper closed on it (`grip`,
+    /// where its closing stopped), contact between that gripper and the part allowed.
+    pub fn holding(mut self, arm: usize, q: Joints, grip: GripperState) -> Moment {
         self.q[arm] = q;
-        self.gripper[arm] = GripperState::Closed { gap };
+        self.gripper[arm] = grip;
         self.contact_allowed[arm] = true;
         self
     }

@@ -61,6 +61,12 @@ pub trait ClosingWorld {
     /// the `+x` finger, `−1.0` its mirror image) touches with its frame at `pose` (in the
     /// finger plane of G; [`PlanarPose::to_isometry`] gives the 3-D frame).
     fn touch(&self, side: f64, link: usize, pose: &PlanarPose) -> Touch;
+
+    /// Whether the world has a support at all (without one, a finger's first touch of the
+    /// part decides what it touches and the links after it need not be asked).
+    fn has_support(&self) -> bool {
+        true
+    }
 }
 
 /// How a finger's closing ended.
@@ -107,10 +113,12 @@ fn touches(
     cfg: &FingerConfig,
 ) -> LinkTouch {
     let frames = cfg.link_frames(linkage);
+    let support = world.has_support();
     let mut part = None;
     for (link, frame) in frames.iter().enumerate() {
         match world.touch(side, link, frame) {
             Touch::Support => return Some((link, Touch::Support)),
+            Touch::Part if !support => return Some((link, Touch::Part)),
             Touch::Part if part.is_none() => part = Some((link, Touch::Part)),
             _ => {}
         }
@@ -261,14 +269,20 @@ fn note(result: &mut FingerClosing, touch: LinkTouch) {
     }
 }
 
-/// Moves both fingers to the poses of a step in which both moved.
-fn take(steps: [Step; 2], at: &mut [FingerConfig; 2], result: &mut [FingerClosing; 2]) {
+/// Moves both fingers to the poses of a step in which both moved, and reports them.
+fn take(
+    steps: [Step; 2],
+    at: &mut [FingerConfig; 2],
+    result: &mut [FingerClosing; 2],
+    trace: &mut dyn FnMut(&[FingerConfig; 2]),
+) {
     for (k, s) in steps.into_iter().enumerate() {
         if let Step::Moved(cfg, bound) = s {
             note(&mut result[k], bound);
             at[k] = cfg;
         }
     }
+    trace(at);
 }
 
 /// Closes both fingers from fully open (`[+x, −x]`). The two drivers turn together (the
@@ -277,6 +291,16 @@ fn take(steps: [Step; 2], at: &mut [FingerConfig; 2], result: &mut [FingerClosin
 /// a finger is blocked or touches the support, a finger reaches the middle, or the drivers
 /// their limit; the stop is refined by bisection to [`DRIVER_TOLERANCE`].
 pub fn close_fingers(world: &dyn ClosingWorld, linkage: &FingerLinkage) -> [FingerClosing; 2] {
+    close_fingers_traced(world, linkage, &mut |_| {})
+}
+
+/// [`close_fingers`], reporting to `trace` every pose `[+x, −x]` the fingers pass through, from
+/// the open one to the last: what the support must clear is all of them, not only the last.
+pub fn close_fingers_traced(
+    world: &dyn ClosingWorld,
+    linkage: &FingerLinkage,
+    trace: &mut dyn FnMut(&[FingerConfig; 2]),
+) -> [FingerClosing; 2] {
     const SIDES: [f64; 2] = [1.0, -1.0];
     let (lo, hi) = linkage.limits.driver;
     let open = linkage.parallel(lo).expect("the open finger assembles");
@@ -299,6 +323,7 @@ pub fn close_fingers(world: &dyn ClosingWorld, linkage: &FingerLinkage) -> [Fing
             }
         }
     }
+    trace(&[open; 2]);
     if stuck_open {
         return result;
     }
@@ -318,7 +343,7 @@ pub fn close_fingers(world: &dyn ClosingWorld, linkage: &FingerLinkage) -> [Fing
         }
         let steps = both(&at, next, &result);
         if moved(&steps) {
-            take(steps, &mut at, &mut result);
+            take(steps, &mut at, &mut result, trace);
             continue;
         }
         // The stop lies in (driver, next]: bisect it.
@@ -327,7 +352,7 @@ pub fn close_fingers(world: &dyn ClosingWorld, linkage: &FingerLinkage) -> [Fing
             let mid = 0.5 * (at[0].driver + blocked);
             let steps = both(&at, mid, &result);
             if moved(&steps) {
-                take(steps, &mut at, &mut result);
+                take(steps, &mut at, &mut result, trace);
             } else {
                 (blocked, why) = (mid, steps);
             }

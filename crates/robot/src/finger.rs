@@ -30,7 +30,7 @@ pub struct BoxJson {
 
 /// The box about `y` of least area in the `x-z` plane that holds `points`, tried at every
 /// degree; replaces `aabb` only where it is at least 15 % smaller (slanted knuckle links).
-fn tighter_box(aabb: BoxJson, points: &[[f64; 3]]) -> BoxJson {
+pub(crate) fn tighter_box(aabb: BoxJson, points: &[[f64; 3]]) -> BoxJson {
     if points.is_empty() {
         return aabb;
     }

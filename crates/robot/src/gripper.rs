@@ -1,18 +1,20 @@
-//! Robotiq 2F-85 gripper on the flange: tool points and collision boxes at any opening.
+//! Robotiq 2F-85 gripper on the flange: tool points and collision shapes in any finger state.
 //!
 //! Gripper frame G = flange frame (tool0): z is the approach direction, x the closing axis
 //! (pads at ±x), y the finger-width direction. The housing and coupling never move; the
-//! fingers follow [`FingerKinematics`]: a gripper *open* has its pads 85.2 mm apart, a gripper
-//! *closed* on a part has them at the width it closed on (measured from the part's mesh by the
-//! collision crate), with the pads where the real linkage puts them at that width — from
-//! 141.6 mm (open) to 154.7 mm (closed) from the flange.
+//! fingers are the underactuated linkage of [`crate::FingerLinkage`] in the state
+//! [`FingerPair`]: *open*, the pads 85.4 mm apart; *closed* on a part, where the closing of
+//! [`crate::close_fingers`] left them (parallel for a pinch, curled around a bar for an
+//! encompassing power grasp).
 //!
-//! The boxes enclose the description meshes with no margin: clearances are the planner's and
-//! the checker's (`[planner]` keys), not part of the shapes.
+//! Each finger link is a box holding its convex pieces ([`FingerSolids`]); the pieces are the
+//! exact tier the collision crate tests where a box comes close. Neither has a margin:
+//! clearances are the planner's and the checker's (`[planner]` keys), not part of the shapes.
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
-use crate::finger::{BoxJson, FingerKinematics, FingerPose};
+use crate::finger::{BoxJson, FingerKinematics};
+use crate::fingers::{FingerPair, FingerSolids, FINGER_SHAPES, LINKS_PER_FINGER};
 use crate::links::{ArmGeometry, LinkShape, Primitive};
 
 /// Frame index of the gripper shapes (the flange, DH frame 6).
@@ -21,28 +23,48 @@ pub const GRIPPER_FRAME: usize = 6;
 /// Finger state of the gripper.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum GripperState {
-    /// Fingers fully open (85.2 mm between the pads).
+    /// Fingers fully open (the driver at its lower limit, pads 85.4 mm apart).
     Open,
-    /// Fingers closed to `gap` (m) between the pad faces: on a part, the width it closes on;
-    /// `0.0` fully closed.
-    Closed { gap: f64 },
+    /// Fingers closed to `FingerPair`: on a part, where its closing stopped.
+    Closed(FingerPair),
 }
 
 impl GripperState {
-    /// Fully closed, pads touching.
-    pub const FULLY_CLOSED: GripperState = GripperState::Closed { gap: 0.0 };
+    /// Parallel fingers with their pad faces `gap` (m) apart.
+    pub fn at_gap(gap: f64) -> GripperState {
+        GripperState::Closed(FingerPair::at_gap(gap))
+    }
 
-    /// The gap between the pad faces in this state (m).
-    pub fn gap(&self) -> f64 {
+    /// Fully closed in the parallel mode (pads touching).
+    pub fn fully_closed() -> GripperState {
+        static CLOSED: std::sync::OnceLock<GripperState> = std::sync::OnceLock::new();
+        *CLOSED.get_or_init(|| GripperState::at_gap(0.0))
+    }
+
+    /// The fingers' joint state.
+    pub fn fingers(&self) -> FingerPair {
         match self {
-            GripperState::Open => FingerKinematics::robotiq_2f85().stroke(),
-            GripperState::Closed { gap } => *gap,
+            GripperState::Open => FingerPair::open(),
+            GripperState::Closed(pair) => *pair,
         }
+    }
+
+    /// The gap between the pad faces' centres in this state (m).
+    pub fn gap(&self) -> f64 {
+        self.fingers().gap()
     }
 
     /// Whether the fingers are closed (on a part or fully).
     pub fn is_closed(&self) -> bool {
-        matches!(self, GripperState::Closed { .. })
+        matches!(self, GripperState::Closed(_))
+    }
+
+    /// Bits identifying the state, for caches (`Open` is its own key).
+    pub fn key(&self) -> [u64; 3] {
+        match self {
+            GripperState::Open => [u64::MAX; 3],
+            GripperState::Closed(pair) => pair.key(),
+        }
     }
 }
 
@@ -90,31 +112,28 @@ fn shape_names() -> &'static [&'static str] {
                 &*Box::leak(name.into_boxed_str())
             })
             .collect();
-        for side in ["left", "right"] {
-            for l in &fk.links {
-                names.push(Box::leak(
-                    format!("gripper_{}_{side}", l.name).into_boxed_str(),
-                ));
-            }
+        let solids = FingerSolids::robotiq_2f85();
+        for (k, solid) in solids.links.iter().enumerate() {
+            let side = if k < LINKS_PER_FINGER {
+                "left"
+            } else {
+                "right"
+            };
+            names.push(Box::leak(
+                format!("gripper_{}_{side}", solid.name).into_boxed_str(),
+            ));
         }
         names
     })
 }
 
-/// The box `b` of a link whose frame is at `pose`; `mirror`: the link is the mirror image
-/// `x → −x` of the one `b` was measured on (centre `x` and the box's `y` rotation negate).
-fn cuboid(pose: Isometry3<f64>, b: &BoxJson, mirror: bool) -> Primitive {
-    let c = Vector3::from(b.center);
-    let (c, angle) = if mirror {
-        (Vector3::new(-c.x, c.y, c.z), -b.angle)
-    } else {
-        (c, b.angle)
-    };
+/// The box `b` (in the frame `pose` places) as a primitive.
+fn cuboid(pose: Isometry3<f64>, b: &BoxJson) -> Primitive {
     Primitive::Cuboid {
         pose: pose
             * Isometry3::from_parts(
-                Translation3::from(c),
-                UnitQuaternion::from_axis_angle(&Vector3::y_axis(), angle),
+                Translation3::from(Vector3::from(b.center)),
+                UnitQuaternion::from_axis_angle(&Vector3::y_axis(), b.angle),
             ),
         half_extents: Vector3::from(b.half),
     }
@@ -131,19 +150,28 @@ impl Gripper2F85 {
         on_z(self.power_point_z)
     }
 
-    /// The finger linkage of the 2F-85.
-    pub fn fingers(&self) -> &'static FingerKinematics {
-        FingerKinematics::robotiq_2f85()
-    }
-
-    /// Where the fingers are in `state`.
-    pub fn finger_pose(&self, state: GripperState) -> FingerPose {
-        self.fingers().at(state.gap())
+    /// The finger links as solids (boxes and convex pieces in their link frames).
+    pub fn finger_solids(&self) -> &'static FingerSolids {
+        FingerSolids::robotiq_2f85()
     }
 
     /// Number of collision shapes (the same in every state).
     pub fn shape_count(&self) -> usize {
         shape_names().len()
+    }
+
+    /// Number of static shapes (housing, coupling), listed before the finger links.
+    pub fn static_count(&self) -> usize {
+        self.shape_count() - FINGER_SHAPES
+    }
+
+    /// The frame in G of every shape in `state` ([`for_each_shape`](Self::for_each_shape)
+    /// order): the flange frame for the static shapes, the link frame for the finger links
+    /// (in which their pieces are given).
+    pub fn shape_frames(&self, state: GripperState) -> Vec<Isometry3<f64>> {
+        let mut frames = vec![Isometry3::identity(); self.static_count()];
+        frames.extend(state.fingers().link_frames());
+        frames
     }
 
     /// Calls `f(index, name, primitive)` for every collision shape in `state`, in the flange
@@ -153,41 +181,46 @@ impl Gripper2F85 {
         state: GripperState,
         mut f: impl FnMut(usize, &'static str, Primitive),
     ) {
-        let fk = self.fingers();
+        let fk = FingerKinematics::robotiq_2f85();
         let names = shape_names();
         let mut k = 0;
         for (_, b) in &fk.statics {
-            f(k, names[k], cuboid(Isometry3::identity(), b, false));
+            f(k, names[k], cuboid(Isometry3::identity(), b));
             k += 1;
         }
-        let pose = fk.at(state.gap());
-        for side in [-1.0, 1.0] {
-            for (i, link) in fk.links.iter().enumerate() {
-                f(
-                    k,
-                    names[k],
-                    cuboid(pose.link_pose(i, side), &link.bounds, side < 0.0),
-                );
-                k += 1;
-            }
+        let frames = state.fingers().link_frames();
+        for (frame, solid) in frames.iter().zip(&self.finger_solids().links) {
+            f(k, names[k], cuboid(*frame, &solid.bounds));
+            k += 1;
         }
     }
 
-    /// Indices (into [`for_each_shape`](Self::for_each_shape)'s order) of the shapes that close
-    /// on a part: the pads and the finger tips that carry them, both sides.
-    pub fn contact_shapes(&self) -> Vec<usize> {
-        let fk = self.fingers();
-        let n_static = fk.statics.len();
-        let n_links = fk.links.len();
-        let mut out = Vec::new();
-        for side in 0..2 {
-            for (i, l) in fk.links.iter().enumerate() {
-                if l.name == "pad" || l.name == "finger_tip" {
-                    out.push(n_static + side * n_links + i);
+    /// Finger states covering every pose the fingers can take (parallel at 33 driver angles,
+    /// and the spring link held anywhere below its free angle while the driver turns on),
+    /// for bounds that must hold in any state (sweep radii, the gripper's bounding sphere).
+    pub fn sample_states(&self) -> Vec<GripperState> {
+        let l = crate::fingers::linkage();
+        let (lo, hi) = l.limits.driver;
+        let (s_lo, _) = l.limits.spring_link;
+        let mut states = vec![GripperState::Open];
+        for i in 0..=32 {
+            let driver = lo + (hi - lo) * i as f64 / 32.0;
+            let free = FingerPair::parallel(driver);
+            states.push(GripperState::Closed(free));
+            for j in 0..8 {
+                let spring = s_lo + (free.spring_link[0] - s_lo) * j as f64 / 8.0;
+                let valid = l
+                    .assemble(driver, spring)
+                    .is_some_and(|c| l.within_limits(&c, 1e-9));
+                if valid {
+                    states.push(GripperState::Closed(FingerPair {
+                        driver,
+                        spring_link: [spring; 2],
+                    }));
                 }
             }
         }
-        out
+        states
     }
 
     /// Collision shapes in the flange frame (`frame` = 6), named "gripper_*".

@@ -9,6 +9,7 @@
 mod angle;
 mod closing;
 mod finger;
+mod fingers;
 mod fk;
 mod gripper;
 mod ik;
@@ -18,10 +19,13 @@ mod model;
 
 pub use angle::{atan2, wrap_angle};
 pub use closing::{
-    close_fingers, ClosingKind, ClosingWorld, FingerClosing, Touch, COUPLER, DRIVER, DRIVER_STEP,
-    DRIVER_TOLERANCE, FOLLOWER, PAD, SPRING_LINK,
+    close_fingers, close_fingers_traced, ClosingKind, ClosingWorld, FingerClosing, Touch, COUPLER,
+    DRIVER, DRIVER_STEP, DRIVER_TOLERANCE, FOLLOWER, PAD, SPRING_LINK,
 };
 pub use finger::{BoxJson, FingerKinematics, FingerLink, FingerPose};
+pub use fingers::{
+    linkage, FingerPair, FingerSolid, FingerSolids, FINGER_SHAPES, LINKS_PER_FINGER, SIDES,
+};
 pub use fk::UrKinematics;
 pub use gripper::{Gripper2F85, GripperState, GRIPPER_FRAME};
 pub use ik::{joint_distance, IkSolutions, IK_RESIDUAL_TOL};

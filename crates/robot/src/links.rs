@@ -20,7 +20,7 @@
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 
-use crate::gripper::{Gripper2F85, GripperState};
+use crate::gripper::Gripper2F85;
 use crate::model::{Joints, UrModel};
 
 /// A capsule: the points within `radius` of the segment `a`–`b` (a sphere when `a == b`).
@@ -503,16 +503,13 @@ fn compute_group_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> GroupRadi
         let r = shape.primitive.max_origin_distance() + shape.pieces.map_or(0.0, |p| p.slack);
         reach_in_group[shape.frame] = reach_in_group[shape.frame].max(r);
     }
-    // Every opening (the fingers move on arcs: an intermediate gap may reach farthest).
-    let stroke = gripper.fingers().stroke();
-    let states = (0..=32).map(|k| GripperState::Closed {
-        gap: stroke * k as f64 / 32.0,
-    });
+    // Every finger pose (the fingers move on arcs: an intermediate one may reach farthest).
+    let states = gripper.sample_states();
     let mut reach_gripper = gripper
         .precision_point_z
         .abs()
         .max(gripper.power_point_z.abs());
-    for state in states.chain([GripperState::Open]) {
+    for state in states {
         for shape in gripper.shapes(state) {
             let r = shape.primitive.max_origin_distance() + shape.pieces.map_or(0.0, |p| p.slack);
             reach_gripper = reach_gripper.max(r);

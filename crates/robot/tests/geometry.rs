@@ -9,7 +9,7 @@ use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::shape::{Capsule as PCapsule, Cuboid};
 use pregrasp_robot::{
     arm_geometry, fitted_links_of, flange_sweep_radii, group_sweep_radii, joint_sweep_radii,
-    Gripper2F85, GripperState, Joints, Primitive, UrKinematics, UrModel,
+    linkage, FingerPair, Gripper2F85, GripperState, Joints, Primitive, UrKinematics, UrModel,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -264,7 +264,7 @@ fn base_is_a_round_foot() {
 /// 0.5 mm, and their contact faces are half the gap from the axis.
 #[test]
 fn pads_follow_the_menagerie_linkage() {
-    let fingers = Gripper2F85::default().fingers();
+    let l = linkage();
     for (gap, z) in [
         (0.0852, 0.1416),
         (0.0700, 0.1467),
@@ -272,48 +272,63 @@ fn pads_follow_the_menagerie_linkage() {
         (0.0356, 0.1534),
         (0.0172, 0.1547),
     ] {
-        let pose = fingers.at(gap);
+        let pair = FingerPair::at_gap(gap);
+        let [right, left] = pair.configs();
+        let c = right.pad_center(l);
         assert!(
-            (pose.pad_center_z - z).abs() < 5e-4,
+            (c.y - z).abs() < 5e-4,
             "gap {gap}: pad centre {} vs {z}",
-            pose.pad_center_z
+            c.y
         );
-        if gap <= fingers.stroke() {
-            assert!((pose.pad_face_x - gap / 2.0).abs() < 1e-4, "gap {gap}");
-        }
+        assert!((pair.gap() - gap).abs() < 1e-6, "gap {gap}: {}", pair.gap());
+        assert!((c.x - gap / 2.0).abs() < 1e-6, "gap {gap}");
+        assert_eq!(left, right, "the fingers are mirror images");
     }
-    // Fingertips: 160.3 mm open, 173.5 mm closed (menagerie), within 0.5 mm.
-    assert!((fingers.at(1.0).tip_z - 0.1603).abs() < 5e-4);
-    assert!((fingers.at(0.0).tip_z - 0.1735).abs() < 5e-4);
+    // Pad tips: 160.2 mm open, 173.5 mm closed (menagerie), within 0.5 mm.
+    let tip = |pair: FingerPair| pair.configs()[0].pad_tip(l).y;
+    assert!((tip(FingerPair::open()) - 0.1602).abs() < 5e-4);
+    assert!((tip(FingerPair::at_gap(0.0)) - 0.1735).abs() < 5e-4);
 }
 
-/// The deepest point of the finger shapes is the fingertip of the table, at every gap: the
-/// boxes reach no deeper than the real finger.
+/// The finger boxes hold their convex pieces in every state the fingers can take (parallel
+/// and curled), and fit them open (3 mm at most deeper; the pieces, not the boxes, decide
+/// contacts).
 #[test]
-fn finger_boxes_end_at_the_fingertips() {
+fn finger_boxes_hold_their_pieces_and_no_more() {
     let g = Gripper2F85::default();
-    for k in 0..=20 {
-        let gap = 0.0852 * k as f64 / 20.0;
-        let state = GripperState::Closed { gap };
-        let deepest = g
-            .shapes(state)
-            .iter()
-            .map(|s| match s.primitive {
-                Primitive::Cuboid { pose, half_extents } => {
-                    let m = pose.rotation.to_rotation_matrix();
-                    pose.translation.z
-                        + (0..3)
-                            .map(|i| m[(2, i)].abs() * half_extents[i])
-                            .sum::<f64>()
-                }
-                _ => unreachable!("gripper shapes are boxes"),
-            })
-            .fold(f64::NEG_INFINITY, f64::max);
-        let tip = g.finger_pose(state).tip_z;
-        assert!(
-            (deepest - tip).abs() < 1.5e-3,
-            "gap {gap}: shapes reach {deepest}, fingertip {tip}"
-        );
+    let solids = g.finger_solids();
+    let n_static = g.static_count();
+    for state in g.sample_states() {
+        let frames = g.shape_frames(state);
+        let shapes = g.shapes(state);
+        for (k, solid) in solids.links.iter().enumerate() {
+            let shape = &shapes[n_static + k];
+            let frame = frames[n_static + k];
+            let Primitive::Cuboid { pose, half_extents } = shape.primitive else {
+                unreachable!("finger shapes are boxes")
+            };
+            let mut deepest_piece = f64::NEG_INFINITY;
+            for v in solid.pieces.pieces.iter().flatten() {
+                let p = frame * v;
+                let local = pose.inverse() * p;
+                assert!(
+                    (0..3).all(|i| local[i].abs() <= half_extents[i] + 1e-9),
+                    "{}: a piece vertex outside its box",
+                    shape.name
+                );
+                deepest_piece = deepest_piece.max(p.z);
+            }
+            let m = pose.rotation.to_rotation_matrix();
+            let deepest_box = pose.translation.z
+                + (0..3)
+                    .map(|i| m[(2, i)].abs() * half_extents[i])
+                    .sum::<f64>();
+            assert!(
+                state != GripperState::Open || deepest_box - deepest_piece < 3e-3,
+                "{}: box {deepest_box}, pieces {deepest_piece}",
+                shape.name
+            );
+        }
     }
 }
 
@@ -326,14 +341,11 @@ fn open_gripper_leaves_the_85mm_stroke_free() {
         .all(|s| s.name.starts_with("gripper_") && s.frame == 6));
     // The volume swept by the pads: between the open pad faces, the 22 mm pad width, the pad
     // z span (37.5 mm centred on the open pad centre).
-    let at_open = g.finger_pose(GripperState::Open);
+    let pad = FingerPair::open().configs()[0].pad_center(linkage());
     let stroke = (
-        Isometry3::translation(0.0, 0.0, at_open.pad_center_z),
-        Box::new(Cuboid::new(Vector3::new(
-            at_open.pad_face_x - 1e-4,
-            0.011,
-            0.0185,
-        ))) as Box<dyn parry3d_f64::shape::Shape>,
+        Isometry3::translation(0.0, 0.0, pad.y),
+        Box::new(Cuboid::new(Vector3::new(pad.x - 1e-4, 0.011, 0.0185)))
+            as Box<dyn parry3d_f64::shape::Shape>,
     );
     for s in &open {
         assert!(
@@ -352,7 +364,7 @@ fn open_gripper_leaves_the_85mm_stroke_free() {
         .iter()
         .any(|s| intersects(&placed(s, &Isometry3::identity()), &outside)));
     // Closed, the same pad volume is occupied.
-    let closed = g.shapes(GripperState::FULLY_CLOSED);
+    let closed = g.shapes(GripperState::fully_closed());
     assert!(closed
         .iter()
         .any(|s| intersects(&placed(s, &Isometry3::identity()), &stroke)));
@@ -400,8 +412,8 @@ fn self_collisions(model: UrModel, q: &Joints) -> Vec<(&'static str, &'static st
     }
     for state in [
         GripperState::Open,
-        GripperState::Closed { gap: 0.03 },
-        GripperState::FULLY_CLOSED,
+        GripperState::at_gap(0.03),
+        GripperState::fully_closed(),
     ] {
         for gs in Gripper2F85::default().shapes(state) {
             let pg = placed(&gs, &frames[6]);
@@ -521,7 +533,7 @@ fn sweep_radii_bound_point_displacement() {
         for s in g
             .shapes(GripperState::Open)
             .into_iter()
-            .chain(g.shapes(GripperState::FULLY_CLOSED))
+            .chain(g.shapes(GripperState::fully_closed()))
         {
             if let Primitive::Cuboid {
                 pose,

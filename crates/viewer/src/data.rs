@@ -229,15 +229,15 @@ fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
     }
     let gripper = gripper_of(robot);
     let shapes = |state| gripper.shapes(state).iter().map(ShapeJson::from).collect();
-    // The widths this robot closes on, as the plans record them.
-    let width = |grasp: &str| {
+    // The fingers this robot holds the part with, as the plans record them.
+    let held = |grasp: &str| {
         plan.plans
             .iter()
             .flat_map(|p| &p.segments)
             .filter(|s| s.robot == robot.name && s.grasp == grasp)
-            .find_map(|s| s.grip_width)
+            .find_map(|s| s.held_fingers())
     };
-    let closed_at = |grasp: &str| width(grasp).map(|gap| shapes(GripperState::Closed { gap }));
+    let closed_at = |grasp: &str| held(grasp).map(shapes);
     let kin = UrKinematics::new(model);
     RobotModelJson {
         name: robot.name.clone(),
@@ -251,7 +251,7 @@ fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
             .collect(),
         gripper: GripperShapesJson {
             open: shapes(GripperState::Open),
-            closed: shapes(GripperState::FULLY_CLOSED),
+            closed: shapes(GripperState::fully_closed()),
             closed_precision: closed_at("support"),
             closed_power: closed_at("power"),
         },

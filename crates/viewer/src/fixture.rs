@@ -383,6 +383,7 @@ fn build_plan(s: &Setup, cand: &CandidateJson, theta_goal: f64) -> Result<PlanJs
                 retreat_to,
                 approach_from,
                 grip_width: None,
+                fingers: None,
                 points,
             }
         };
