@@ -441,9 +441,15 @@ fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) -> String {
         return match furthest {
             0 => "no candidate: every power grasp within Δd_a of every axis".to_string(),
             1 | 3 => format!("grasp: {}", at[0].describe(&ctx.names)),
-            2 => "Algorithm 2: the gripper dummies (housing and closing fingers) never clear the \
-                  support within θ_max"
-                .to_string(),
+            2 if at
+                .iter()
+                .all(|r| matches!(r, DummiesNeverClear { fingers: true, .. })) =>
+            {
+                "Algorithm 2: the power grasps' closing fingers reach the support at every angle \
+                 up to θ_max"
+                    .to_string()
+            }
+            2 => "Algorithm 2: the gripper dummies never clear the support within θ_max".to_string(),
             _ if at.iter().all(|r| matches!(r, SupportGraspUnreachable { .. })) => {
                 format!("IK: support grasp unreachable for arm {} at every P_obj", arms(true))
             }

@@ -47,8 +47,10 @@ pub struct PowerGraspPose {
 pub enum PoseRejection {
     /// A power grasp lies within Δd_a of the axis line.
     GraspNearAxis { arm: usize, distance: f64 },
-    /// The dummies still touch the support at θ_max (or the n_ext extra steps do not fit).
-    DummiesNeverClear { theta_max: f64 },
+    /// The dummies still touch the support at θ_max (or the n_ext extra steps do not fit);
+    /// `fingers`: at the last angle tried it is the closing fingers, not the housing, that
+    /// reach the support.
+    DummiesNeverClear { theta_max: f64, fingers: bool },
     /// No collision-free IK solution for `arm` at its power grasp at P_obj.
     PowerGraspUnreachable { arm: usize },
     /// No collision-free IK solution for the supportive arm at G_s at P_obj.
@@ -73,8 +75,19 @@ impl PoseRejection {
                 "power grasp of arm {} is {:.3} m from the axis, within Δd_a",
                 names[*arm], distance
             ),
-            PoseRejection::DummiesNeverClear { theta_max } => format!(
-                "gripper dummies (housing and closing fingers) do not clear the support within θ_max = {:.1}°",
+            PoseRejection::DummiesNeverClear {
+                theta_max,
+                fingers: true,
+            } => format!(
+                "the power grasps' closing fingers reach the support at every angle up to θ_max \
+                 = {:.1}° (gripper dummies)",
+                theta_max.to_degrees()
+            ),
+            PoseRejection::DummiesNeverClear {
+                theta_max,
+                fingers: false,
+            } => format!(
+                "gripper dummies do not clear the support within θ_max = {:.1}°",
                 theta_max.to_degrees()
             ),
             PoseRejection::PowerGraspUnreachable { arm } => {
@@ -176,14 +189,19 @@ pub fn object_pose_for_power_grasp(
         shapes
     });
     let clearance = params.finger_support_clearance + FINE_PLANNING_MARGIN;
-    let dummies_clear = |theta: f64| -> bool {
+    let limit = ctx.scene.support_height + clearance;
+    // Per arm at `theta`: (housing clear, closing fingers clear).
+    let dummies = |theta: f64| -> [(bool, bool); 2] {
         let pose = candidate.rotated_pose(&ctx.p_init, theta);
-        (0..2).all(|arm| {
+        [0, 1].map(|arm| {
             let flange = pose * grasps.power[arm] * ctx.arm(arm).gripper.power_point().inverse();
-            let low = lowest_point(&housing[arm], &flange).min(power_grips[arm].lowest(&flange));
-            low > ctx.scene.support_height + clearance
+            (
+                lowest_point(&housing[arm], &flange) > limit,
+                power_grips[arm].lowest(&flange) > limit,
+            )
         })
     };
+    let dummies_clear = |theta: f64| dummies(theta).iter().all(|&(h, f)| h && f);
     let step = params.step;
     let max_steps = (candidate.theta_max / step + 1e-9).floor() as usize;
     let mut theta_goal = None;
@@ -201,8 +219,11 @@ pub fn object_pose_for_power_grasp(
         }
     }
     let Some(theta_goal) = theta_goal else {
+        let last = dummies(max_steps as f64 * step);
+        let fingers = last.iter().all(|&(h, _)| h) && last.iter().any(|&(_, f)| !f);
         return Err(PoseRejection::DummiesNeverClear {
             theta_max: candidate.theta_max,
+            fingers,
         });
     };
     let p_obj = candidate.rotated_pose(&ctx.p_init, theta_goal);
