@@ -411,22 +411,31 @@ impl ArmModel {
                 (&frames.prims, &frames.frames)
             }
         };
-        let housing = prims[..statics]
+        let mut best = prims[..statics]
             .iter()
             .map(lowest)
             .fold(f64::INFINITY, f64::min);
-        // The finger links by their pieces' lowest vertex.
+        // The finger links by their pieces' lowest vertex, asked only of the links whose box
+        // (which holds the pieces) reaches below the best so far, lowest box first.
         let tight = &self.shapes.gripper_tight;
-        let fingers = (statics..prims.len())
-            .map(|k| match &tight[k] {
-                Some(t) => {
-                    let frame = flange * shape_frames[k];
-                    t.lowest(&frame)
-                }
-                None => lowest(&prims[k]),
-            })
-            .fold(f64::INFINITY, f64::min);
-        housing.min(fingers)
+        let mut boxes = [(f64::INFINITY, 0usize); MAX_GRIPPER_SHAPES];
+        let n = prims.len() - statics;
+        for (slot, k) in boxes.iter_mut().zip(statics..prims.len()) {
+            *slot = (lowest(&prims[k]), k);
+        }
+        let boxes = &mut boxes[..n];
+        boxes.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for &(box_low, k) in boxes.iter() {
+            if box_low >= best {
+                break;
+            }
+            let exact = match &tight[k] {
+                Some(t) => t.lowest(&(flange * shape_frames[k])),
+                None => box_low,
+            };
+            best = best.min(exact);
+        }
+        best
     }
 
     /// Every primitive of the arm placed in the world at `q` (for viewers and debugging):

@@ -10,13 +10,13 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use nalgebra::{Isometry3, Point3, Vector3};
-use parry3d_f64::shape::ConvexPolyhedron;
 use pregrasp_robot::{ClosingWorld, ConvexPieces, PlanarPose, Touch, FINGER_LINKS};
 
 use crate::object::ObjectGeometry;
-use crate::tight::{Posed, Tight};
+use crate::tight::Tight;
 
 /// One convex piece of a finger link: its vertices (for the support test and the boxes).
 #[derive(Clone, Debug)]
@@ -60,9 +60,8 @@ impl FingerShapes {
                                 .iter()
                                 .map(|p| Point3::new(sign * p.x, p.y, p.z))
                                 .collect();
-                            // A piece must be a solid: four points not in one plane.
-                            ConvexPolyhedron::from_convex_hull(&vertices)?;
-                            Some(Piece { vertices })
+                            // A piece is a solid: at least four points (`Tight::new` checks).
+                            (vertices.len() >= 4).then_some(Piece { vertices })
                         })
                         .collect()
                 })
@@ -133,6 +132,33 @@ impl FingerShapes {
 /// A link's pose as a memo key: (side, link, bits of the planar pose).
 type PoseKey = (u8, u8, [u64; 3]);
 
+/// A multiply-rotate hasher for [`PoseKey`]s (bits of floats: no adversary, and SipHash was a
+/// tenth of a closing's time).
+#[derive(Default)]
+struct PoseHasher(u64);
+
+impl Hasher for PoseHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut word = [0u8; 8];
+            word[..chunk.len()].copy_from_slice(chunk);
+            self.write_u64(u64::from_le_bytes(word));
+        }
+    }
+
+    fn write_u8(&mut self, x: u8) {
+        self.write_u64(u64::from(x));
+    }
+
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+}
+
 /// The part and the support at one grasp (see the module documentation).
 pub struct PartClosing<'a> {
     object: &'a ObjectGeometry,
@@ -144,7 +170,7 @@ pub struct PartClosing<'a> {
     /// The part test's answers by (side, link, pose bits): a closing asks the same pose of a
     /// link many times (the spring link turns about a pivot on the housing, so while it rests
     /// on the part its searches probe the same angles at every driver step).
-    memo: RefCell<HashMap<PoseKey, bool>>,
+    memo: RefCell<HashMap<PoseKey, bool, BuildHasherDefault<PoseHasher>>>,
     /// Per `[side][link]`, a pose at which the link's box grown by [`FREE_BALL`] missed the
     /// part: the link misses it in every pose that moves none of its points that far.
     free: RefCell<[[Option<PlanarPose>; 5]; 2]>,
@@ -167,7 +193,7 @@ impl<'a> PartClosing<'a> {
             shapes,
             flange_in_object,
             support,
-            memo: RefCell::new(HashMap::new()),
+            memo: RefCell::new(HashMap::default()),
             free: RefCell::new([[None; 5]; 2]),
         }
     }
@@ -204,25 +230,13 @@ impl<'a> PartClosing<'a> {
             self.free.borrow_mut()[s][link] = Some(*pose);
             return false;
         }
-        if !self.object.box_touches(&box_pose, half) {
-            return false;
-        }
-        let hull = Posed {
-            tight: &self.shapes.hulls[s][link],
-            frame: in_object,
-        };
-        if !self
-            .object
-            .pieces_intersect(&Isometry3::identity(), &hull, 0.0)
-        {
-            return false;
-        }
-        let posed = Posed {
-            tight: &self.shapes.tight[s][link],
-            frame: in_object,
-        };
-        self.object
-            .pieces_intersect(&Isometry3::identity(), &posed, 0.0)
+        // The triangles the box meets, each against the link's hull, then its pieces.
+        let hull = &self.shapes.hulls[s][link];
+        let pieces = &self.shapes.tight[s][link];
+        self.object.any_triangle_in_box(&box_pose, half, |a, b, c| {
+            let tri = parry3d_f64::shape::Triangle::new(*a, *b, *c);
+            hull.any_piece_touches(in_object, &tri) && pieces.any_piece_touches(in_object, &tri)
+        })
     }
 }
 
@@ -232,8 +246,11 @@ impl ClosingWorld for PartClosing<'_> {
     }
 
     fn touch(&self, side: f64, link: usize, pose: &PlanarPose) -> Touch {
-        let in_object = self.flange_in_object * pose.to_isometry(side);
         let s = usize::from(side < 0.0);
+        if self.support.is_none() && self.known_free(s, link, pose) {
+            return Touch::Nothing;
+        }
+        let in_object = self.flange_in_object * pose.to_isometry(side);
         let pieces = &self.shapes.pieces[s][link];
         if let Some((n, d)) = self.support {
             let below = pieces

@@ -69,6 +69,8 @@ pub struct Grip {
     pub kinds: [ClosingKind; 2],
     /// The finger links in every pose of the closing, by planes `y = const` (in G).
     swept: Arc<Vec<Level>>,
+    /// Per finger link (both fingers), its levels in `swept` and a sphere holding them.
+    links: Arc<Vec<LinkSweep>>,
 }
 
 impl PartialEq for Grip {
@@ -101,21 +103,30 @@ impl Grip {
         let r = flange_world.rotation.to_rotation_matrix();
         let d = r.matrix().row(2).transpose();
         let planar = d.x.hypot(d.z);
-        // An upper bound first (each level's circle's far side), then only the levels whose
-        // circle can reach below it are scanned.
-        let mut best = self
-            .swept
-            .iter()
-            .map(|l| d.y * l.y + d.x * l.center[0] + d.z * l.center[1] + planar * l.radius)
-            .fold(f64::INFINITY, f64::min);
-        for l in self.swept.iter() {
+        let value = |l: &Level| d.y * l.y + d.x * l.center[0] + d.z * l.center[1];
+        let scan = |l: &Level, mut best: f64| {
             let base = d.y * l.y;
-            let bound = base + d.x * l.center[0] + d.z * l.center[1] - planar * l.radius;
-            if bound >= best {
-                continue;
-            }
             for p in &l.pts {
                 best = best.min(base + d.x * p[0] + d.z * p[1]);
+            }
+            best
+        };
+        // A first answer from the level whose circle reaches lowest, then only the links (a
+        // sphere each) and their levels (a circle each) that can reach below it are read.
+        let Some(seed) = self.swept.iter().min_by(|a, b| {
+            (value(a) - planar * a.radius).total_cmp(&(value(b) - planar * b.radius))
+        }) else {
+            return f64::INFINITY;
+        };
+        let mut best = scan(seed, f64::INFINITY);
+        for g in self.links.iter() {
+            if d.dot(&g.center.coords) - g.radius >= best {
+                continue;
+            }
+            for l in &self.swept[g.levels.clone()] {
+                if value(l) - planar * l.radius < best {
+                    best = scan(l, best);
+                }
             }
         }
         best + flange_world.translation.vector.z - SWEEP_SAG
@@ -226,8 +237,12 @@ impl Sweep {
                 let center = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
                 let radius = pts
                     .iter()
-                    .map(|p| (p[0] - center[0]).hypot(p[1] - center[1]))
-                    .fold(0.0, f64::max);
+                    .map(|p| {
+                        let (dx, dz) = (p[0] - center[0], p[1] - center[1]);
+                        dx * dx + dz * dz
+                    })
+                    .fold(0.0, f64::max)
+                    .sqrt();
                 Level {
                     y,
                     center,
@@ -235,9 +250,52 @@ impl Sweep {
                     pts,
                 }
             })
-            .filter(|l| !l.pts.is_empty())
             .collect()
     }
+}
+
+/// The swept levels of one finger link: their range in [`Grip`]'s levels and a sphere (in G)
+/// holding their points.
+#[derive(Clone, Debug)]
+struct LinkSweep {
+    levels: std::ops::Range<usize>,
+    center: Point3<f64>,
+    radius: f64,
+}
+
+/// The levels of each finger link in `levels` (in [`Sweep::levels`] order), with a sphere each.
+fn link_sweeps(levels: &[Level]) -> Vec<LinkSweep> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    for _side in 0..2 {
+        for link in link_levels() {
+            let range = start..start + link.len();
+            start = range.end;
+            let group = &levels[range.clone()];
+            let (mut lo, mut hi) = (
+                Point3::from([f64::INFINITY; 3]),
+                Point3::from([f64::NEG_INFINITY; 3]),
+            );
+            for l in group {
+                let r = l.radius;
+                lo = lo.inf(&Point3::new(l.center[0] - r, l.y, l.center[1] - r));
+                hi = hi.sup(&Point3::new(l.center[0] + r, l.y, l.center[1] + r));
+            }
+            let center = nalgebra::center(&lo, &hi);
+            let radius = group
+                .iter()
+                .flat_map(|l| l.pts.iter().map(move |p| Point3::new(p[0], l.y, p[1])))
+                .map(|p| (p - center).norm_squared())
+                .fold(0.0, f64::max)
+                .sqrt();
+            out.push(LinkSweep {
+                levels: range,
+                center,
+                radius,
+            });
+        }
+    }
+    out
 }
 
 /// The swept points of one plane `y = const` of one finger link (`(x, z)` in G) and a circle
@@ -302,6 +360,7 @@ pub fn close_on_part(
     Ok(Grip {
         fingers: FingerPair::from_configs(&configs),
         kinds: [result[0].kind, result[1].kind],
+        links: Arc::new(link_sweeps(&swept)),
         swept: Arc::new(swept),
     })
 }

@@ -239,6 +239,18 @@ impl ObjectGeometry {
     /// box's frame ([`triangle_box_intersect`]). A margin is applied by growing the half
     /// extents (conservative at edges and corners).
     fn cuboid_hits(&self, box_pose: &Isometry3<f64>, half: &Vector3<f64>) -> bool {
+        self.any_triangle_in_box(box_pose, half, |_, _, _| true)
+    }
+
+    /// Whether `touches` holds for any triangle that meets the box `half` at `box_pose` (box →
+    /// object frame): [`cuboid_hits`](Self::cuboid_hits)'s descent, `touches` asked of each
+    /// triangle the box meets (object frame), first hit wins.
+    pub(crate) fn any_triangle_in_box(
+        &self,
+        box_pose: &Isometry3<f64>,
+        half: &Vector3<f64>,
+        mut touches: impl FnMut(&P, &P, &P) -> bool,
+    ) -> bool {
         let rot = box_pose.rotation.to_rotation_matrix();
         let ext = rot.matrix().abs() * half;
         let c = P::from(box_pose.translation.vector);
@@ -246,7 +258,7 @@ impl ObjectGeometry {
         let to_box = rot.matrix().transpose();
         let local = |p: &P| P::from(to_box * (p - c));
         self.any_triangle(&(c - ext), &(c + ext), |ta, tb, tc| {
-            triangle_box_intersect(&local(ta), &local(tb), &local(tc), half)
+            triangle_box_intersect(&local(ta), &local(tb), &local(tc), half) && touches(ta, tb, tc)
         })
     }
 

@@ -408,6 +408,20 @@ impl Tight {
         self.slack
     }
 
+    /// Whether a piece, its frame at `frame` (in the triangle's frame), touches `tri` (GJK,
+    /// distance 0, each piece's box tested first).
+    pub(crate) fn any_piece_touches(&self, frame: &Isometry3<f64>, tri: &Triangle) -> bool {
+        let (lo, hi) = tri_box(tri);
+        let m = frame.rotation.to_rotation_matrix().matrix().abs();
+        self.pieces.iter().any(|piece| {
+            let c = frame * nalgebra::center(&piece.lo, &piece.hi);
+            let ext: Vector3<f64> = m * (0.5 * (piece.hi - piece.lo));
+            let (plo, phi) = (c - ext, c + ext);
+            let apart = (0..3).any(|i| plo[i] > hi[i] || phi[i] < lo[i]);
+            !apart && piece_near_triangle(frame, &Climb::new(&piece.poly), tri, 0.0)
+        })
+    }
+
     /// World `z` of the lowest vertex of the pieces with their frame at `frame`.
     pub fn lowest(&self, frame: &Isometry3<f64>) -> f64 {
         let row = frame
@@ -423,6 +437,11 @@ impl Tight {
             .fold(f64::INFINITY, f64::min);
         low + frame.translation.vector.z
     }
+}
+
+/// The axis-aligned box of a triangle.
+fn tri_box(tri: &Triangle) -> (P, P) {
+    (tri.a.inf(&tri.b).inf(&tri.c), tri.a.sup(&tri.b).sup(&tri.c))
 }
 
 /// The points of `all` that are vertices of its convex hull, exactly as given (parry returns

@@ -201,7 +201,14 @@ pub fn object_pose_for_power_grasp(
             )
         })
     };
-    let dummies_clear = |theta: f64| dummies(theta).iter().all(|&(h, f)| h && f);
+    // The same test, stopping at the first dummy that does not clear (housing first: cheaper).
+    let dummies_clear = |theta: f64| {
+        let pose = candidate.rotated_pose(&ctx.p_init, theta);
+        (0..2).all(|arm| {
+            let flange = pose * grasps.power[arm] * ctx.arm(arm).gripper.power_point().inverse();
+            lowest_point(&housing[arm], &flange) > limit && power_grips[arm].lowest(&flange) > limit
+        })
+    };
     let step = params.step;
     let max_steps = (candidate.theta_max / step + 1e-9).floor() as usize;
     let mut theta_goal = None;
