@@ -10,6 +10,10 @@
 //!   turned by 1.5 rad, checked every 5 mm of arm travel), accepted by joint boxes
 //!   (`ArmValidity`, `pregrasp_collision::sweep`) or checked one state after another.
 //!
+//! - `closing/pinch`, `closing/power`: the 2F-85's adaptive closing on a 40 × 25 mm bar of a
+//!   frame (`close_on_part`): a pinch with the pads near the bar's bottom, and a power grasp
+//!   whose fingers cage the bar.
+//!
 //! Run: `cargo bench -p pregrasp-collision --bench collision -- --warm-up-time 1 --measurement-time 3`.
 
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -212,5 +216,33 @@ fn edge(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, check_arm, reach_query, reach_problem_set, edge);
+fn closing(c: &mut Criterion) {
+    use pregrasp_collision::{close_on_part, fixtures::frame_mesh, ObjectGeometry};
+    // A 0.5 × 0.3 m frame of 40 mm bars, 25 mm thick, lying on z = 0; grasps across the bar
+    // at y = 0.13, approached from above (G's z down, x across the bar).
+    let part = ObjectGeometry::new(&frame_mesh(0.5, 0.3, 0.04, 0.025)).unwrap();
+    let down = UnitQuaternion::from_euler_angles(PI, 0.0, FRAC_PI_2);
+    let at = |z_point: f64, point_z: f64| {
+        Isometry3::from_parts(Translation3::new(0.0, 0.13, z_point + point_z), down)
+    };
+    let pinch = at(0.018, 0.150);
+    let power = at(0.0125, 0.118);
+    let mut group = c.benchmark_group("closing");
+    group.bench_function("pinch", |b| {
+        b.iter(|| black_box(close_on_part(&part, black_box(&pinch)).is_ok()))
+    });
+    group.bench_function("power", |b| {
+        b.iter(|| black_box(close_on_part(&part, black_box(&power)).is_ok()))
+    });
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    check_arm,
+    reach_query,
+    reach_problem_set,
+    edge,
+    closing
+);
 criterion_main!(benches);

@@ -1,6 +1,7 @@
 //! Scenes that only plan with the 2F-85 as it really closes (issue 32): a bench end whose
 //! pinch puts a finger in a hand hole, a ladder whose rail is power-grasped a few degrees off
-//! the table, and the same ladder with too little rotation allowed, refused for its fingers.
+//! the table, the same ladder with too little rotation allowed, refused for its fingers, and
+//! the ladder planned with no clearances at all, which check (with none) must accept.
 
 use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
@@ -133,4 +134,31 @@ fn fingers_closing_into_the_table_at_every_allowed_angle_are_refused_for_it() {
         reason.contains("closing fingers reach the support at every angle"),
         "{reason}"
     );
+}
+
+#[test]
+fn a_plan_at_zero_clearances_is_accepted_by_check() {
+    // The tightest plan the real closing allows: no clearances, no extra steps. The fingers
+    // come as close to the table as the closing lets them, and check (the same clearances)
+    // must not ask for more.
+    let planner = "finger_support_clearance = 0.0\nlink_clearance = 0.0\nextra_steps = 0";
+    let file = plan_design("ladder_tight", &ladder(), planner);
+    assert_eq!(file.status, "planned", "{:?}", file.reason);
+    let theta = theta_goal_deg(&file);
+    assert!(theta <= 6.0 + 1e-9, "θ_goal {theta:.1}°");
+    let check = check_plan(&file, &ladder().mesh());
+    assert!(check.is_valid(), "{:?}", check.rules);
+    let closest = check.closest_grasp_to_support.expect("a grasping gripper");
+    assert!(closest < 0.005, "closest grasp to the support {closest}");
+}
+
+#[test]
+fn a_ladder_plan_made_by_the_parallel_finger_model_passes_check() {
+    // Planned by pregrasp 73a7ec8 (fingers closing in parallel to a gap, θ_goal 10°) on the
+    // same ladder: another planner's plan, clear under the real closing, is accepted.
+    let text = include_str!("fixtures/ladder_planned_by_73a7ec8.json");
+    let file = PlanFile::from_json_str(text, "ladder_planned_by_73a7ec8.json").unwrap();
+    assert!((theta_goal_deg(&file) - 10.0).abs() < 1e-9);
+    let check = check_plan(&file, &ladder().mesh());
+    assert!(check.is_valid(), "{:?}", check.rules);
 }
