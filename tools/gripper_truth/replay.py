@@ -16,8 +16,6 @@ import argparse
 import datetime
 import json
 import math
-import os
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -45,7 +43,7 @@ BISECT_HI = 4.0  # x N_min
 BISECT_REL = 0.05  # stop when (hi - lo) <= BISECT_REL * hi
 
 # verdict
-POS_TOL = 0.005  # m, object-frame origin vs the planned final pose
+POS_TOL = 0.005  # m, the part's centre of mass vs the planned final pose
 ANG_TOL_DEG = 3.0
 GAP_TOL = 0.01  # s: a pad "lost contact" if it touched no part geom for longer than this
 
@@ -274,10 +272,14 @@ def object_pose_at(ts, poses, t):
 class Replay:
     """One plan's scene: table, part (free body), 2F-85 on a free base welded to a mocap flange."""
 
-    def __init__(self, gripper_xml, doc, plan, pieces, mass_props, mu_pad, mu_support, condim, torsion, dt, weld_solref):
+    def __init__(self, gripper_xml, doc, plan, pieces, mass_props, mu_pad, mu_support, condim, torsion, dt, weld_solref,
+                 noslip=0, impratio=None):
         self.doc, self.plan = doc, plan
         sp = mujoco.MjSpec.from_file(str(gripper_xml))
         sp.option.timestep = dt
+        sp.option.noslip_iterations = noslip
+        if impratio:
+            sp.option.impratio = impratio
         sp.option.gravity = [0.0, 0.0, -9.81]
         # the gripper: a free base welded to a mocap body at the flange pose; weightless (the arm carries it)
         for b in GRIPPER_BODIES:
@@ -338,8 +340,8 @@ class Replay:
         self.bm_off = m.body_pos[self.bm].copy()  # base_mount in G (0, 0, 0.007)
         self.jfree_g = m.jnt_qposadr[nid(mujoco.mjtObj.mjOBJ_JOINT, "gripper_free")]
         self.jfree_p = m.jnt_qposadr[nid(mujoco.mjtObj.mjOBJ_JOINT, "part_free")]
-        self.driver = [m.jnt_qposadr[nid(mujoco.mjtObj.mjOBJ_JOINT, f"{s}_driver_joint")] for s in ("right", "left")]
-        self.spring = [m.jnt_qposadr[nid(mujoco.mjtObj.mjOBJ_JOINT, f"{s}_spring_link_joint")] for s in ("right", "left")]
+        self.jq = {j: [m.jnt_qposadr[nid(mujoco.mjtObj.mjOBJ_JOINT, f"{s}_{j}_joint")] for s in ("right", "left")]
+                   for j in ("driver", "spring_link", "follower", "coupler")}
         # trajectory: flange = object_pose . G_s . precision_point^-1
         seg, self.ts, self.poses = rot_trajectory(plan)
         rob = [r for r in doc["robots"] if r["name"] == plan["supportive"]][0]
@@ -385,6 +387,21 @@ class Replay:
             ig = np.isin(G, self.pad[s])
             res.append(bool(np.any((ip[:, 0] & ig[:, 1]) | (ip[:, 1] & ig[:, 0]))))
         return res[0], res[1]
+
+    def fingers(self, d):
+        """Finger joint angles [+x (right), -x (left)] (rad, Menagerie joints)."""
+        return {j: [float(d.qpos[a]) for a in adr] for j, adr in self.jq.items()}
+
+    def grip_offset(self, d):
+        """The part in the gripper: distance (m) and angle (rad) of the part's G_s from where the plan puts it (the
+        precision point), and the part's rotation and G_s point in the actual flange frame."""
+        Tf = T_of(d.xpos[self.bm], d.xquat[self.bm]) @ inv(T_of(self.bm_off, [1, 0, 0, 0]))
+        rel = inv(Tf) @ self.part_T(d)  # part in the flange frame
+        rel_plan = inv(self.T_obj_flange)
+        gs = pose_T(self.doc["grasps"]["support"])[:3, 3]
+        p, p_plan = (rel @ np.r_[gs, 1])[:3], (rel_plan @ np.r_[gs, 1])[:3]
+        return (float(np.linalg.norm(p - p_plan)), math.degrees(rot_angle(rel[:3, :3], rel_plan[:3, :3])),
+                rel[:3, :3], p)
 
     def part_T(self, d):
         return T_of(d.xpos[self.part_body], d.xquat[self.part_body])
@@ -445,9 +462,9 @@ class Replay:
         rec["N_meas_pre"] = 0.5 * (f["pos"] + f["neg"])
         rec["N_meas_pre_sides"] = [f["pos"], f["neg"]]
         rec["other_gripper_force_pre"] = f["other"]
-        rec["fingers_pre"] = {"driver": [float(d.qpos[j]) for j in self.driver],
-                              "spring_link": [float(d.qpos[j]) for j in self.spring]}
-        T_part_pre = self.part_T(d)
+        rec["fingers_pre"] = self.fingers(d)
+        grip_pre = self.grip_offset(d)
+        rec["grip_offset_pre"], rec["grip_offset_pre_deg"] = grip_pre[0], grip_pre[1]
         # 5. the rotation, then hold
         T_rot = (self.ts[-1] - self.ts[0]) * slow
         n_rot, n_hold = steps(T_rot), steps(T_HOLD)
@@ -478,9 +495,9 @@ class Replay:
         Tplan = self.poses[-1]
         com_local = self.m.body_ipos[self.part_body]
         rec.update({
-            "pos_err": float(np.linalg.norm(Tp[:3, 3] - Tplan[:3, 3])),
+            "origin_err": float(np.linalg.norm(Tp[:3, 3] - Tplan[:3, 3])),
             "ang_err_deg": math.degrees(rot_angle(Tp[:3, :3], Tplan[:3, :3])),
-            "com_err": float(np.linalg.norm(Tp[:3, :3] @ com_local + Tp[:3, 3] - Tplan[:3, :3] @ com_local - Tplan[:3, 3])),
+            "pos_err": float(np.linalg.norm(Tp[:3, :3] @ com_local + Tp[:3, 3] - Tplan[:3, :3] @ com_local - Tplan[:3, 3])),
             "pad_gap_max": [gap_max["pos"], gap_max["neg"]],
             "contact_lost_t": lost_t,
             "N_meas_rot_min": float(Ns[:, :2].mean(axis=1).min()) if len(Ns) else 0.0,
@@ -490,16 +507,15 @@ class Replay:
             "flange_tracking_err_max": weld_err,
             "t_rot": T_rot,
         })
-        # where it slipped: the part in the gripper (at the precision point) and the axis on the table
-        Tf = T_of(d.xpos[self.bm], d.xquat[self.bm]) @ inv(T_of(self.bm_off, [1, 0, 0, 0]))
-        G_pp_plan = inv(self.T_obj_flange)  # precision point == G_s in the part frame; flange -> part
-        rel = inv(Tf) @ Tp  # part in the flange frame (actual)
-        rel_plan = inv(self.T_obj_flange)
-        pp = inv(self.T_obj_flange)[:3, 3] * 0  # flange origin
-        gs = pose_T(self.doc["grasps"]["support"])[:3, 3]
-        rec["grip_slip"] = float(np.linalg.norm((rel @ np.r_[gs, 1])[:3] - (rel_plan @ np.r_[gs, 1])[:3]))
-        rec["grip_slip_deg"] = math.degrees(rot_angle(rel[:3, :3], rel_plan[:3, :3]))
-        del G_pp_plan, pp
+        # where it slipped: the part in the gripper (at G_s), relative to where it sat before the rotation, and the
+        # rotation axis on the table
+        g = self.grip_offset(d)
+        rec["grip_slip"] = float(np.linalg.norm(g[3] - grip_pre[3]))
+        rvec = np.zeros(3)
+        mujoco.mju_quat2Vel(rvec, quat(g[2] @ grip_pre[2].T), 1.0)
+        rec["grip_slip_deg"] = math.degrees(float(np.linalg.norm(rvec)))
+        rec["grip_slip_rotvec_G_deg"] = [math.degrees(v) for v in rvec]
+        rec["fingers_end"] = self.fingers(d)
         T_init = self.poses[0]
         cand = [c for c in self.doc["candidates"] if c["id"] == self.plan["candidate"]][0]
         ax = [inv(T_init) @ np.r_[p, 1] for p in cand["axis"]]
@@ -512,12 +528,13 @@ class Replay:
             rec["verdict"] = "drops"
         else:
             rec["verdict"] = "slips"
-        del T_part_pre
         if log:
             log(f"    F {F:8.3f} N (tau {tau:7.3f}): measured {rec['N_meas_pre']:8.3f} before, rot min/mean "
                 f"{rec['N_meas_rot_min']:8.3f}/{rec['N_meas_rot_mean']:8.3f}; err {rec['pos_err']*1e3:6.1f} mm "
                 f"{rec['ang_err_deg']:5.1f} deg, grip slip {rec['grip_slip']*1e3:5.1f} mm {rec['grip_slip_deg']:4.1f} deg, "
-                f"axis slide {rec['axis_slide']*1e3:5.1f} mm, lost {lost_t} -> {rec['verdict']}")
+                f"(rotvec G {np.round(rec['grip_slip_rotvec_G_deg'], 1).tolist()}), axis slide {rec['axis_slide']*1e3:5.1f} mm, "
+                f"followers {np.round(rec['fingers_pre']['follower'], 3).tolist()} -> "
+                f"{np.round(rec['fingers_end']['follower'], 3).tolist()}, lost {lost_t} -> {rec['verdict']}")
         return rec
 
     def calibrate(self, slow):
@@ -601,6 +618,52 @@ def evaluate_plan(rp, n_min, slow, log):
             "at": res, "trials": [runs[k] for k in sorted(runs)]}
 
 
+def run_task(task):
+    """One (plan, condim): the multipliers and the bisection; returns the output row."""
+    gripper_xml, doc, k, pieces, mp, rep, example, condim, a, weld_solref = task
+    a = argparse.Namespace(**a)
+    plan = doc["plans"][k]
+    n_min = rep["n_max"]
+    ph = plan.get("physics") or {}
+    mu_pad = ph.get("mu_pad", rep["settings"]["mu_pad"])
+    mu_sup = ph.get("mu_support", rep["settings"]["mu_support"])
+    mass = rep["part"]["mass"]
+    tag = f"[{example} plan {k} condim {condim}]"
+    log = lambda s_: print(f"{tag} {s_.strip()}", flush=True)
+    torsion = mu_pad * a.torsion_radius if condim >= 4 else 0.0
+    t0 = time.time()
+    rp = Replay(gripper_xml, doc, plan, pieces, mp, mu_pad, mu_sup, condim, torsion, a.dt, weld_solref, a.noslip, a.impratio)
+    log(f"  plan {k} (candidate {plan['candidate']}, supportive {plan['supportive']}), condim {condim}: "
+        f"mass {mass} kg, N_min {n_min:.3f} N (worst state {rep['worst']}), mu_pad {mu_pad}, "
+        f"mu_support {mu_sup}")
+    if a.multipliers_only:
+        a_, b_, pts = rp.calibrate(a.slow)
+        ev = {"at": {str(m_): rp.run(m_ * n_min, a.slow, (a_, b_), log) for m_ in MULTIPLIERS},
+              "calibration": {"slope": a_, "offset": b_, "points": pts}, "F_star": None}
+    else:
+        ev = evaluate_plan(rp, n_min, a.slow, log)
+    wall = time.time() - t0
+    rot = [s for s in plan["segments"] if s["name"] == "rot"][0]
+    row = {"example": example, "plan": k, "candidate": plan["candidate"], "supportive": plan["supportive"],
+           "condim": condim, "torsion": torsion, "mass": mass, "mu_pad": mu_pad, "mu_support": mu_sup,
+           "N_min": n_min, "N_min_worst_state": rep["worst"],
+           "N_min_worst_theta_deg": rep["states"][rep["worst"]]["theta_deg"],
+           "grip_width": rot.get("grip_width"), "fingers_plan": rot.get("fingers"),
+           "rot_duration_plan": rot["points"][-1]["t"], "F_star": ev["F_star"],
+           "F_star_over_N_min": None if ev["F_star"] is None else ev["F_star"] / n_min,
+           "calibration": ev["calibration"], "wall_s": round(wall, 1)}
+    if "bisection_bracket" in ev:
+        row.update({"F_star_lower": ev["F_star_lower"], "bisection_bracket": ev["bisection_bracket"],
+                    "monotone_at_multipliers": ev["monotone_at_multipliers"],
+                    "trials": [{kk: t[kk] for kk in ("multiplier", "F_cmd", "N_meas_pre", "verdict",
+                                                      "pos_err", "ang_err_deg")} for t in ev["trials"]]})
+    row["verdict"] = {k_: v["verdict"] for k_, v in ev["at"].items()}
+    row["at"] = {k_: {kk: vv for kk, vv in v.items()} for k_, v in ev["at"].items()}
+    log(f"  -> F* {row['F_star']} N ({row['F_star_over_N_min']} x N_min), verdicts {row['verdict']}, "
+        f"{wall:.1f} s wall")
+    return row
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("plans", nargs="+", help="plan files written by `pregrasp plan`")
@@ -615,13 +678,17 @@ def main():
     ap.add_argument("--condim", type=int, nargs="+", default=[3, 4], help="pad contact condims to run (3, 4 or 6)")
     ap.add_argument("--torsion-radius", type=float, default=0.0116,
                     help="with condim >= 4: the pads' torsional friction = mu_pad * this radius (m)")
+    ap.add_argument("--noslip", type=int, default=10,
+                    help="MuJoCo noslip_iterations (default 10; 0 = off: soft friction creeps, see README)")
+    ap.add_argument("--impratio", type=float, default=None, help="override Menagerie's impratio (10)")
     ap.add_argument("--multipliers-only", action="store_true", help="no bisection")
+    ap.add_argument("--jobs", type=int, default=1, help="worker processes (one (plan, condim) each)")
     ap.add_argument("--out", default=str(OUT_DIR), help="output directory")
     ap.add_argument("--name", default="replay_2f85", help="output file stem")
     a = ap.parse_args()
     t_start = time.time()
     log = lambda s: print(s, flush=True)
-    rows = []
+    tasks = []
     weld_solref = (0.002, 1.0)
     with tempfile.TemporaryDirectory(prefix="replay_") as tmp:
         src, prov = load_source(a.menagerie, a.rev, tmp)
@@ -647,47 +714,16 @@ def main():
             reports = grip_force_analysis(a.pregrasp, plan_path, a.mesh_root or REPO_ROOT)
             idx = a.plan_index if a.plan_index is not None else range(len(doc["plans"]))
             for k in idx:
-                plan = doc["plans"][k]
                 rep = [r for r in reports if r["plan"] == k][0]
-                n_min = rep["n_max"]
-                ph = plan.get("physics") or {}
-                mu_pad = ph.get("mu_pad", rep["settings"]["mu_pad"])
-                mu_sup = ph.get("mu_support", rep["settings"]["mu_support"])
-                mass = rep["part"]["mass"]
-                mp = mass_properties(mesh, mass, scale)
                 for condim in a.condim:
-                    torsion = mu_pad * a.torsion_radius if condim >= 4 else 0.0
-                    t0 = time.time()
-                    rp = Replay(src / MODEL_XML, doc, plan, pieces, mp, mu_pad, mu_sup, condim, torsion, a.dt, weld_solref)
-                    log(f"  plan {k} (candidate {plan['candidate']}, supportive {plan['supportive']}), condim {condim}: "
-                        f"mass {mass} kg, N_min {n_min:.3f} N (worst state {rep['worst']}), mu_pad {mu_pad}, "
-                        f"mu_support {mu_sup}")
-                    if a.multipliers_only:
-                        a_, b_, pts = rp.calibrate(a.slow)
-                        ev = {"at": {str(m_): rp.run(m_ * n_min, a.slow, (a_, b_), log) for m_ in MULTIPLIERS},
-                              "calibration": {"slope": a_, "offset": b_, "points": pts}, "F_star": None}
-                    else:
-                        ev = evaluate_plan(rp, n_min, a.slow, log)
-                    wall = time.time() - t0
-                    rot = [s for s in plan["segments"] if s["name"] == "rot"][0]
-                    row = {"example": example, "plan": k, "candidate": plan["candidate"], "supportive": plan["supportive"],
-                           "condim": condim, "torsion": torsion, "mass": mass, "mu_pad": mu_pad, "mu_support": mu_sup,
-                           "N_min": n_min, "N_min_worst_state": rep["worst"],
-                           "N_min_worst_theta_deg": rep["states"][rep["worst"]]["theta_deg"],
-                           "grip_width": rot.get("grip_width"), "fingers_plan": rot.get("fingers"),
-                           "rot_duration_plan": rot["points"][-1]["t"], "F_star": ev["F_star"],
-                           "F_star_over_N_min": None if ev["F_star"] is None else ev["F_star"] / n_min,
-                           "calibration": ev["calibration"], "wall_s": round(wall, 1)}
-                    if "bisection_bracket" in ev:
-                        row.update({"F_star_lower": ev["F_star_lower"], "bisection_bracket": ev["bisection_bracket"],
-                                    "monotone_at_multipliers": ev["monotone_at_multipliers"],
-                                    "trials": [{kk: t[kk] for kk in ("multiplier", "F_cmd", "N_meas_pre", "verdict",
-                                                                      "pos_err", "ang_err_deg")} for t in ev["trials"]]})
-                    row["verdict"] = {k_: v["verdict"] for k_, v in ev["at"].items()}
-                    row["at"] = {k_: {kk: vv for kk, vv in v.items()} for k_, v in ev["at"].items()}
-                    log(f"  -> F* {row['F_star']} N ({row['F_star_over_N_min']} x N_min), verdicts {row['verdict']}, "
-                        f"{wall:.1f} s wall")
-                    rows.append(row)
+                    tasks.append((str(src / MODEL_XML), doc, k, pieces, mass_properties(mesh, rep["part"]["mass"], scale),
+                                  rep, example, condim, vars(a), weld_solref))
+        if a.jobs > 1:
+            import multiprocessing as mp_
+            with mp_.get_context("fork").Pool(a.jobs) as pool:
+                rows = pool.map(run_task, tasks, chunksize=1)
+        else:
+            rows = [run_task(t) for t in tasks]
     rows.sort(key=lambda r: (r["example"], r["plan"], r["condim"]))
     header = {
         "generator": SCRIPT,
@@ -698,7 +734,7 @@ def main():
         "decomposition": decomp_infos,
         "units": "metres, kilograms, newtons, seconds; angles *_deg in degrees",
         "model": {
-            "timestep": a.dt, "integrator": "Euler (Menagerie)", "cone": "elliptic", "impratio": 10.0,
+            "timestep": a.dt, "noslip_iterations": a.noslip, "integrator": "Euler (Menagerie)", "cone": "elliptic", "impratio": a.impratio or 10.0,
             "gravity": [0.0, 0.0, -9.81],
             "table": "plane at support_height, friction mu_support (priority 2), condim 3",
             "part": ("free body at the first rot object_pose lowered by planner.lift (resting on the table); mass = "
@@ -717,7 +753,7 @@ def main():
                         "tau by (F - measured)/a until within 1 %%; tau then held constant through the rotation") %
                        (TAU_OPEN, T_SETTLE_OPEN, T_SPRING_CLOSE, T_RAMP, N_CORRECT, T_CORRECT, T_MEASURE),
             "time_scaling": a.slow, "hold": T_HOLD,
-            "verdict": ("holds: final part pose within %.0f mm (object-frame origin) and %.0f deg of the planned final "
+            "verdict": ("holds: final part pose within %.0f mm (at the part's centre of mass; the object-frame origin's error is reported as origin_err) and %.0f deg of the planned final "
                         "object_pose and neither pad's boxes out of contact with the part for more than %.0f ms; drops: a "
                         "pad lost contact; slips: contact kept but the pose is off") % (POS_TOL * 1e3, ANG_TOL_DEG, GAP_TOL * 1e3),
             "bisection": "F* = smallest holding force found, bisected in [0, %.0f N_min] until (hi - lo) <= %.0f %% of hi" %

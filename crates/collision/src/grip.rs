@@ -364,3 +364,81 @@ pub fn close_on_part(
         swept: Arc::new(swept),
     })
 }
+
+/// Where a pad presses on the part: the part of its contact face that lies on the part's
+/// surface (within [`PATCH_DEPTH`]), sampled every [`PATCH_STEP`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PadPatch {
+    /// Centroid of the patch, in G.
+    pub center: Point3<f64>,
+    /// Area (m²).
+    pub area: f64,
+    /// Mean distance of the patch from its centroid (m): under uniform pressure the pad's
+    /// torsional friction is `μ·N·e` with this `e` (the soft-finger model).
+    pub torsion_radius: f64,
+}
+
+/// How close (m) the part's surface must come to a point of a pad's contact face for the point
+/// to bear on it: the silicone pad yields about this much under the squeeze.
+pub const PATCH_DEPTH: f64 = 5e-4;
+/// Sampling step (m) of a pad's contact face.
+pub const PATCH_STEP: f64 = 0.002;
+/// The pad's contact face in the pad frame of the `+x` finger: `x`, and its extent in `y`
+/// (22 mm wide) and `z` (37.5 mm long).
+const PAD_FACE_X: f64 = -0.0066;
+const PAD_FACE_Y: (f64, f64) = (-0.011, 0.011);
+const PAD_FACE_Z: (f64, f64) = (0.0, 0.0375);
+
+/// The patches where the pads of `grip` bear on the part, `[+x, −x]` (`None`: the pad does not
+/// touch it), the gripper at `flange_in_object` (G → object frame).
+pub fn pad_patches(
+    object: &ObjectGeometry,
+    flange_in_object: &Isometry3<f64>,
+    grip: &Grip,
+) -> [Option<PadPatch>; 2] {
+    let l = linkage();
+    let configs = grip.fingers.configs();
+    let ny = ((PAD_FACE_Y.1 - PAD_FACE_Y.0) / PATCH_STEP).round() as usize;
+    let nz = ((PAD_FACE_Z.1 - PAD_FACE_Z.0) / PATCH_STEP).round() as usize;
+    let (dy, dz) = (
+        (PAD_FACE_Y.1 - PAD_FACE_Y.0) / ny as f64,
+        (PAD_FACE_Z.1 - PAD_FACE_Z.0) / nz as f64,
+    );
+    let half = nalgebra::Vector3::repeat(PATCH_DEPTH);
+    [0, 1].map(|k| {
+        let side = if k == 0 { 1.0 } else { -1.0 };
+        let pad = configs[k].link_frames(l)[PAD].to_isometry(side);
+        let mut touching = Vec::new();
+        for i in 0..ny {
+            for j in 0..nz {
+                let local = Point3::new(
+                    side * PAD_FACE_X,
+                    PAD_FACE_Y.0 + (i as f64 + 0.5) * dy,
+                    PAD_FACE_Z.0 + (j as f64 + 0.5) * dz,
+                );
+                let p = pad * local;
+                let probe = flange_in_object * nalgebra::Translation3::from(p.coords);
+                if object.box_touches(&probe, &half) {
+                    touching.push(p);
+                }
+            }
+        }
+        if touching.is_empty() {
+            return None;
+        }
+        let n = touching.len() as f64;
+        let center = Point3::from(
+            touching
+                .iter()
+                .map(|p| p.coords)
+                .sum::<nalgebra::Vector3<f64>>()
+                / n,
+        );
+        let torsion_radius = touching.iter().map(|p| (p - center).norm()).sum::<f64>() / n;
+        Some(PadPatch {
+            center,
+            area: n * dy * dz,
+            torsion_radius,
+        })
+    })
+}

@@ -41,7 +41,7 @@ pub mod world;
 pub use arm::{ArmModel, MAX_ARM_SHAPES};
 pub use closing::{FingerShapes, PartClosing};
 pub use error::CollisionError;
-pub use grip::{close_on_part, Grip, GripFailure};
+pub use grip::{close_on_part, pad_patches, Grip, GripFailure, PadPatch};
 pub use object::ObjectGeometry;
 pub use shape::Placed;
 pub use sweep::{StatesCheck, Sweep, BOX_LIMIT, SWEEP_LIMIT};

@@ -275,7 +275,23 @@ pub struct SegmentJson {
     /// as they really hold it (curled around a bar in a power grasp).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fingers: Option<FingersJson>,
+    /// Where the pads bear on the part once closed (`rot`): informative, for the grip check.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pad_contact: Option<PadContactJson>,
     pub points: Vec<PointJson>,
+}
+
+/// Where the two pads of a closed gripper bear on the part: the patches of their contact faces
+/// that lie on its surface. `center`: midway between the two patches' centroids, in the frame
+/// of the segment's grasp (the tool point: the precision point for `support`), m;
+/// `torsion_radius`: the smaller patch's mean distance from its centroid (m), the `e` of the
+/// soft-finger model (twist about the pad normal ≤ μ·N·e); `area`: each patch's area (m²),
+/// `[+x pad, −x pad]`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PadContactJson {
+    pub center: [f64; 3],
+    pub torsion_radius: f64,
+    pub area: [f64; 2],
 }
 
 impl SegmentJson {

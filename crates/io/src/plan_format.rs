@@ -128,6 +128,22 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
             if let Some(w) = seg.grip_width {
                 number(&format!("{at}.grip_width"), w, 1.0)?;
             }
+            if let Some(c) = &seg.pad_contact {
+                for (i, x) in c.center.iter().enumerate() {
+                    number(&format!("{at}.pad_contact.center[{i}]"), *x, 1.0)?;
+                }
+                let e = c.torsion_radius;
+                number(&format!("{at}.pad_contact.torsion_radius"), e, 0.05)?;
+                if e < 0.0 {
+                    return Err(format!("{at}.pad_contact.torsion_radius: {e} is negative"));
+                }
+                for (i, a) in c.area.iter().enumerate() {
+                    number(&format!("{at}.pad_contact.area[{i}]"), *a, 0.01)?;
+                    if *a < 0.0 {
+                        return Err(format!("{at}.pad_contact.area[{i}]: {a} is negative"));
+                    }
+                }
+            }
             if let Some(f) = &seg.fingers {
                 number(&format!("{at}.fingers.driver"), f.driver, 1.0)?;
                 for (i, q) in f.spring_link.iter().enumerate() {

@@ -385,7 +385,15 @@ fn analyse(
     let g_s = file.grasps.support.to_isometry();
     let width = rot.grip_width.unwrap_or(0.0).max(0.0);
     let weight = part.mass * GRAVITY;
-    let model = settings.contact_model();
+    // Where the pads really bear on the part (the plan's `pad_contact`, from the closing on the
+    // mesh): the contacts sit there, and each resists a twist as its patch does (unless the
+    // settings give a torsion radius of their own). Without it: at the precision point, as
+    // points.
+    let contact = rot.pad_contact;
+    let mut model = settings.contact_model();
+    if model.pad_torsion_radius <= 0.0 {
+        model.pad_torsion_radius = contact.map_or(0.0, |c| c.torsion_radius);
+    }
     let h = file.support_height;
     let above_max = file.planner.lift.max(0.0) + SUPPORT_CONTACT_TOLERANCE;
 
@@ -404,7 +412,9 @@ fn analyse(
             com: s.pose * part.centroid,
             weight,
             pads: Pads {
-                centre: Point3::from(tool.translation.vector),
+                centre: contact.map_or(Point3::from(tool.translation.vector), |c| {
+                    tool * Point3::from(c.center)
+                }),
                 closing_axis: tool.rotation * Vector3::x(),
                 width_axis: tool.rotation * Vector3::y(),
                 width,

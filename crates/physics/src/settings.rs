@@ -5,7 +5,8 @@
 //! mu_pad = 0.8               # Coulomb friction pad–part
 //! mu_support = 0.4           # Coulomb friction part–support
 //! safety_factor = 2.0        # recommended grip force = safety_factor × worst N_min
-//! pad_torsion_radius = 0.0   # m; > 0 lets each pad resist a twist about its normal
+//! pad_torsion_radius = 0.0   # m; > 0: each pad resists a twist about its normal up to μ·N·e
+//!                            # with this e; 0: the e of the plan's pad contact patches
 //! density = 700.0            # kg/m³, used when the scene gives no object.mass
 //! ```
 //!
@@ -33,8 +34,8 @@ pub const GRAVITY: f64 = 9.81;
 pub const GRIP_FORCE_RANGE: (f64, f64) = (20.0, 235.0);
 /// Effective torsion radius (m) of one 2F-85 pad in full contact (22 mm × 37.5 mm, uniform
 /// pressure): the mean distance of the patch from its centre. The default model does not use
-/// it (point contacts, `pad_torsion_radius = 0`): a bar narrower than the pad fills only part of
-/// it, and ignoring torsion only makes the required force larger.
+/// it as such: with `pad_torsion_radius = 0` the patches the pads really make on the part (the
+/// plan's `rot.pad_contact`) give `e`, and a plan without them gets point contacts.
 pub const PAD_PATCH_TORSION_RADIUS: f64 = 0.011_62;
 
 /// Every parameter of the check.

@@ -246,7 +246,8 @@ fn screening_stops_at_the_first_failing_point() {
     assert_eq!(whole.verdict, Verdict::Holds);
     assert_eq!(screen_plan(&file, 0, &part, &base).unwrap(), whole);
 
-    // The stool's candidate 2 slides at the support (the planner rejects it; kept here).
+    // The stool's candidate 2 with point pads (its pad contact patches left out, so they
+    // resist no twist) slides at the support (kept here).
     let ex = pregrasp_examples::by_name("stool_side").unwrap();
     let text = format!("{}\n[physics]\nreject = false\n", ex.scene_toml);
     let scene = Scene::from_str(&text, Path::new("examples/stool_side.toml")).unwrap();
@@ -258,6 +259,10 @@ fn screening_stops_at_the_first_failing_point() {
         .iter()
         .position(|p| p.candidate == 2)
         .expect("kept");
+    let mut kept = kept;
+    for seg in &mut kept.plans[k].segments {
+        seg.pad_contact = None;
+    }
     let (file, slippery) = (&kept, base);
     let whole = analyse_plan(file, k, &part, &slippery).unwrap();
     assert_eq!(whole.verdict, Verdict::SlidesAtSupport);

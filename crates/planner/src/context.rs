@@ -6,10 +6,11 @@ use std::sync::OnceLock;
 
 use nalgebra::Isometry3;
 use pregrasp_collision::{
-    close_on_part, ArmModel, CollisionWorld, Contact, Grip, GripFailure, ObjectPlacement,
-    WorldState,
+    close_on_part, pad_patches, ArmModel, CollisionWorld, Contact, Grip, GripFailure,
+    ObjectPlacement, WorldState,
 };
 use pregrasp_geometry::Mesh;
+use pregrasp_io::plan_file::PadContactJson;
 use pregrasp_io::scene::Scene;
 use pregrasp_motion::{JointSpace, MotionValidator};
 use pregrasp_robot::{wrap_angle, Gripper2F85, GripperState, Joints, UrKinematics, UrModel};
@@ -72,6 +73,8 @@ pub struct PlanningContext<'a> {
     pub names: [String; 2],
     /// How the grippers close on the part.
     pub grips: Grips,
+    /// Where each arm's pads bear on the part at G_s, should it support (for the grip check).
+    pub support_pads: [Option<PadContactJson>; 2],
     /// When `sup1` has already run (re-planning `--from rot`): the supportive arm's joints,
     /// which μ_rot must start from (within [`FIXED_START_TOLERANCE`]).
     pub fixed_rot_start: Option<(usize, Joints)>,
@@ -102,6 +105,11 @@ impl<'a> PlanningContext<'a> {
                 .collect()
         };
         let world = world.with_held_fingers([&held(0), &held(1)]);
+        let support_pads = [0, 1].map(|arm| {
+            let grip = grips.support[arm].as_ref().ok()?;
+            let point = world.arms()[arm].gripper.precision_point();
+            pad_contact(world.object()?, &scene.grasps.support, &point, grip)
+        });
         Ok(PlanningContext {
             scene,
             mesh,
@@ -110,6 +118,7 @@ impl<'a> PlanningContext<'a> {
             spaces,
             names: [scene.robots[0].name.clone(), scene.robots[1].name.clone()],
             grips,
+            support_pads,
             fixed_rot_start: None,
             clock: StageClock::default(),
         })
@@ -295,6 +304,26 @@ pub fn grips(
         support: [0, 1].map(|arm| close(support, gripper(arm).precision_point())),
         power: [0, 1].map(|arm| close(&power[arm], gripper(arm).power_point())),
     }
+}
+
+/// Where the pads of `grip` bear on the part at `grasp` (object frame) held by `point` (the
+/// tool point in the flange frame): both patches' midpoint in the grasp frame, the smaller
+/// torsion radius, both areas. `None` unless both pads bear on it.
+pub fn pad_contact(
+    object: &pregrasp_collision::ObjectGeometry,
+    grasp: &Isometry3<f64>,
+    point: &Isometry3<f64>,
+    grip: &Grip,
+) -> Option<PadContactJson> {
+    let flange_in_object = grasp * point.inverse();
+    let [a, b] = pad_patches(object, &flange_in_object, grip);
+    let (a, b) = (a?, b?);
+    let mid = point.inverse() * nalgebra::center(&a.center, &b.center);
+    Some(PadContactJson {
+        center: [mid.x, mid.y, mid.z],
+        torsion_radius: a.torsion_radius.min(b.torsion_radius),
+        area: [a.area, b.area],
+    })
 }
 
 /// The collision world's view of a [`Moment`].

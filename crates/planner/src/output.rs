@@ -99,6 +99,7 @@ fn reach_segment(
         approach_from: Some(m.approach_from),
         grip_width: Some(grip_width),
         fingers: Some(fingers_json(grip)),
+        pad_contact: None,
         points: points(&m.q, &m.t),
     }
 }
@@ -196,6 +197,7 @@ pub fn rot_segment(
         approach_from: None,
         grip_width: Some(ctx.support_width(pose.supportive)),
         fingers: Some(fingers_json(ctx.support_grip(pose.supportive))),
+        pad_contact: ctx.support_pads[pose.supportive],
         points,
     }
 }

@@ -384,6 +384,7 @@ fn build_plan(s: &Setup, cand: &CandidateJson, theta_goal: f64) -> Result<PlanJs
                 approach_from,
                 grip_width: None,
                 fingers: None,
+                pad_contact: None,
                 points,
             }
         };
