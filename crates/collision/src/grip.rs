@@ -19,6 +19,7 @@ use pregrasp_robot::{
 };
 
 use crate::closing::{FingerShapes, PartClosing};
+use crate::distance::triangle_box_intersect;
 use crate::object::ObjectGeometry;
 
 /// Largest joint turn (rad) between two poses of a closing kept for the support test. Between
@@ -405,10 +406,34 @@ pub fn pad_patches(
         (PAD_FACE_Z.1 - PAD_FACE_Z.0) / nz as f64,
     );
     let half = nalgebra::Vector3::repeat(PATCH_DEPTH);
+    let to_object = flange_in_object.rotation.to_rotation_matrix();
     [0, 1].map(|k| {
         let side = if k == 0 { 1.0 } else { -1.0 };
         let pad = configs[k].link_frames(l)[PAD].to_isometry(side);
+        // The triangles near the face (its slab, grown by a sample cube's half diagonal, √3 ×
+        // the depth: the cubes have G's axes, the slab the pad's), once; then each sample's
+        // cube of half size PATCH_DEPTH against them.
+        let grow = PATCH_DEPTH * 3f64.sqrt();
+        let slab_center = Point3::new(
+            side * PAD_FACE_X,
+            0.5 * (PAD_FACE_Y.0 + PAD_FACE_Y.1),
+            0.5 * (PAD_FACE_Z.0 + PAD_FACE_Z.1),
+        );
+        let slab_half = nalgebra::Vector3::new(
+            grow,
+            0.5 * (PAD_FACE_Y.1 - PAD_FACE_Y.0) + grow,
+            0.5 * (PAD_FACE_Z.1 - PAD_FACE_Z.0) + grow,
+        );
+        let slab = flange_in_object * pad * nalgebra::Translation3::from(slab_center.coords);
+        let mut near: Vec<[Point3<f64>; 3]> = Vec::new();
+        object.any_triangle_in_box(&slab, &slab_half, |a, b, c| {
+            near.push([*a, *b, *c]);
+            false
+        });
         let mut touching = Vec::new();
+        if near.is_empty() {
+            return None;
+        }
         for i in 0..ny {
             for j in 0..nz {
                 let local = Point3::new(
@@ -417,8 +442,13 @@ pub fn pad_patches(
                     PAD_FACE_Z.0 + (j as f64 + 0.5) * dz,
                 );
                 let p = pad * local;
-                let probe = flange_in_object * nalgebra::Translation3::from(p.coords);
-                if object.box_touches(&probe, &half) {
+                // The sample's cube has G's axes: the triangles in its frame.
+                let c = flange_in_object * p;
+                let cube = |v: &Point3<f64>| Point3::from(to_object.transpose() * (v - c));
+                let hit = near
+                    .iter()
+                    .any(|[a, b, t]| triangle_box_intersect(&cube(a), &cube(b), &cube(t), &half));
+                if hit {
                     touching.push(p);
                 }
             }

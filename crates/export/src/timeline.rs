@@ -61,6 +61,8 @@ pub struct Segment {
     /// `support` or `power`: the grasp the segment's gripper holds when it ends.
     pub grasp: String,
     pub grip_width: Option<f64>,
+    /// The segment's `fingers`, when the plan gives them (where the closing stops).
+    pub fingers: Option<pregrasp_io::plan_file::FingersJson>,
     /// Points with plan times.
     pub points: Vec<(f64, Joints)>,
     /// Object poses at the points (`rot` only).
@@ -243,6 +245,7 @@ impl Timeline {
                 t0: t,
                 grasp: seg.grasp.clone(),
                 grip_width: seg.grip_width,
+                fingers: seg.fingers,
                 points,
                 object,
             });

@@ -17,9 +17,11 @@
 //! with the grasp's force — for the support grasp the plan's recommended grip force
 //! (`physics.grip_force_recommended`, [`force_register`]), for the power grasps `grip_force`;
 //! `SET POS 0` (open) when a
-//! `reach` / `regrasp` begins, and `SET POS p` at its last point, `p` from the segment's
-//! `grip_width` `g` as [`grip_pos`]`(g − squeeze)` (the 2F-85 maps 0..85 mm linearly to
-//! 255..0, approximately) or 255 when the plan gives no width. After a close the program waits
+//! `reach` / `regrasp` begins, and `SET POS p` at its last point: from the segment's `fingers`
+//! (where the real closing stops, curled around a bar or not) as [`grip_pos_for_driver`] —
+//! the register follows the driver angle, 0..255 for 0..0.8 rad — plus the squeeze; else from
+//! its `grip_width` `g` as [`grip_pos`]`(g − squeeze)` (the 2F-85 maps 0..85 mm linearly to
+//! 255..0, approximately); 255 when the plan gives neither. After a close the program waits
 //! for the fingers to stop and requires `GET OBJ` = 2 (object detected); before every segment
 //! in which the arm holds the part it asks again. Otherwise: `popup(…, error=True)` and `halt`.
 //!
@@ -70,6 +72,20 @@ pub fn force_register(f: f64) -> u8 {
 /// linear (approximate; the real mapping is within a few counts), clamped.
 pub fn grip_pos(g: f64) -> u8 {
     (255.0 * (1.0 - g / STROKE)).round().clamp(0.0, 255.0) as u8
+}
+
+/// The driver (outer knuckle) angle of the fully closed 2F-85 (rad): register 255.
+pub const DRIVER_CLOSED: f64 = 0.8;
+
+/// Robotiq position register for fingers that stop at driver angle `driver` (rad) on the part,
+/// commanded `squeeze` (m, as the parallel stroke counts it: 255 per 85 mm) further so that
+/// they press on it: the register follows the driver, `255·driver/0.8` (the MuJoCo Menagerie
+/// actuator's mapping), rounded up; clamped. For a pinch it agrees with [`grip_pos`] within a few
+/// counts; for a power grasp whose fingers curl around the bar it is the one that gets there
+/// (the pads' gap says nothing of how far the driver turned).
+pub fn grip_pos_for_driver(driver: f64, squeeze: f64) -> u8 {
+    let counts = 255.0 * driver / DRIVER_CLOSED + 255.0 * squeeze / STROKE;
+    counts.ceil().clamp(0.0, 255.0) as u8
 }
 
 /// Number of 2 ms ticks for an interval of `d` seconds: `⌈d / DT⌉`, at least 1.
@@ -375,9 +391,10 @@ pub fn arm_script(timeline: &Timeline, arm: usize, o: &Options) -> String {
                 o.grip_force
             };
             let _ = writeln!(w, "  pg_grip_set(\"SET FOR {force}\")");
-            let pos = match seg.grip_width {
-                Some(g) => grip_pos((g - o.grip_squeeze).max(0.0)),
-                None => 255,
+            let pos = match (&seg.fingers, seg.grip_width) {
+                (Some(f), _) => grip_pos_for_driver(f.driver, o.grip_squeeze),
+                (None, Some(g)) => grip_pos((g - o.grip_squeeze).max(0.0)),
+                (None, None) => 255,
             };
             let _ = writeln!(
                 w,

@@ -9,7 +9,7 @@ mod common;
 
 use std::collections::HashSet;
 
-use pregrasp_export::urscript::{force_register, grip_pos, DT};
+use pregrasp_export::urscript::{force_register, grip_pos, grip_pos_for_driver, DT};
 use pregrasp_export::{export, Format, Options};
 use pregrasp_robot::UrModel;
 
@@ -300,9 +300,11 @@ fn gripper_commands_at_the_right_moments() {
             .iter()
             .filter(|s| s.robot == robot && (s.kind == "reach" || s.kind == "regrasp"))
             .map(|s| {
-                let pos = s
-                    .grip_width
-                    .map_or(255, |g| grip_pos((g - squeeze).max(0.0)));
+                let pos = match (&s.fingers, s.grip_width) {
+                    (Some(f), _) => grip_pos_for_driver(f.driver, squeeze),
+                    (None, Some(g)) => grip_pos((g - squeeze).max(0.0)),
+                    (None, None) => 255,
+                };
                 (s.name.clone(), pos)
             })
             .collect();
@@ -323,6 +325,14 @@ fn gripper_commands_at_the_right_moments() {
         }
     }
     // The mapping: 0 m gap fully closed, the full stroke open, linear between.
+    // A pinch: the driver's register and the gap's agree within a few counts.
+    for gap in [0.02, 0.04, 0.06] {
+        let driver = pregrasp_robot::FingerPair::at_gap(gap).driver;
+        let (a, b) = (grip_pos_for_driver(driver, 0.0), grip_pos(gap));
+        assert!(a.abs_diff(b) <= 12, "gap {gap}: {a} vs {b}");
+    }
+    assert_eq!(grip_pos_for_driver(0.8, 0.0), 255);
+    assert_eq!(grip_pos_for_driver(0.0, 0.0), 0);
     assert_eq!(grip_pos(0.0), 255);
     assert_eq!(grip_pos(0.085), 0);
     assert_eq!(grip_pos(0.0425), 128);
