@@ -16,6 +16,7 @@ import argparse
 import datetime
 import json
 import math
+import os
 import subprocess
 import sys
 import tempfile
@@ -653,7 +654,7 @@ def run_task(task):
            "grip_width": rot.get("grip_width"), "fingers_plan": rot.get("fingers"),
            "rot_duration_plan": rot["points"][-1]["t"], "F_star": ev["F_star"],
            "F_star_over_N_min": None if ev["F_star"] is None else ev["F_star"] / n_min,
-           "calibration": ev["calibration"], "wall_s": round(wall, 1)}
+           "calibration": ev["calibration"]}
     if "bisection_bracket" in ev:
         row.update({"F_star_lower": ev["F_star_lower"], "bisection_bracket": ev["bisection_bracket"],
                     "monotone_at_multipliers": ev["monotone_at_multipliers"],
@@ -729,7 +730,8 @@ def main():
     rows.sort(key=lambda r: (r["example"], r["plan"], r["condim"]))
     header = {
         "generator": SCRIPT,
-        "args": sys.argv[1:],
+        # Absolute paths are this machine's: recorded by their last component only.
+        "args": [os.path.basename(a) if os.path.isabs(a) else a for a in sys.argv[1:]],
         "date": datetime.date.today().isoformat(),
         "source": {"repo": "https://github.com/google-deepmind/mujoco_menagerie", "path": f"{MODEL_DIR}/{MODEL_XML}", **prov},
         "mujoco_version": mujoco.__version__, "numpy_version": np.__version__, "trimesh_version": trimesh.__version__,
@@ -775,7 +777,6 @@ def main():
             {f"N_meas_{m_}": r["at"][str(m_)]["N_meas_pre"] for m_ in MULTIPLIERS} for r in rows]
     for f in flat:
         f.pop("verdict", None)
-        f.pop("wall_s", None)
     write_atomic(out / f"{a.name}.csv", csv_text(flat))
     log(f"wrote {out / (a.name + '.json')} and .csv: {len(rows)} rows in {time.time() - t_start:.1f} s")
 
