@@ -27,7 +27,9 @@ pub mod triangulate;
 
 pub use design::{GraspSite, PartDesign, GRIPPER_STROKE};
 pub use extrude::{extrude, try_extrude, ExtrudeError};
+pub use parts::bench_end::BenchEndParams;
 pub use parts::chair::{chair_side, ChairSideParams};
+pub use parts::ladder::LadderParams;
 pub use parts::shelf::{shelf_side, ShelfSideParams};
 pub use parts::stool::{stool_side, StoolSideParams};
 pub use pregrasp_geometry::Mesh;

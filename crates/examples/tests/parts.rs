@@ -299,3 +299,32 @@ fn grasps_suit_the_2f85_point_frames() {
         );
     }
 }
+
+/// The two parts made for the real closing (bench end, ladder): closed, outward-oriented, of
+/// the volume of their face, and the bars under their grasps as wide as stated.
+#[test]
+fn the_bench_end_and_the_ladder_are_closed_parts_with_the_stated_bars() {
+    use pregrasp_examples::{BenchEndParams, LadderParams};
+    for (name, design) in [
+        ("bench end", BenchEndParams::default().design()),
+        ("ladder", LadderParams::default().design()),
+    ] {
+        let mesh = design.mesh();
+        check_closed_oriented(&mesh).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let v = signed_volume(&mesh);
+        let expected = design.face_area() * design.thickness;
+        assert!(
+            (v - expected).abs() < 1e-12,
+            "{name}: volume {v} vs {expected}"
+        );
+        for site in [&design.support, &design.power_near, &design.power_far] {
+            let dir = nalgebra::Vector2::new(site.closing_angle.cos(), site.closing_angle.sin());
+            let half = site.bar_width / 2.0;
+            let at = |s: f64| site.point + dir * s;
+            assert!(inside(&design, &at(half - 1e-4)), "{name} {}", site.bar);
+            assert!(inside(&design, &at(-half + 1e-4)), "{name} {}", site.bar);
+            assert!(!inside(&design, &at(half + 1e-4)), "{name} {}", site.bar);
+            assert!(!inside(&design, &at(-half - 1e-4)), "{name} {}", site.bar);
+        }
+    }
+}

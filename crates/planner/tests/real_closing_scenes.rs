@@ -3,13 +3,11 @@
 //! the table, the same ladder with too little rotation allowed, refused for its fingers, and
 //! the ladder planned with no clearances at all, which check (with none) must accept.
 
-use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
 
-use nalgebra::Point2;
-use pregrasp_examples::design::{GraspSite, PartDesign};
+use pregrasp_examples::design::PartDesign;
 use pregrasp_examples::scene::{scene_toml, SceneLayout};
-use pregrasp_examples::ShelfSideParams;
+use pregrasp_examples::{BenchEndParams, LadderParams};
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::check::check_plan;
@@ -41,69 +39,14 @@ fn theta_goal_deg(file: &PlanFile) -> f64 {
         .to_degrees()
 }
 
-/// The end of a bench: a 25 mm board with hand holes that leave 35 mm handle bars along its
-/// edges. The support grasp pinches the handle bar of hole B, 50 mm wide, one finger outside
-/// the board, the other in the hole; the power grasps wrap the bars of holes A and C, 75 mm
-/// wide (a power grasp's open fingers reach 35 mm past a 35 mm bar at the height of its top
-/// face, so a 50 mm hole leaves them no room).
+/// The bench end of [`BenchEndParams`]: the pinch puts a finger in a 50 mm hand hole.
 fn bench_end() -> PartDesign {
-    let params = ShelfSideParams {
-        thickness: 0.025,
-        handle_bar_width: 0.035,
-        hand_hole_width: 0.075,
-        pins_per_row: 0,
-        ..ShelfSideParams::default()
-    };
-    let mut design = params.design();
-    let (cx, hl, d, bar) = (
-        params.hole_b_centre_x,
-        params.hand_hole_length,
-        params.depth,
-        params.handle_bar_width,
-    );
-    let (x0, x1, y0, y1) = (cx - hl / 2.0, cx + hl / 2.0, d - bar - 0.050, d - bar);
-    let p = Point2::new;
-    design.holes[1] = vec![p(x0, y0), p(x0, y1), p(x1, y1), p(x1, y0)];
-    design
+    BenchEndParams::default().design()
 }
 
-/// A ladder lying on the table: two 40 mm × 25 mm rails 0.45 m apart (outside), four rungs of
-/// the same section; one top corner chamfered so that the outer edge of rail A is the longest
-/// hull edge (the axis). Both power grasps and the support pinch are on rail B, across it,
-/// 0.43 m from the axis.
-///
-/// Closing on the rail, the fingers cage it (tips meeting under it, 155 mm from the flange)
-/// and reach 169.8 mm on the way — 39 mm below the rail, as deep as MuJoCo's closing of the
-/// Menagerie model gets there: with the 2.6 mm finger–support clearance the rail must rise
-/// 42 mm, 5.6° about the axis, so θ_goal = 6° + n_ext (3°) = 9°. (0.38 m from the axis it
-/// would be 10°.)
+/// The ladder of [`LadderParams`]: 40 × 25 mm rails, grasped on rail B 0.43 m from the axis.
 fn ladder() -> PartDesign {
-    let p = Point2::new;
-    let (l, w, bar, c) = (1.0, 0.45, 0.040, 0.03);
-    let outline = vec![p(0.0, 0.0), p(l, 0.0), p(l, w - c), p(l - c, w), p(0.0, w)];
-    let rungs = [0.0, 0.32, 0.64, l - bar];
-    let holes = rungs
-        .windows(2)
-        .map(|r| {
-            let (x0, x1, y0, y1) = (r[0] + bar, r[1], bar, w - bar);
-            vec![p(x0, y0), p(x0, y1), p(x1, y1), p(x1, y0)]
-        })
-        .collect();
-    let on_rail_b = |bar_name: &'static str, x: f64| GraspSite {
-        bar: bar_name,
-        point: p(x, w - bar / 2.0),
-        closing_angle: FRAC_PI_2,
-        bar_width: bar,
-    };
-    PartDesign {
-        outline,
-        holes,
-        thickness: 0.025,
-        axis: [p(0.0, 0.0), p(l, 0.0)],
-        support: on_rail_b("rail B, middle", 0.48),
-        power_near: on_rail_b("rail B, near end", 0.16),
-        power_far: on_rail_b("rail B, far end", 0.80),
-    }
+    LadderParams::default().design()
 }
 
 #[test]
