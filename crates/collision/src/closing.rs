@@ -119,11 +119,17 @@ impl FingerShapes {
                 })
                 .collect()
         };
+        let hulls = [hulls(&pieces[0])?, hulls(&pieces[1])?];
+        let tight = [tight(&pieces[0])?, tight(&pieces[1])?];
+        // Built once, asked all the time: climb the vertex graphs from the first query on.
+        for t in hulls.iter().chain(&tight).flatten() {
+            t.prepare();
+        }
         Some(FingerShapes {
-            hulls: [hulls(&pieces[0])?, hulls(&pieces[1])?],
+            hulls,
             reach: [reach(&pieces[0]), reach(&pieces[1])],
             boxes: [boxes(&pieces[0]), boxes(&pieces[1])],
-            tight: [tight(&pieces[0])?, tight(&pieces[1])?],
+            tight,
             pieces,
         })
     }
