@@ -5,10 +5,10 @@
 //! the parallel mode until a link touches the part; a pad touching first makes a pinch, a
 //! proximal link (the inner knuckle) touching first lets the finger tip curl around the bar
 //! (an encompassing grasp, or the bar caged). The result ([`Grip`]) is where the fingers
-//! stopped and the convex hull of every pose they passed through on the way (in the gripper
-//! frame G), which is what the support must clear: the closing is a property of the grasp and
-//! the part, the support a property of where the part is, so one closing serves every pose of
-//! the part ([`Grip::lowest`]).
+//! stopped and every pose they passed through on the way (the finger links' extreme points,
+//! per link and plane `y = const`, in the gripper frame G), which is what the support must
+//! clear: the closing is a property of the grasp and the part, the support a property of where
+//! the part is, so one closing serves every pose of the part ([`Grip::lowest`]).
 
 use std::sync::{Arc, OnceLock};
 
@@ -335,10 +335,8 @@ pub fn close_on_part(
             last = Some(*configs);
         }
     });
-    let opened = poses <= 1
-        && result
-            .iter()
-            .any(|r| r.kind == ClosingKind::Stuck && r.config.driver <= linkage().limits.driver.0);
+    // Stuck before the first step: a link of the open finger is in the part.
+    let opened = poses <= 1 && result.iter().any(|r| r.kind == ClosingKind::Stuck);
     if opened {
         return Err(GripFailure::OpenTouches);
     }
