@@ -241,7 +241,9 @@ impl<'a> PartClosing<'a> {
         let pieces = &self.shapes.tight[s][link];
         self.object.any_triangle_in_box(&box_pose, half, |a, b, c| {
             let tri = parry3d_f64::shape::Triangle::new(*a, *b, *c);
-            hull.any_piece_touches(in_object, &tri) && pieces.any_piece_touches(in_object, &tri)
+            let key = a as *const _ as usize;
+            hull.any_piece_touches(in_object, &tri, key)
+                && pieces.any_piece_touches(in_object, &tri, key)
         })
     }
 }

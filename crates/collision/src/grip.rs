@@ -211,12 +211,16 @@ impl Sweep {
         let mut slot = 0;
         for (cfg, side) in configs.iter().zip([1.0, -1.0]) {
             for (frame, levels) in cfg.link_frames(l).iter().zip(link_levels()) {
-                let iso = frame.to_isometry(side);
-                for (y, pts) in levels {
-                    self.levels[slot].extend(pts.iter().map(|[x, z]| {
-                        let p = iso * Point3::new(side * x, *y, *z);
-                        [p.x, p.z]
-                    }));
+                // The link frame in the finger's plane: `(x, z) ↦ o + R(angle)·(x, z)`, then
+                // mirrored `x → −x` for the `−x` finger (`PlanarPose::to_isometry`, in 2-D: the
+                // levels' `y` does not change).
+                let (s, c) = frame.angle.sin_cos();
+                let (ox, oz) = (frame.origin.x, frame.origin.y);
+                for (_, pts) in levels {
+                    self.levels[slot].extend(
+                        pts.iter()
+                            .map(|[x, z]| [side * (ox + c * x - s * z), oz + s * x + c * z]),
+                    );
                     slot += 1;
                 }
             }

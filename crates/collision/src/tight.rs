@@ -410,7 +410,15 @@ impl Tight {
 
     /// Whether a piece, its frame at `frame` (in the triangle's frame), touches `tri` (GJK,
     /// distance 0, each piece's box tested first).
-    pub(crate) fn any_piece_touches(&self, frame: &Isometry3<f64>, tri: &Triangle) -> bool {
+    /// `tri_key` names the triangle for as long as it lives (e.g. the address of its first
+    /// vertex in the mesh): GJK tries first the axis that last separated this piece from it
+    /// ([`near_keyed`]; the answer is GJK's either way).
+    pub(crate) fn any_piece_touches(
+        &self,
+        frame: &Isometry3<f64>,
+        tri: &Triangle,
+        tri_key: usize,
+    ) -> bool {
         let (lo, hi) = tri_box(tri);
         let m = frame.rotation.to_rotation_matrix().matrix().abs();
         self.pieces.iter().any(|piece| {
@@ -418,7 +426,12 @@ impl Tight {
             let ext: Vector3<f64> = m * (0.5 * (piece.hi - piece.lo));
             let (plo, phi) = (c - ext, c + ext);
             let apart = (0..3).any(|i| plo[i] > hi[i] || phi[i] < lo[i]);
-            !apart && piece_near_triangle(frame, &Climb::new(&piece.poly), tri, 0.0)
+            if apart {
+                return false;
+            }
+            let key = (piece as *const Piece as usize, tri_key);
+            let identity = Isometry3::identity();
+            near_keyed(key, frame, &Climb::new(&piece.poly), &identity, tri, 0.0)
         })
     }
 
