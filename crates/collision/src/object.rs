@@ -147,10 +147,11 @@ impl ObjectGeometry {
         margin: f64,
     ) -> bool {
         let grow = Vector3::repeat(margin);
-        crate::tight::any_piece_in(t, pose, |rel, poly, (lo, hi)| {
+        crate::tight::any_piece_in(t, pose, |rel, poly, (lo, hi), key| {
             self.any_triangle(&(lo - grow), &(hi + grow), |ta, tb, tc| {
                 let tri = parry3d_f64::shape::Triangle::new(*ta, *tb, *tc);
-                crate::tight::piece_near_triangle(rel, poly, &tri, margin)
+                let pair = (key, ta as *const P as usize);
+                crate::tight::piece_near_triangle_keyed(pair, rel, poly, &tri, margin)
             })
         })
     }
@@ -162,7 +163,7 @@ impl ObjectGeometry {
         let verts = self.mesh.vertices();
         let idx = self.mesh.indices();
         let mut best = f64::INFINITY;
-        crate::tight::any_piece_in(t, pose, |rel, poly, (lo, hi)| {
+        crate::tight::any_piece_in(t, pose, |rel, poly, (lo, hi), _| {
             self.mesh.bvh().traverse(|node| {
                 if aabb_aabb_sq(&lo, &hi, &node.mins(), &node.maxs()) >= best * best {
                     return TraversalAction::Prune;

@@ -588,7 +588,8 @@ impl<'a> Part<'a> {
 }
 
 /// Whether two convex shapes at `p1`, `p2` come within `dist` of each other (GJK, stopping as
-/// soon as it knows: [`gjk::within`]).
+/// soon as it knows: [`gjk::within`]). The tests compare [`near_keyed`] with it.
+#[cfg(test)]
 #[inline]
 fn near(
     p1: &Isometry3<f64>,
@@ -600,7 +601,8 @@ fn near(
     gjk::within(&p1.inv_mul(p2), g1, g2, dist, None).is_ok()
 }
 
-/// [`near`] for two convex bodies named `key`, trying first the axis that last separated
+/// Whether two convex shapes at `p1`, `p2` come within `dist` of each other, by GJK
+/// ([`gjk::within`]), for two convex bodies named `key`, trying first the axis that last separated
 /// them on this thread ([`SEPARATORS`]): along a motion the pairs change little between
 /// checks, and an axis that still shows them apart by more than `dist` settles the question
 /// with one support point each — GJK's own test of an axis, so the answer is GJK's (a
@@ -691,31 +693,36 @@ pub(crate) fn distance(s1: &Part, s2: &Part) -> f64 {
     best
 }
 
-/// Calls `f(piece pose in the mesh frame, polytope, piece's box in the mesh frame)` for each
-/// piece of `t`, a mesh being at `mesh_pose`, until it returns `true`.
+/// Calls `f(piece pose in the mesh frame, polytope, piece's box in the mesh frame, piece key)`
+/// for each piece of `t`, a mesh being at `mesh_pose`, until it returns `true`. The key names
+/// the piece for as long as it lives (its address), for [`piece_near_triangle_keyed`].
 pub(crate) fn any_piece_in(
     t: &Posed,
     mesh_pose: &Isometry3<f64>,
-    mut f: impl FnMut(&Isometry3<f64>, &Climb, (P, P)) -> bool,
+    mut f: impl FnMut(&Isometry3<f64>, &Climb, (P, P), usize) -> bool,
 ) -> bool {
     let rel = mesh_pose.inv_mul(t.frame);
     let m = rel.rotation.to_rotation_matrix().matrix().abs();
     t.tight.pieces.iter().any(|piece| {
         let c = rel * nalgebra::center(&piece.lo, &piece.hi);
         let ext: Vector3<f64> = m * (0.5 * (piece.hi - piece.lo));
-        f(&rel, &Climb::new(&piece.poly), (c - ext, c + ext))
+        let key = piece as *const Piece as usize;
+        f(&rel, &Climb::new(&piece.poly), (c - ext, c + ext), key)
     })
 }
 
-/// Whether the polytope at `pose` comes within `margin` of the triangle (both in one frame).
+/// Whether the polytope at `pose` comes within `margin` of the triangle (both in one frame),
+/// trying first the axis that last separated the pair `key` (piece key, triangle key:
+/// [`near_keyed`]; the answer is GJK's either way).
 #[inline]
-pub(crate) fn piece_near_triangle(
+pub(crate) fn piece_near_triangle_keyed(
+    key: (usize, usize),
     pose: &Isometry3<f64>,
     poly: &Climb,
     tri: &Triangle,
     margin: f64,
 ) -> bool {
-    near(pose, poly, &Isometry3::identity(), tri, margin)
+    near_keyed(key, pose, poly, &Isometry3::identity(), tri, margin)
 }
 
 /// Distance from the polytope at `pose` to the triangle (both in one frame; `0` in contact).
