@@ -3,13 +3,15 @@
 //! For one rotation-axis candidate λ (with its direction and θ_max):
 //! 1. `DistRotPow`: the distances d_g1, d_g2 of the power grasps G_p1, G_p2 from the axis line;
 //!    the candidate is skipped when either is within Δd_a (`min_grasp_axis_distance`).
-//! 2. Gripper dummies — the gripper's full geometry, open and closed — sit at both power grasps
-//!    and rotate with the part in steps of Δφ until neither comes within the planning margin of
-//!    the support, then n_ext further steps, each still clear. That pose is P_obj, the angle
-//!    θ_goal. Never beyond θ_max.
+//! 2. Gripper dummies — the housing and the fingers in every pose of their real closing on the
+//!    bar ([`pregrasp_collision::Grip`]) — sit at both power grasps and rotate with the part in
+//!    steps of Δφ until neither comes within the finger–support clearance (plus the planning
+//!    margin) of the support, then n_ext further steps, each still clear. That pose is P_obj,
+//!    the angle θ_goal. Never beyond θ_max.
 //! 3. Roles (§V-B): `robot[0]` is the master R_mas if d_g1 > d_g2 (+1 µm), otherwise `robot[1]`.
 //! 4. IK: every collision-free solution of each arm at its power grasp on the part at P_obj
-//!    (C_IK^p), and of the supportive arm's precision point at G_s (C_IK^s).
+//!    (C_IK^p), and of the supportive arm's precision point at G_s (C_IK^s), whose closing at
+//!    P_init must clear the support as the dummies do.
 
 use nalgebra::Isometry3;
 use pregrasp_collision::GripFailure;
