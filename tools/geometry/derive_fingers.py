@@ -20,7 +20,6 @@ phi = -theta about +y.
 """
 import io
 import subprocess
-import json
 import os
 import sys
 import xml.etree.ElementTree as ET
@@ -32,6 +31,7 @@ from scipy import ndimage
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import git_show, r6  # noqa: E402
+from derive import dump  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 DATA = os.path.join(ROOT, "crates", "robot", "data")
@@ -839,15 +839,6 @@ def check_inside(pieces, V, tol=1e-6):
         h = ConvexHull(Q)
         worst = np.minimum(worst, (V @ h.equations[:, :3].T + h.equations[:, 3]).max(axis=1))
     return float(max(worst.max(), 0.0))
-
-
-def dump(path, obj):
-    """Atomic write (temp file + rename), compact JSON, one trailing newline."""
-    tmp = path + ".tmp"
-    with open(tmp, "w") as f:
-        json.dump(obj, f, separators=(",", ":"))
-        f.write("\n")
-    os.replace(tmp, path)
 
 
 def main():

@@ -28,7 +28,16 @@ import numpy as np
 import trimesh
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from closing import MODEL_DIR, MODEL_XML, csv_text, load_source, rnd, write_atomic  # noqa: E402
+from closing import (  # noqa: E402
+    MODEL_DIR,
+    MODEL_XML,
+    csv_text,
+    load_source,
+    mat_of_quat as mat,
+    quat_of_mat as quat,
+    rnd,
+    write_atomic,
+)
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 OUT_DIR = REPO_ROOT / "crates/physics/data/replay_truth"
@@ -71,18 +80,6 @@ def quat_wxyz(q_xyzw):
     x, y, z, w = q_xyzw
     q = np.array([w, x, y, z], float)
     return q / np.linalg.norm(q)
-
-
-def mat(q):
-    R = np.zeros(9)
-    mujoco.mju_quat2Mat(R, np.asarray(q, float))
-    return R.reshape(3, 3)
-
-
-def quat(R):
-    q = np.zeros(4)
-    mujoco.mju_mat2Quat(q, np.asarray(R, float).reshape(9))
-    return q
 
 
 def pose_T(p):

@@ -430,8 +430,7 @@ impl Tight {
                 return false;
             }
             let key = (piece as *const Piece as usize, tri_key);
-            let identity = Isometry3::identity();
-            near_keyed(key, frame, &Climb::new(&piece.poly), &identity, tri, 0.0)
+            piece_near_triangle_keyed(key, frame, &Climb::new(&piece.poly), tri, 0.0)
         })
     }
 
@@ -571,19 +570,7 @@ impl<'a> Part<'a> {
     /// Height of the exact solid's lowest point above the plane `z = height`.
     pub fn plane_distance(&self, height: f64) -> Option<f64> {
         let Posed { tight, frame } = self.tight()?;
-        let row = frame
-            .rotation
-            .to_rotation_matrix()
-            .matrix()
-            .row(2)
-            .transpose();
-        let tz = frame.translation.vector.z;
-        let low = tight
-            .hull
-            .iter()
-            .map(|v| row.dot(&v.coords))
-            .fold(f64::INFINITY, f64::min);
-        Some(low + tz - height)
+        Some(tight.lowest(frame) - height)
     }
 }
 
