@@ -37,6 +37,8 @@ pub struct FingerShapes {
     /// `[side][link]`: the link's convex hull as one piece: a link whose hull misses the part
     /// misses it (one GJK per triangle rather than one per piece).
     hulls: [Vec<Tight>; 2],
+    /// Per link, the vertices of its hull (the `+x` finger's, link frame).
+    hull_points: Vec<Vec<Point3<f64>>>,
     /// `[side][link]`: the largest distance of a piece vertex from the link frame's origin.
     reach: [Vec<f64>; 2],
 }
@@ -104,34 +106,49 @@ impl FingerShapes {
                 })
                 .collect()
         };
-        let hulls = |pieces: &Vec<Vec<Piece>>| -> Option<Vec<Tight>> {
-            pieces
+        // Each link's hull once, for the `+x` finger; the other finger's is its mirror image.
+        let hull_points: Vec<Vec<Point3<f64>>> = pieces[0]
+            .iter()
+            .map(|link| {
+                let all: Vec<Point3<f64>> = link
+                    .iter()
+                    .flat_map(|p| p.vertices.iter().copied())
+                    .collect();
+                crate::tight::hull_points(&all)
+            })
+            .collect();
+        let hulls = |sign: f64| -> Option<Vec<Tight>> {
+            hull_points
                 .iter()
-                .map(|link| {
-                    let all: Vec<Point3<f64>> = link
-                        .iter()
-                        .flat_map(|p| p.vertices.iter().copied())
-                        .collect();
+                .map(|pts| {
                     Tight::new(&ConvexPieces {
-                        pieces: vec![crate::tight::hull_points(&all)],
+                        pieces: vec![pts
+                            .iter()
+                            .map(|p| Point3::new(sign * p.x, p.y, p.z))
+                            .collect()],
                         slack: 0.0,
                     })
                 })
                 .collect()
         };
-        let hulls = [hulls(&pieces[0])?, hulls(&pieces[1])?];
+        let hulls = [hulls(1.0)?, hulls(-1.0)?];
         let tight = [tight(&pieces[0])?, tight(&pieces[1])?];
-        // Built once, asked all the time: climb the vertex graphs from the first query on.
-        for t in hulls.iter().chain(&tight).flatten() {
-            t.prepare();
-        }
         Some(FingerShapes {
+            hull_points,
             hulls,
             reach: [reach(&pieces[0]), reach(&pieces[1])],
             boxes: [boxes(&pieces[0]), boxes(&pieces[1])],
             tight,
             pieces,
         })
+    }
+}
+
+impl FingerShapes {
+    /// The vertices of link `link`'s hull ([`FINGER_LINKS`] order), in the link frame of the
+    /// `+x` finger.
+    pub fn hull_points(&self, link: usize) -> &[Point3<f64>] {
+        &self.hull_points[link]
     }
 }
 
@@ -258,31 +275,34 @@ impl ClosingWorld for PartClosing<'_> {
         if self.support.is_none() && self.known_free(s, link, pose) {
             return Touch::Nothing;
         }
+        let key = (
+            s as u8,
+            link as u8,
+            [pose.origin.x, pose.origin.y, pose.angle].map(f64::to_bits),
+        );
+        let remembered = || self.memo.borrow().get(&key).copied();
+        let as_touch = |hit: bool| if hit { Touch::Part } else { Touch::Nothing };
+        // Without a support the memo answers before the link is placed.
+        if self.support.is_none() {
+            if let Some(hit) = remembered() {
+                return as_touch(hit);
+            }
+        }
         let in_object = self.flange_in_object * pose.to_isometry(side);
-        let pieces = &self.shapes.pieces[s][link];
         if let Some((n, d)) = self.support {
-            let below = pieces
+            let below = self.shapes.pieces[s][link]
                 .iter()
                 .flat_map(|p| p.vertices.iter())
                 .any(|v| n.dot(&(in_object * v).coords) > d);
             if below {
                 return Touch::Support;
             }
-        }
-        let key = (
-            s as u8,
-            link as u8,
-            [pose.origin.x, pose.origin.y, pose.angle].map(f64::to_bits),
-        );
-        if let Some(&hit) = self.memo.borrow().get(&key) {
-            return if hit { Touch::Part } else { Touch::Nothing };
+            if let Some(hit) = remembered() {
+                return as_touch(hit);
+            }
         }
         let hit = self.touches_part(s, link, pose, &in_object);
         self.memo.borrow_mut().insert(key, hit);
-        if hit {
-            Touch::Part
-        } else {
-            Touch::Nothing
-        }
+        as_touch(hit)
     }
 }

@@ -30,6 +30,9 @@ use crate::object::ObjectGeometry;
 const SWEEP_STEP: f64 = 0.05;
 /// Bound (m) on how far a finger point may lie below the kept poses' hull between them.
 const SWEEP_SAG: f64 = 1e-4;
+/// How far (m) [`Grip::clears`] lowers its sphere and circle bounds so their round-off cannot
+/// skip a point below the line.
+const BOUND_SLACK: f64 = 1e-9;
 
 /// The largest joint turn between two poses of both fingers.
 fn turned(a: &[FingerConfig; 2], b: &[FingerConfig; 2]) -> f64 {
@@ -70,6 +73,8 @@ pub struct Grip {
     pub kinds: [ClosingKind; 2],
     /// The finger links in every pose of the closing, by planes `y = const` (in G).
     swept: Arc<Vec<Level>>,
+    /// The levels' points `(x, z)`, pose after pose ([`SweptPoints`]).
+    points: Arc<SweptPoints>,
     /// Per finger link (both fingers), its levels in `swept` and a sphere holding them.
     links: Arc<Vec<LinkSweep>>,
 }
@@ -105,10 +110,13 @@ impl Grip {
         let d = r.matrix().row(2).transpose();
         let planar = d.x.hypot(d.z);
         let value = |l: &Level| d.y * l.y + d.x * l.center[0] + d.z * l.center[1];
+        let points = &*self.points;
         let scan = |l: &Level, mut best: f64| {
             let base = d.y * l.y;
-            for p in &l.pts {
-                best = best.min(base + d.x * p[0] + d.z * p[1]);
+            for pose in points.of(l) {
+                for p in pose {
+                    best = best.min(base + d.x * p[0] + d.z * p[1]);
+                }
             }
             best
         };
@@ -133,12 +141,53 @@ impl Grip {
         best + flange_world.translation.vector.z - SWEEP_SAG
     }
 
+    /// Whether the fingers stay above world height `height` all through the closing, the
+    /// flange at `flange_world`: `lowest(flange_world) > height`, the same answer, found
+    /// without the minimum (a link or level whose bound clears is not read; the first point
+    /// below ends it).
+    pub fn clears(&self, flange_world: &Isometry3<f64>, height: f64) -> bool {
+        let r = flange_world.rotation.to_rotation_matrix();
+        let d = r.matrix().row(2).transpose();
+        let planar = d.x.hypot(d.z);
+        let z = flange_world.translation.vector.z;
+        // As `lowest` rounds: the lowest value `v` passes iff `v + z − SWEEP_SAG > height`, and
+        // that is monotone in `v`. Bounds are pushed down by BOUND_SLACK against their own
+        // round-off.
+        let above = |v: f64| v + z - SWEEP_SAG > height;
+        let points = &*self.points;
+        for g in self.links.iter() {
+            if above(d.dot(&g.center.coords) - g.radius - BOUND_SLACK) {
+                continue;
+            }
+            for l in &self.swept[g.levels.clone()] {
+                let base = d.y * l.y;
+                let bound = base + d.x * l.center[0] + d.z * l.center[1] - planar * l.radius;
+                if above(bound - BOUND_SLACK) {
+                    continue;
+                }
+                if points
+                    .of(l)
+                    .flatten()
+                    .any(|p| !above(base + d.x * p[0] + d.z * p[1]))
+                {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
     /// The points (in G) that bound the closing fingers: every pose's finger links lie in
     /// their convex hull.
     pub fn swept_points(&self) -> Vec<Point3<f64>> {
         self.swept
             .iter()
-            .flat_map(|l| l.pts.iter().map(|p| Point3::new(p[0], l.y, p[1])))
+            .flat_map(|l| {
+                self.points
+                    .of(l)
+                    .flatten()
+                    .map(|p| Point3::new(p[0], l.y, p[1]))
+            })
             .collect()
     }
 }
@@ -164,13 +213,11 @@ type Levels = Vec<(f64, Vec<[f64; 2]>)>;
 fn link_levels() -> &'static [Levels] {
     static LEVELS: OnceLock<Vec<Levels>> = OnceLock::new();
     LEVELS.get_or_init(|| {
-        let solids = FingerSolids::robotiq_2f85();
-        solids.links[LINKS_PER_FINGER..]
-            .iter()
-            .map(|s| {
-                let all: Vec<Point3<f64>> = s.pieces.pieces.iter().flatten().copied().collect();
+        let shapes = finger_shapes();
+        (0..LINKS_PER_FINGER)
+            .map(|link| {
                 let mut levels: Levels = Vec::new();
-                for p in crate::tight::hull_points(&all) {
+                for p in shapes.hull_points(link) {
                     match levels.iter_mut().find(|(y, _)| *y == p.y) {
                         Some((_, pts)) => pts.push([p.x, p.z]),
                         None => levels.push((p.y, vec![[p.x, p.z]])),
@@ -182,33 +229,46 @@ fn link_levels() -> &'static [Levels] {
     })
 }
 
-/// The finger points swept while closing, per side, link and `y` level (`(x, z)` in G), in
-/// the order [`Sweep::add`] visits them.
+/// The finger points swept while closing: per kept pose, both fingers' points side by side,
+/// link and `y` level after level (`(x, z)` in G), in the order [`Sweep::add`] visits them.
 struct Sweep {
-    levels: Vec<Vec<[f64; 2]>>,
+    poses: Vec<[f64; 2]>,
+    adds: usize,
 }
 
+/// Poses a closing usually keeps (capacity reserved up front).
+const SWEEP_POSES: usize = 40;
+
 impl Sweep {
+    /// Points per pose of both fingers.
+    fn per_pose() -> usize {
+        2 * link_levels()
+            .iter()
+            .flatten()
+            .map(|(_, pts)| pts.len())
+            .sum::<usize>()
+    }
+
     fn new() -> Sweep {
-        let n = 2 * link_levels().iter().map(Vec::len).sum::<usize>();
         Sweep {
-            levels: vec![Vec::new(); n],
+            poses: Vec::with_capacity(SWEEP_POSES * Sweep::per_pose()),
+            adds: 0,
         }
     }
 
-    /// The `y` of each level, in [`Sweep::levels`] order (the `−x` finger's mirror keeps `y`).
-    fn ys() -> impl Iterator<Item = f64> {
+    /// The `y` and the point count of each level, in pose order (the `−x` finger's mirror
+    /// keeps `y`).
+    fn levels() -> impl Iterator<Item = (f64, usize)> {
         [1.0, -1.0].into_iter().flat_map(|_| {
             link_levels()
                 .iter()
-                .flat_map(|levels| levels.iter().map(|(y, _)| *y))
+                .flat_map(|levels| levels.iter().map(|(y, pts)| (*y, pts.len())))
         })
     }
 
     /// Adds both fingers at `configs` (`[+x, −x]`).
     fn add(&mut self, configs: &[FingerConfig; 2]) {
         let l = linkage();
-        let mut slot = 0;
         for (cfg, side) in configs.iter().zip([1.0, -1.0]) {
             for (frame, levels) in cfg.link_frames(l).iter().zip(link_levels()) {
                 // The link frame in the finger's plane: `(x, z) ↦ o + R(angle)·(x, z)`, then
@@ -217,45 +277,70 @@ impl Sweep {
                 let (s, c) = frame.angle.sin_cos();
                 let (ox, oz) = (frame.origin.x, frame.origin.y);
                 for (_, pts) in levels {
-                    self.levels[slot].extend(
+                    self.poses.extend(
                         pts.iter()
                             .map(|[x, z]| [side * (ox + c * x - s * z), oz + s * x + c * z]),
                     );
-                    slot += 1;
                 }
             }
         }
+        self.adds += 1;
     }
 
-    /// Each level's points with a circle holding them ([`Grip::lowest`] scans only the levels
-    /// whose circle reaches below the best point so far).
-    fn finish(self) -> Vec<Level> {
-        self.levels
-            .into_iter()
-            .zip(Sweep::ys())
-            .map(|(pts, y)| {
-                let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-                for p in &pts {
-                    lo = [lo[0].min(p[0]), lo[1].min(p[1])];
-                    hi = [hi[0].max(p[0]), hi[1].max(p[1])];
-                }
-                let center = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
-                let radius = pts
-                    .iter()
-                    .map(|p| {
-                        let (dx, dz) = (p[0] - center[0], p[1] - center[1]);
-                        dx * dx + dz * dz
-                    })
-                    .fold(0.0, f64::max)
-                    .sqrt();
-                Level {
-                    y,
-                    center,
-                    radius,
-                    pts,
-                }
-            })
-            .collect()
+    /// The swept points, and each level with a circle holding its points ([`Grip::lowest`]
+    /// scans only the levels whose circle reaches below the best point so far).
+    fn finish(self) -> (Vec<Level>, SweptPoints) {
+        let points = SweptPoints {
+            per_pose: Sweep::per_pose(),
+            data: self.poses,
+        };
+        let mut levels = Vec::new();
+        let mut offset = 0;
+        for (y, n) in Sweep::levels() {
+            let mut level = Level {
+                y,
+                center: [0.0; 2],
+                radius: 0.0,
+                pts: offset..offset + n,
+            };
+            offset += n;
+            let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+            for p in points.of(&level).flatten() {
+                lo = [lo[0].min(p[0]), lo[1].min(p[1])];
+                hi = [hi[0].max(p[0]), hi[1].max(p[1])];
+            }
+            let center = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+            level.radius = points
+                .of(&level)
+                .flatten()
+                .map(|p| {
+                    let (dx, dz) = (p[0] - center[0], p[1] - center[1]);
+                    dx * dx + dz * dz
+                })
+                .fold(0.0, f64::max)
+                .sqrt();
+            level.center = center;
+            levels.push(level);
+        }
+        (levels, points)
+    }
+}
+
+/// The points a closing swept, as [`Sweep::add`] wrote them: pose after pose, each pose's
+/// levels side by side (a level's points are the same slice of every pose).
+#[derive(Debug)]
+struct SweptPoints {
+    per_pose: usize,
+    data: Vec<[f64; 2]>,
+}
+
+impl SweptPoints {
+    /// The points of level `l`, pose by pose.
+    fn of<'s>(&'s self, l: &Level) -> impl Iterator<Item = &'s [[f64; 2]]> + 's {
+        let range = l.pts.clone();
+        self.data
+            .chunks_exact(self.per_pose)
+            .map(move |pose| &pose[range.clone()])
     }
 }
 
@@ -269,7 +354,7 @@ struct LinkSweep {
 }
 
 /// The levels of each finger link in `levels` (in [`Sweep::levels`] order), with a sphere each.
-fn link_sweeps(levels: &[Level]) -> Vec<LinkSweep> {
+fn link_sweeps(levels: &[Level], points: &SweptPoints) -> Vec<LinkSweep> {
     let mut out = Vec::new();
     let mut start = 0;
     for _side in 0..2 {
@@ -289,7 +374,12 @@ fn link_sweeps(levels: &[Level]) -> Vec<LinkSweep> {
             let center = nalgebra::center(&lo, &hi);
             let radius = group
                 .iter()
-                .flat_map(|l| l.pts.iter().map(move |p| Point3::new(p[0], l.y, p[1])))
+                .flat_map(|l| {
+                    points
+                        .of(l)
+                        .flatten()
+                        .map(move |p| Point3::new(p[0], l.y, p[1]))
+                })
                 .map(|p| (p - center).norm_squared())
                 .fold(0.0, f64::max)
                 .sqrt();
@@ -310,7 +400,8 @@ struct Level {
     y: f64,
     center: [f64; 2],
     radius: f64,
-    pts: Vec<[f64; 2]>,
+    /// Its points' place in every pose of [`SweptPoints`].
+    pts: std::ops::Range<usize>,
 }
 
 /// The ROS name of finger link `link` ([`FINGER_LINKS`] order).
@@ -359,12 +450,13 @@ pub fn close_on_part(
     }
     let configs = [result[0].config, result[1].config];
     sweep.add(&configs);
-    let swept = sweep.finish();
+    let (swept, points) = sweep.finish();
     Ok(Grip {
         fingers: FingerPair::from_configs(&configs),
         kinds: [result[0].kind, result[1].kind],
-        links: Arc::new(link_sweeps(&swept)),
+        links: Arc::new(link_sweeps(&swept, &points)),
         swept: Arc::new(swept),
+        points: Arc::new(points),
     })
 }
 

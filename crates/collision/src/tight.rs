@@ -355,9 +355,10 @@ pub struct Piece {
 #[derive(Clone, Debug)]
 pub struct Tight {
     pieces: Vec<Piece>,
-    /// The vertices of the hull of all pieces: a linear function's least value over the
-    /// pieces is its least value over these (the support-plane tests).
-    hull: Vec<P>,
+    /// The vertices of the hull of all pieces, built when first asked (arm links never are):
+    /// a linear function's least value over the pieces is its least value over these (the
+    /// support-plane tests).
+    hull: OnceLock<Vec<P>>,
     slack: f64,
 }
 
@@ -394,11 +395,9 @@ impl Tight {
                 })
             })
             .collect::<Option<Vec<_>>>()?;
-        let all: Vec<P> = src.pieces.iter().flatten().copied().collect();
-        let hull = hull_points(&all);
         Some(Tight {
             pieces,
-            hull,
+            hull: OnceLock::new(),
             slack: src.slack,
         })
     }
@@ -442,8 +441,16 @@ impl Tight {
             .matrix()
             .row(2)
             .transpose();
-        let low = self
-            .hull
+        let hull = self.hull.get_or_init(|| {
+            let all: Vec<P> = self
+                .pieces
+                .iter()
+                .flat_map(|p| p.poly.points.iter())
+                .copied()
+                .collect();
+            hull_points(&all)
+        });
+        let low = hull
             .iter()
             .map(|v| row.dot(&v.coords))
             .fold(f64::INFINITY, f64::min);

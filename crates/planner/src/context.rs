@@ -105,11 +105,16 @@ impl<'a> PlanningContext<'a> {
                 .collect()
         };
         let world = world.with_held_fingers([&held(0), &held(1)]);
-        let support_pads = [0, 1].map(|arm| {
+        let support_pad = |arm: usize| {
             let grip = grips.support[arm].as_ref().ok()?;
             let point = world.arms()[arm].gripper.precision_point();
             pad_contact(world.object()?, &scene.grasps.support, &point, grip)
-        });
+        };
+        // Equal grippers hold G_s alike (see `grips`): the patches are the same.
+        let first = support_pad(0);
+        let same =
+            world.arms()[1].gripper.precision_point() == world.arms()[0].gripper.precision_point();
+        let support_pads = [first, if same { first } else { support_pad(1) }];
         Ok(PlanningContext {
             scene,
             mesh,
@@ -300,8 +305,16 @@ pub fn grips(
     let close = |grasp: &Isometry3<f64>, point: Isometry3<f64>| {
         close_on_part(object, &(grasp * point.inverse()))
     };
+    // Both arms hold G_s by their precision points: with equal grippers the closing is one.
+    let support_at = |arm: usize| gripper(arm).precision_point();
+    let first = close(support, support_at(0));
+    let second = if support_at(1) == support_at(0) {
+        first.clone()
+    } else {
+        close(support, support_at(1))
+    };
     Grips {
-        support: [0, 1].map(|arm| close(support, gripper(arm).precision_point())),
+        support: [first, second],
         power: [0, 1].map(|arm| close(&power[arm], gripper(arm).power_point())),
     }
 }

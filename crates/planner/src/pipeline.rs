@@ -120,7 +120,9 @@ pub fn plan(
     );
     let t_axes = t0.elapsed();
 
+    let t_ctx = Instant::now();
     let mut ctx = PlanningContext::new(scene, mesh)?;
+    let t_grips = t_ctx.elapsed();
     ctx.fixed_rot_start = options.fixed_rot_start;
     let ctx = ctx;
     let candidates = axes.candidates;
@@ -316,6 +318,7 @@ pub fn plan(
     }
     let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
     file.timing_ms.insert("axes".into(), ms(t_axes));
+    file.timing_ms.insert("grips".into(), ms(t_grips));
     file.timing_ms.insert("poses".into(), ms(t_poses));
     file.timing_ms.insert("paths".into(), ms(t_paths));
     for (key, spent) in ctx.clock.ms() {

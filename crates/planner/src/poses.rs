@@ -199,7 +199,7 @@ pub fn object_pose_for_power_grasp(
             let flange = pose * grasps.power[arm] * ctx.arm(arm).gripper.power_point().inverse();
             (
                 lowest_point(&housing[arm], &flange) > limit,
-                power_grips[arm].lowest(&flange) > limit,
+                power_grips[arm].clears(&flange, limit),
             )
         })
     };
@@ -208,7 +208,7 @@ pub fn object_pose_for_power_grasp(
         let pose = candidate.rotated_pose(&ctx.p_init, theta);
         (0..2).all(|arm| {
             let flange = pose * grasps.power[arm] * ctx.arm(arm).gripper.power_point().inverse();
-            lowest_point(&housing[arm], &flange) > limit && power_grips[arm].lowest(&flange) > limit
+            lowest_point(&housing[arm], &flange) > limit && power_grips[arm].clears(&flange, limit)
         })
     };
     let step = params.step;

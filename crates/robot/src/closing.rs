@@ -101,7 +101,8 @@ pub struct FingerClosing {
 /// The middle plane test: the pad face (or the curled tip) of the `+x` finger has reached
 /// `x = 0`.
 fn at_middle(linkage: &FingerLinkage, cfg: &FingerConfig) -> bool {
-    cfg.pad_center(linkage).x <= 0.0 || cfg.pad_tip(linkage).x <= 0.0
+    let (center, tip) = cfg.pad_face(linkage);
+    center.x <= 0.0 || tip.x <= 0.0
 }
 
 /// What the finger touches in `cfg`: the first link (in [`crate::FINGER_LINKS`] order) that
@@ -112,11 +113,26 @@ fn touches(
     side: f64,
     cfg: &FingerConfig,
 ) -> LinkTouch {
-    let frames = cfg.link_frames(linkage);
+    // The follower's and the pad's frames only when the links before them leave it open.
+    let [driver, coupler, spring] = cfg.proximal_frames(linkage);
+    let mut distal = None;
     let support = world.has_support();
     let mut part = None;
-    for (link, frame) in frames.iter().enumerate() {
-        match world.touch(side, link, frame) {
+    for link in 0..crate::FINGER_LINKS.len() {
+        let frame = match link {
+            0 => driver,
+            1 => coupler,
+            2 => spring,
+            _ => {
+                let (follower, pad) = *distal.get_or_insert_with(|| cfg.distal_frames(linkage));
+                if link == FOLLOWER {
+                    follower
+                } else {
+                    pad
+                }
+            }
+        };
+        match world.touch(side, link, &frame) {
             Touch::Support => return Some((link, Touch::Support)),
             Touch::Part if !support => return Some((link, Touch::Part)),
             Touch::Part if part.is_none() => part = Some((link, Touch::Part)),

@@ -28,6 +28,33 @@ pub struct BoxJson {
     pub angle: f64,
 }
 
+/// The points of `points` on the boundary of their convex hull in the `x-z` plane (Andrew's
+/// monotone chain; points on a hull edge are kept, so no extreme value can be lost).
+fn planar_hull(points: &[[f64; 3]]) -> Vec<[f64; 2]> {
+    let mut pts: Vec<[f64; 2]> = points.iter().map(|p| [p[0], p[2]]).collect();
+    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    pts.dedup();
+    if pts.len() < 3 {
+        return pts;
+    }
+    let cross = |o: &[f64; 2], a: &[f64; 2], b: &[f64; 2]| {
+        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    };
+    let chain = |iter: &mut dyn Iterator<Item = [f64; 2]>| {
+        let mut out: Vec<[f64; 2]> = Vec::new();
+        for p in iter {
+            while out.len() >= 2 && cross(&out[out.len() - 2], &out[out.len() - 1], &p) < 0.0 {
+                out.pop();
+            }
+            out.push(p);
+        }
+        out
+    };
+    let mut hull = chain(&mut pts.iter().copied());
+    hull.extend(chain(&mut pts.iter().rev().copied()));
+    hull
+}
+
 /// The box about `y` of least area in the `x-z` plane that holds `points`, tried at every
 /// degree; replaces `aabb` only where it is at least 15 % smaller (slanted knuckle links).
 pub(crate) fn tighter_box(aabb: BoxJson, points: &[[f64; 3]]) -> BoxJson {
@@ -36,12 +63,24 @@ pub(crate) fn tighter_box(aabb: BoxJson, points: &[[f64; 3]]) -> BoxJson {
     }
     let mut best = aabb;
     let mut best_area = 0.85 * aabb.half[0] * aabb.half[2];
+    // Extremes along directions in the x-z plane lie on the points' hull in that plane; `y`
+    // does not turn.
+    let (y_lo, y_hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p[1]), hi.max(p[1]))
+        });
+    let rim: Vec<[f64; 3]> = planar_hull(points)
+        .into_iter()
+        .map(|[x, z]| [x, y_lo, z])
+        .chain([[points[0][0], y_hi, points[0][2]]])
+        .collect();
     for k in 1..180 {
         let beta = (k as f64).to_radians();
         let (s, c) = beta.sin_cos();
         // Coordinates along the box axes u = R_y(β)·x̂ = (c, 0, −s), w = R_y(β)·ẑ = (s, 0, c).
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for p in points {
+        for p in &rim {
             let local = [c * p[0] - s * p[2], p[1], s * p[0] + c * p[2]];
             for i in 0..3 {
                 lo[i] = lo[i].min(local[i]);
@@ -274,6 +313,67 @@ impl FingerKinematics {
             pad_face_x: mix(r0.pad_face_x, r1.pad_face_x),
             tip_z: mix(r0.tip_z, r1.tip_z),
             links,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tighter_box_tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Every point's extent at every degree, as `tighter_box` computed it before the hull.
+    fn by_all_points(aabb: BoxJson, points: &[[f64; 3]]) -> BoxJson {
+        let mut best = aabb;
+        let mut best_area = 0.85 * aabb.half[0] * aabb.half[2];
+        for k in 1..180 {
+            let beta = (k as f64).to_radians();
+            let (s, c) = beta.sin_cos();
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for p in points {
+                let local = [c * p[0] - s * p[2], p[1], s * p[0] + c * p[2]];
+                for i in 0..3 {
+                    lo[i] = lo[i].min(local[i]);
+                    hi[i] = hi[i].max(local[i]);
+                }
+            }
+            let half = [0, 1, 2].map(|i| 0.5 * (hi[i] - lo[i]));
+            if half[0] * half[2] < best_area {
+                best_area = half[0] * half[2];
+                let m = [0, 1, 2].map(|i| 0.5 * (hi[i] + lo[i]));
+                best = BoxJson {
+                    center: [c * m[0] + s * m[2], m[1], -s * m[0] + c * m[2]],
+                    half,
+                    angle: beta,
+                };
+            }
+        }
+        best
+    }
+
+    proptest! {
+        #[test]
+        fn the_planar_hull_gives_the_box_all_points_give(
+            pts in proptest::collection::vec(
+                (-0.05f64..0.05, -0.02f64..0.02, -0.05f64..0.05), 1..200),
+            slant in -1.0f64..1.0,
+        ) {
+            // Slanted clouds (x and z correlated), where a turned box pays.
+            let points: Vec<[f64; 3]> =
+                pts.iter().map(|&(x, y, z)| [x, y, 0.3 * z + slant * x]).collect();
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for p in &points {
+                for i in 0..3 {
+                    lo[i] = lo[i].min(p[i]);
+                    hi[i] = hi[i].max(p[i]);
+                }
+            }
+            let aabb = BoxJson {
+                center: [0, 1, 2].map(|i| 0.5 * (lo[i] + hi[i])),
+                half: [0, 1, 2].map(|i| 0.5 * (hi[i] - lo[i])),
+                angle: 0.0,
+            };
+            prop_assert_eq!(tighter_box(aabb, &points), by_all_points(aabb, &points));
         }
     }
 }

@@ -61,6 +61,45 @@ pub struct FingerLinkage {
     /// Far end of the pad's contact face on its centre line, in the pad frame.
     pub pad_tip: Vector2<f64>,
     pub limits: LinkageLimits,
+    /// What [`FingerLinkage::assemble`] and [`FingerLinkage::parallel`] derive from the fields
+    /// above at every call otherwise (lengths, fixed angles, the loop's branches).
+    derived: Derived,
+}
+
+/// The constants of a [`FingerLinkage`] its solvers need: computed once from its geometry
+/// ([`Derived::of`]), the same numbers the solvers would compute at every call.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Derived {
+    /// `|coupler_to_pin|`, `|hinge_to_pin|`, `|spring_to_hinge|`.
+    coupler_len: f64,
+    follower_len: f64,
+    spring_len: f64,
+    /// Direction angles of `coupler_to_pin`, `hinge_to_pin`, `spring_to_hinge`.
+    coupler_angle: f64,
+    follower_angle: f64,
+    spring_angle: f64,
+    /// The assembled branch of the loop for `assemble` (side of `C → J` the pin lies on) and
+    /// for `parallel` (side of `S → P` the hinge `J` lies on), both at `qpos0`.
+    pin_side: f64,
+    hinge_side: f64,
+}
+
+impl Derived {
+    fn of(l: &FingerLinkage) -> Derived {
+        let c = l.a + l.driver_to_coupler;
+        let j = l.s + l.spring_to_hinge;
+        let p0 = l.a + l.driver_to_coupler + l.coupler_to_pin;
+        Derived {
+            coupler_len: l.coupler_to_pin.norm(),
+            follower_len: l.hinge_to_pin.norm(),
+            spring_len: l.spring_to_hinge.norm(),
+            coupler_angle: angle_of(&l.coupler_to_pin),
+            follower_angle: angle_of(&l.hinge_to_pin),
+            spring_angle: angle_of(&l.spring_to_hinge),
+            pin_side: side_of(c, j, l.s + l.spring_to_hinge + l.hinge_to_pin),
+            hinge_side: side_of(l.s, p0, l.s + l.spring_to_hinge),
+        }
+    }
 }
 
 /// One pose of a finger: its four joint angles (rad).
@@ -141,7 +180,7 @@ impl FingerLinkage {
         // origin minus the coupler's origin.
         let pin = s + spring_body;
         let coupler_origin = a + driver_to_coupler;
-        FingerLinkage {
+        let mut linkage = FingerLinkage {
             a,
             s,
             driver_to_coupler,
@@ -157,15 +196,19 @@ impl FingerLinkage {
                 spring_link: (-0.29670597283, 0.8),
                 follower: (-0.872664, 0.872664),
             },
-        }
-    }
-
-    /// The side of the line `C → J` on which the pin lies in the assembled finger (the loop's
-    /// branch), taken from `qpos0`.
-    fn pin_side(&self) -> f64 {
-        let c = self.a + self.driver_to_coupler;
-        let j = self.s + self.spring_to_hinge;
-        side_of(c, j, self.s + self.spring_to_hinge + self.hinge_to_pin)
+            derived: Derived {
+                coupler_len: 0.0,
+                follower_len: 0.0,
+                spring_len: 0.0,
+                coupler_angle: 0.0,
+                follower_angle: 0.0,
+                spring_angle: 0.0,
+                pin_side: 0.0,
+                hinge_side: 0.0,
+            },
+        };
+        linkage.derived = Derived::of(&linkage);
+        linkage
     }
 
     /// The whole finger for driver angle `driver` and spring-link angle `spring_link`: the pin
@@ -174,15 +217,10 @@ impl FingerLinkage {
     pub fn assemble(&self, driver: f64, spring_link: f64) -> Option<FingerConfig> {
         let c = self.a + Rotation2::new(driver) * self.driver_to_coupler;
         let j = self.s + Rotation2::new(spring_link) * self.spring_to_hinge;
-        let p = circles(
-            c,
-            self.coupler_to_pin.norm(),
-            j,
-            self.hinge_to_pin.norm(),
-            self.pin_side(),
-        )?;
-        let coupler_abs = angle_of(&(p - c)) - angle_of(&self.coupler_to_pin);
-        let follower_abs = angle_of(&(p - j)) - angle_of(&self.hinge_to_pin);
+        let d = &self.derived;
+        let p = circles(c, d.coupler_len, j, d.follower_len, d.pin_side)?;
+        let coupler_abs = angle_of(&(p - c)) - d.coupler_angle;
+        let follower_abs = angle_of(&(p - j)) - d.follower_angle;
         Some(FingerConfig {
             driver,
             coupler: wrap(coupler_abs - driver),
@@ -198,17 +236,10 @@ impl FingerLinkage {
         // at the follower's length from the pin.
         let p = self.a + Rotation2::new(driver) * (self.driver_to_coupler + self.coupler_to_pin);
         // J lies on the side of the line S → P it lies on at qpos0 (the assembled branch).
-        let p0 = self.a + self.driver_to_coupler + self.coupler_to_pin;
-        let side = side_of(self.s, p0, self.s + self.spring_to_hinge);
-        let j = circles(
-            self.s,
-            self.spring_to_hinge.norm(),
-            p,
-            self.hinge_to_pin.norm(),
-            side,
-        )?;
-        let spring_link = wrap(angle_of(&(j - self.s)) - angle_of(&self.spring_to_hinge));
-        let follower_abs = angle_of(&(p - j)) - angle_of(&self.hinge_to_pin);
+        let d = &self.derived;
+        let j = circles(self.s, d.spring_len, p, d.follower_len, d.hinge_side)?;
+        let spring_link = wrap(angle_of(&(j - self.s)) - d.spring_angle);
+        let follower_abs = angle_of(&(p - j)) - d.follower_angle;
         Some(FingerConfig {
             driver,
             coupler: 0.0,
@@ -234,6 +265,14 @@ fn wrap(x: f64) -> f64 {
 impl FingerConfig {
     /// The in-plane pose of each link ([`FINGER_LINKS`] order) for `linkage`.
     pub fn link_frames(&self, linkage: &FingerLinkage) -> [PlanarPose; 5] {
+        let [driver, coupler, spring] = self.proximal_frames(linkage);
+        let (follower, pad) = self.distal_frames(linkage);
+        [driver, coupler, spring, follower, pad]
+    }
+
+    /// The driver's, the coupler's and the spring link's frames (the first three of
+    /// [`Self::link_frames`]).
+    pub fn proximal_frames(&self, linkage: &FingerLinkage) -> [PlanarPose; 3] {
         let driver = PlanarPose {
             origin: linkage.a,
             angle: self.driver,
@@ -246,27 +285,39 @@ impl FingerConfig {
             origin: linkage.s,
             angle: self.spring_link,
         };
-        let hinge = spring.apply(&linkage.spring_to_hinge);
+        [driver, coupler, spring]
+    }
+
+    /// The follower's and the pad's frames (the last two of [`Self::link_frames`]).
+    pub fn distal_frames(&self, linkage: &FingerLinkage) -> (PlanarPose, PlanarPose) {
+        let hinge = linkage.s + Rotation2::new(self.spring_link) * linkage.spring_to_hinge;
         let follower_angle = self.spring_link + self.follower;
+        let turn = Rotation2::new(follower_angle);
         let follower = PlanarPose {
-            origin: hinge + Rotation2::new(follower_angle) * linkage.hinge_to_pin,
+            origin: hinge + turn * linkage.hinge_to_pin,
             angle: follower_angle,
         };
         let pad = PlanarPose {
-            origin: follower.apply(&linkage.follower_to_pad),
+            origin: follower.origin + turn * linkage.follower_to_pad,
             angle: follower_angle,
         };
-        [driver, coupler, spring, follower, pad]
+        (follower, pad)
     }
 
     /// Centre of the pad's contact face in G `(x, z)`.
     pub fn pad_center(&self, linkage: &FingerLinkage) -> Point2<f64> {
-        self.link_frames(linkage)[4].apply(&linkage.pad_center)
+        self.distal_frames(linkage).1.apply(&linkage.pad_center)
     }
 
     /// Far end of the pad's contact face in G `(x, z)`.
     pub fn pad_tip(&self, linkage: &FingerLinkage) -> Point2<f64> {
-        self.link_frames(linkage)[4].apply(&linkage.pad_tip)
+        self.distal_frames(linkage).1.apply(&linkage.pad_tip)
+    }
+
+    /// Centre and far end of the pad's contact face in G `(x, z)`.
+    pub fn pad_face(&self, linkage: &FingerLinkage) -> (Point2<f64>, Point2<f64>) {
+        let pad = self.distal_frames(linkage).1;
+        (pad.apply(&linkage.pad_center), pad.apply(&linkage.pad_tip))
     }
 
     /// How far the pad is turned from parallel (rad; positive: its tip curled towards the

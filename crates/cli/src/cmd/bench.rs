@@ -76,8 +76,8 @@ pub fn run(command: BenchCommand) -> anyhow::Result<ExitCode> {
 
 /// The stages `bench plan` reports: Algorithms 1 and 2, Algorithm 3 with the checks after it
 /// (`paths`) and its parts, the whole.
-const PLAN_STAGES: [&str; 9] = [
-    "axes", "poses", "paths", "rot", "lines", "transit", "recheck", "hold", "total",
+const PLAN_STAGES: [&str; 10] = [
+    "axes", "grips", "poses", "paths", "rot", "lines", "transit", "recheck", "hold", "total",
 ];
 
 fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {

@@ -233,8 +233,10 @@ pub fn print_summary(report: &PlanReport, file: &PlanFile) {
     let t = &file.timing_ms;
     let get = |k: &str| t.get(k).copied().unwrap_or(0.0);
     println!(
-        "time: axes {:.2} ms, poses {:.2} ms, paths (incl. re-check) {:.2} ms, total {:.2} ms",
+        "time: axes {:.2} ms, grips {:.2} ms, poses {:.2} ms, paths (incl. re-check) {:.2} ms, \
+         total {:.2} ms",
         get("axes"),
+        get("grips"),
         get("poses"),
         get("paths"),
         get("total")
