@@ -234,6 +234,8 @@ fn link_levels() -> &'static [Levels] {
 struct Sweep {
     poses: Vec<[f64; 2]>,
     adds: usize,
+    /// Per level, the box `(lo, hi)` of its points so far.
+    bounds: Vec<([f64; 2], [f64; 2])>,
 }
 
 /// Poses a closing usually keeps (capacity reserved up front).
@@ -250,9 +252,11 @@ impl Sweep {
     }
 
     fn new() -> Sweep {
+        let levels = Sweep::levels().count();
         Sweep {
             poses: Vec::with_capacity(SWEEP_POSES * Sweep::per_pose()),
             adds: 0,
+            bounds: vec![([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]); levels],
         }
     }
 
@@ -269,6 +273,7 @@ impl Sweep {
     /// Adds both fingers at `configs` (`[+x, −x]`).
     fn add(&mut self, configs: &[FingerConfig; 2]) {
         let l = linkage();
+        let mut slot = 0;
         for (cfg, side) in configs.iter().zip([1.0, -1.0]) {
             for (frame, levels) in cfg.link_frames(l).iter().zip(link_levels()) {
                 // The link frame in the finger's plane: `(x, z) ↦ o + R(angle)·(x, z)`, then
@@ -277,51 +282,42 @@ impl Sweep {
                 let (s, c) = frame.angle.sin_cos();
                 let (ox, oz) = (frame.origin.x, frame.origin.y);
                 for (_, pts) in levels {
-                    self.poses.extend(
-                        pts.iter()
-                            .map(|[x, z]| [side * (ox + c * x - s * z), oz + s * x + c * z]),
-                    );
+                    let (lo, hi) = &mut self.bounds[slot];
+                    self.poses.extend(pts.iter().map(|[x, z]| {
+                        let p = [side * (ox + c * x - s * z), oz + s * x + c * z];
+                        *lo = [lo[0].min(p[0]), lo[1].min(p[1])];
+                        *hi = [hi[0].max(p[0]), hi[1].max(p[1])];
+                        p
+                    }));
+                    slot += 1;
                 }
             }
         }
         self.adds += 1;
     }
 
-    /// The swept points, and each level with a circle holding its points ([`Grip::lowest`]
-    /// scans only the levels whose circle reaches below the best point so far).
+    /// The swept points, and each level with a circle holding its points (its box's
+    /// circumcircle: [`Grip::lowest`] scans only the levels whose circle reaches below the best
+    /// point so far).
     fn finish(self) -> (Vec<Level>, SweptPoints) {
         let points = SweptPoints {
             per_pose: Sweep::per_pose(),
             data: self.poses,
         };
-        let mut levels = Vec::new();
         let mut offset = 0;
-        for (y, n) in Sweep::levels() {
-            let mut level = Level {
-                y,
-                center: [0.0; 2],
-                radius: 0.0,
-                pts: offset..offset + n,
-            };
-            offset += n;
-            let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-            for p in points.of(&level).flatten() {
-                lo = [lo[0].min(p[0]), lo[1].min(p[1])];
-                hi = [hi[0].max(p[0]), hi[1].max(p[1])];
-            }
-            let center = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
-            level.radius = points
-                .of(&level)
-                .flatten()
-                .map(|p| {
-                    let (dx, dz) = (p[0] - center[0], p[1] - center[1]);
-                    dx * dx + dz * dz
-                })
-                .fold(0.0, f64::max)
-                .sqrt();
-            level.center = center;
-            levels.push(level);
-        }
+        let levels = Sweep::levels()
+            .zip(self.bounds)
+            .map(|((y, n), (lo, hi))| {
+                let pts = offset..offset + n;
+                offset += n;
+                Level {
+                    y,
+                    center: [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])],
+                    radius: 0.5 * (hi[0] - lo[0]).hypot(hi[1] - lo[1]),
+                    pts,
+                }
+            })
+            .collect();
         (levels, points)
     }
 }
@@ -354,7 +350,7 @@ struct LinkSweep {
 }
 
 /// The levels of each finger link in `levels` (in [`Sweep::levels`] order), with a sphere each.
-fn link_sweeps(levels: &[Level], points: &SweptPoints) -> Vec<LinkSweep> {
+fn link_sweeps(levels: &[Level]) -> Vec<LinkSweep> {
     let mut out = Vec::new();
     let mut start = 0;
     for _side in 0..2 {
@@ -372,17 +368,11 @@ fn link_sweeps(levels: &[Level], points: &SweptPoints) -> Vec<LinkSweep> {
                 hi = hi.sup(&Point3::new(l.center[0] + r, l.y, l.center[1] + r));
             }
             let center = nalgebra::center(&lo, &hi);
+            // Each level's circle lies in the sphere about `center` through its farthest point.
             let radius = group
                 .iter()
-                .flat_map(|l| {
-                    points
-                        .of(l)
-                        .flatten()
-                        .map(move |p| Point3::new(p[0], l.y, p[1]))
-                })
-                .map(|p| (p - center).norm_squared())
-                .fold(0.0, f64::max)
-                .sqrt();
+                .map(|l| (Point3::new(l.center[0], l.y, l.center[1]) - center).norm() + l.radius)
+                .fold(0.0, f64::max);
             out.push(LinkSweep {
                 levels: range,
                 center,
@@ -454,7 +444,7 @@ pub fn close_on_part(
     Ok(Grip {
         fingers: FingerPair::from_configs(&configs),
         kinds: [result[0].kind, result[1].kind],
-        links: Arc::new(link_sweeps(&swept, &points)),
+        links: Arc::new(link_sweeps(&swept)),
         swept: Arc::new(swept),
         points: Arc::new(points),
     })

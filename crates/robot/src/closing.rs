@@ -180,7 +180,7 @@ fn settle(
     // A touch of the support anywhere in the search ends the closing there: the finger would
     // meet the table on its way, whatever the part does.
     let support = std::cell::Cell::new(None);
-    let free = |q: f64| match state(world, linkage, side, driver, q) {
+    let probe = |q: f64| match state(world, linkage, side, driver, q) {
         Some((cfg, None)) => Ok(cfg),
         Some((_, Some(t @ (_, Touch::Support)))) => {
             support.set(support.get().or(Some(t)));
@@ -188,6 +188,24 @@ fn settle(
         }
         Some((_, touch)) => Err(touch),
         None => Err(None),
+    };
+    // While the finger wraps, only "free or not" matters (its first touch is the spring
+    // link's already), and without a support nothing else is recorded: a spring-link angle at
+    // which the spring link alone touches the part is not free, whatever the loop does there.
+    // Its pose needs no loop solution (it turns about its pivot), so the searches about its
+    // resting angle skip assembling the finger.
+    let spring_alone = may_open && !world.has_support();
+    let free = |q: f64| {
+        if spring_alone {
+            let spring = PlanarPose {
+                origin: linkage.s,
+                angle: q,
+            };
+            if world.touch(side, SPRING_LINK, &spring) == Touch::Part {
+                return Err(Some((SPRING_LINK, Touch::Part)));
+            }
+        }
+        probe(q)
     };
     let settled = settle_search(linkage, driver, previous, may_open, &free);
     match support.get() {
