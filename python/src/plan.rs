@@ -50,7 +50,7 @@ impl Plan {
     /// `"planned"` or `"no_plan"`.
     #[getter]
     fn status(&self) -> String {
-        self.file.status.clone()
+        self.file.status.to_string()
     }
 
     /// Why there is no plan (`None` when planned).
@@ -187,7 +187,7 @@ impl PlanEntry {
         self.plan()
             .segments
             .iter()
-            .map(|s| s.name.clone())
+            .map(|s| s.name.to_string())
             .collect()
     }
 
@@ -197,7 +197,7 @@ impl PlanEntry {
         let index = plan
             .segments
             .iter()
-            .position(|s| s.name == name)
+            .position(|s| s.name.as_str() == name)
             .ok_or_else(|| {
                 PyKeyError::new_err(format!(
                     "no segment {name:?} (this plan has {})",
@@ -243,7 +243,7 @@ impl Segment {
     /// `sup1`, `rot`, `mas1` or `sup2`.
     #[getter]
     fn name(&self) -> String {
-        self.seg().name.clone()
+        self.seg().name.to_string()
     }
 
     /// The arm that moves.
@@ -255,13 +255,13 @@ impl Segment {
     /// `reach`, `rotate` or `regrasp`.
     #[getter]
     fn kind(&self) -> String {
-        self.seg().kind.clone()
+        self.seg().kind.to_string()
     }
 
     /// `support` or `power`: the grasp this segment ends in (or holds).
     #[getter]
     fn grasp(&self) -> String {
-        self.seg().grasp.clone()
+        self.seg().grasp.to_string()
     }
 
     /// Gap between the pads once the gripper has closed on the part (m), if stated.
@@ -418,8 +418,7 @@ fn plan_detached(
     threads: Option<usize>,
 ) -> Result<PlanFile, String> {
     let report = thread_pool(threads)?
-        .install(|| pregrasp_planner::plan_scene(spec, mesh, options, &|_| {}, &|| {}))
-        .map_err(|e| e.to_string())?;
+        .install(|| pregrasp_planner::plan_scene(spec, mesh, options, &|_| {}, &|| {}));
     Ok(report.file)
 }
 

@@ -24,20 +24,54 @@ use pregrasp_io::mesh_io::{parse_mesh, read_mesh_bytes};
 use std::sync::Mutex;
 
 use pregrasp_io::output::{OutputError, Outputs};
-use pregrasp_io::plan_file::PlanFile;
+use pregrasp_io::plan_file::{PlanFile, PlanStatus};
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::check::check_plan;
 use pregrasp_planner::pipeline::PlanOptions;
 use pregrasp_planner::plan_scene as plan_scene_report;
 use rayon::prelude::*;
 
+/// A scene's status in a batch: its plan file's, or `error` (the scene or its mesh could not
+/// be used).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SceneStatus {
+    Planned,
+    NoPlan,
+    Error,
+}
+
+impl SceneStatus {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SceneStatus::Planned => PlanStatus::Planned.as_str(),
+            SceneStatus::NoPlan => PlanStatus::NoPlan.as_str(),
+            SceneStatus::Error => "error",
+        }
+    }
+}
+
+impl std::fmt::Display for SceneStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl From<PlanStatus> for SceneStatus {
+    fn from(status: PlanStatus) -> SceneStatus {
+        match status {
+            PlanStatus::Planned => SceneStatus::Planned,
+            PlanStatus::NoPlan => SceneStatus::NoPlan,
+        }
+    }
+}
+
 /// What became of one scene.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Record {
     /// The scene file, relative to the batch folder.
     pub scene: String,
-    /// `planned`, `no_plan` or `error` (the scene or its mesh could not be used).
-    pub status: String,
+    pub status: SceneStatus,
     /// Why no plan, or the error.
     pub reason: Option<String>,
     /// S_rot of the best plan and its θ_goal (degrees).
@@ -202,7 +236,7 @@ fn stage(outputs: &mut Outputs, files: [(PathBuf, Vec<u8>); 3]) -> Result<(), Ou
 
 /// The record of a scene that failed, its reason clipped to [`MAX_REASON`].
 fn failed(mut record: Record, reason: String) -> Record {
-    record.status = "error".into();
+    record.status = SceneStatus::Error;
     record.plans = 0;
     record.plan_file = None;
     record.view_file = None;
@@ -222,7 +256,7 @@ fn plan_isolated(dir: &Path, out: &Path, scene_path: &Path, options: &PlanOption
         .to_path_buf();
     let blank = Record {
         scene: rel.display().to_string(),
-        status: "error".into(),
+        status: SceneStatus::Error,
         reason: None,
         best_score: None,
         theta_goal_deg: None,
@@ -309,8 +343,7 @@ fn plan_scene(
     let (file, files) = match reused {
         Some(file) => (file, None),
         None => {
-            let report = plan_scene_report(&scene, &mesh, options, &|_| {}, &|| {})
-                .map_err(|e| format!("{}: {e}", scene_path.display()))?;
+            let report = plan_scene_report(&scene, &mesh, options, &|_| {}, &|| {});
             let mut file = report.file;
             file.timing_ms
                 .insert("process".into(), started.elapsed().as_secs_f64() * 1e3);
@@ -325,7 +358,7 @@ fn plan_scene(
     };
     let mut record = Record {
         scene: rel.display().to_string(),
-        status: file.status.clone(),
+        status: file.status.into(),
         reason: file
             .reason
             .as_deref()

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use pregrasp_io::output::{OutputError, OutputId, Outputs};
 
-use crate::Record;
+use crate::{Record, SceneStatus};
 
 /// Scenes per outcome: planned, no plan, error.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
@@ -27,10 +27,10 @@ impl Counts {
             ..Counts::default()
         };
         for r in records {
-            match r.status.as_str() {
-                "planned" => c.planned += 1,
-                "no_plan" => c.no_plan += 1,
-                _ => c.error += 1,
+            match r.status {
+                SceneStatus::Planned => c.planned += 1,
+                SceneStatus::NoPlan => c.no_plan += 1,
+                SceneStatus::Error => c.error += 1,
             }
             c.reused += usize::from(r.reused);
         }
@@ -93,7 +93,7 @@ pub fn html(records: &[Record], title: &str) -> String {
             r.time_ms,
             if r.reused { "yes" } else { "" },
             esc(r.reason.as_deref().unwrap_or("")),
-            st = esc(&r.status),
+            st = r.status,
         );
     }
     format!(

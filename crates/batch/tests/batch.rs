@@ -1,6 +1,7 @@
 //! `pregrasp batch` as a library: the examples plus a broken scene, the summary files, reuse
 //! of up-to-date plans, re-planning after a change, the same records for any thread count.
 
+use pregrasp_batch::SceneStatus;
 use std::path::Path;
 
 use pregrasp_batch::report::{self, Counts};
@@ -19,13 +20,13 @@ fn folder(dir: &Path) {
 }
 
 /// The columns that do not depend on timing or on reuse.
-fn stable(records: &[Record]) -> Vec<(String, String, Option<f64>, usize, String)> {
+fn stable(records: &[Record]) -> Vec<(String, SceneStatus, Option<f64>, usize, String)> {
     records
         .iter()
         .map(|r| {
             (
                 r.scene.clone(),
-                r.status.clone(),
+                r.status,
                 r.best_score,
                 r.plans,
                 r.check.clone(),
@@ -46,9 +47,9 @@ fn a_folder_with_a_broken_scene() {
     let c = Counts::of(&first);
     assert_eq!((c.scenes, c.planned, c.no_plan, c.error), (4, 3, 0, 1));
     let broken = first.iter().find(|r| r.scene == "broken.toml").unwrap();
-    assert_eq!(broken.status, "error");
+    assert_eq!(broken.status, SceneStatus::Error);
     assert!(broken.reason.as_deref().unwrap().contains("support.height"));
-    for r in first.iter().filter(|r| r.status == "planned") {
+    for r in first.iter().filter(|r| r.status == SceneStatus::Planned) {
         assert_eq!(r.check, "valid", "{}", r.scene);
         assert!(out.join(r.plan_file.as_ref().unwrap()).is_file());
         assert!(out.join(r.view_file.as_ref().unwrap()).is_file());
@@ -82,7 +83,7 @@ fn a_folder_with_a_broken_scene() {
     let third = run(dir.path(), &out, &scenes, &options, &|_| {}).unwrap();
     let replanned: Vec<&str> = third
         .iter()
-        .filter(|r| r.status == "planned" && !r.reused)
+        .filter(|r| r.status == SceneStatus::Planned && !r.reused)
         .map(|r| r.scene.as_str())
         .collect();
     assert_eq!(replanned, ["chair_side.toml"]);
@@ -112,7 +113,7 @@ fn the_records_do_not_depend_on_the_thread_count() {
     };
     let (a, b) = (go(1, "one"), go(2, "two"));
     assert_eq!(stable(&a), stable(&b));
-    for r in a.iter().filter(|r| r.status == "planned") {
+    for r in a.iter().filter(|r| r.status == SceneStatus::Planned) {
         let read = |out: &str| {
             std::fs::read(dir.path().join(out).join(r.plan_file.as_ref().unwrap())).unwrap()
         };

@@ -6,6 +6,7 @@ mod common;
 use common::{committed_dir, committed_scene, world_axis};
 use pregrasp_examples::{all, write_example};
 use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_robot::UrModel;
 
 #[test]
 fn committed_files_equal_freshly_generated_ones() {
@@ -46,7 +47,7 @@ fn every_scene_parses_and_matches_its_design() {
             scene.robots[0].base.translation.y > 0.0 && scene.robots[1].base.translation.y < 0.0
         );
         for r in &scene.robots {
-            assert_eq!(r.model, "ur5e");
+            assert_eq!(r.model, UrModel::Ur5e);
         }
         assert_eq!(scene.object.scale, 1.0);
         assert!(scene.object.mesh_entry == format!("meshes/{}.stl", example.name));

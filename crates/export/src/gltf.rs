@@ -513,7 +513,7 @@ pub fn export(timeline: &Timeline, mesh: &Mesh) -> Result<Vec<u8>, ExportError> 
             }
             let label = match seg {
                 None => "open".to_string(),
-                Some(k) => timeline.segments[*k].name.clone(),
+                Some(k) => timeline.segments[*k].name.to_string(),
             };
             let name = format!("{}_gripper_{label}", arm.name);
             let gm = b.mesh(&name, &t, m_grip);

@@ -26,8 +26,11 @@ pub use timeline::Timeline;
 /// Everything that can go wrong in an export. Messages are complete sentences for the CLI.
 #[derive(Debug, thiserror::Error)]
 pub enum ExportError {
-    #[error("the plan file has status {status:?} and no plan to export ({reason})")]
-    NoPlan { status: String, reason: String },
+    #[error("the plan file has status \"{status}\" and no plan to export ({reason})")]
+    NoPlan {
+        status: pregrasp_io::plan_file::PlanStatus,
+        reason: String,
+    },
     #[error("--plan {index} is out of range: the plan file has {count} plan(s), 0..{count}")]
     PlanIndex { index: usize, count: usize },
     #[error("unknown export format {0:?} (expected urscript, csv, ros2, gltf or all)")]

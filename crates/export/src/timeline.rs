@@ -9,7 +9,7 @@
 //! slerp between points, as the checker interpolates) and stays at `object_goal_pose` after.
 
 use nalgebra::Isometry3;
-use pregrasp_io::plan_file::{PlanFile, PlanJson};
+use pregrasp_io::plan_file::{GraspKind, PlanFile, PlanJson, PlanStatus, SegmentKind, SegmentName};
 use pregrasp_robot::{GripperState, Joints, UrModel};
 
 use crate::ExportError;
@@ -52,14 +52,14 @@ pub struct Arm {
 /// One segment on the time line.
 #[derive(Clone, Debug)]
 pub struct Segment {
-    pub name: String,
-    pub kind: String,
+    pub name: SegmentName,
+    pub kind: SegmentKind,
     /// Index into [`Timeline::arms`].
     pub arm: usize,
     /// Plan time of the first point (s).
     pub t0: f64,
-    /// `support` or `power`: the grasp the segment's gripper holds when it ends.
-    pub grasp: String,
+    /// The grasp the segment's gripper holds when it ends.
+    pub grasp: GraspKind,
     pub grip_width: Option<f64>,
     /// The segment's `fingers`, when the plan gives them (where the closing stops).
     pub fingers: Option<pregrasp_io::plan_file::FingersJson>,
@@ -127,9 +127,9 @@ impl Timeline {
     /// The plan `index` of `file` on one time line. Refuses a plan file without plans, an index
     /// out of range, unknown robots or models, and a plan whose segments are not continuous.
     pub fn new(file: &PlanFile, index: usize) -> Result<Timeline, ExportError> {
-        if file.status != "planned" || file.plans.is_empty() {
+        if file.status != PlanStatus::Planned || file.plans.is_empty() {
             return Err(ExportError::NoPlan {
-                status: file.status.clone(),
+                status: file.status,
                 reason: file
                     .reason
                     .clone()
@@ -142,9 +142,7 @@ impl Timeline {
         })?;
         let mut arms = Vec::with_capacity(file.robots.len());
         for r in &file.robots {
-            let model = UrModel::from_name(&r.model).ok_or_else(|| {
-                ExportError::Plan(format!("robot {}: unknown model {:?}", r.name, r.model))
-            })?;
+            let model = r.model;
             arms.push(Arm {
                 name: r.name.clone(),
                 model,
@@ -194,7 +192,7 @@ impl Timeline {
                     )));
                 }
                 points.push((t + p.t, p.q));
-                if seg.kind == "rotate" {
+                if seg.kind == SegmentKind::Rotate {
                     let pose = p.object_pose.as_ref().ok_or_else(|| {
                         ExportError::Plan(format!(
                             "segment {}: point {k} has no object_pose",
@@ -221,7 +219,7 @@ impl Timeline {
                 a.knots.last_mut().expect("start knot").1 = points[0].1;
             }
             a.knots.extend(points.iter().skip(1).copied());
-            if seg.kind == "reach" || seg.kind == "regrasp" {
+            if seg.kind.closes_at_end() {
                 a.grip.push(GripEvent {
                     t,
                     close: false,
@@ -239,11 +237,11 @@ impl Timeline {
             }
             let t_end = points.last().expect("non-empty").0;
             segments.push(Segment {
-                name: seg.name.clone(),
-                kind: seg.kind.clone(),
+                name: seg.name,
+                kind: seg.kind,
                 arm,
                 t0: t,
-                grasp: seg.grasp.clone(),
+                grasp: seg.grasp,
                 grip_width: seg.grip_width,
                 fingers: seg.fingers,
                 points,
@@ -281,7 +279,7 @@ impl Timeline {
 
     /// The part's world pose at plan time `t`.
     pub fn object_at(&self, t: f64) -> Isometry3<f64> {
-        let Some(rot) = self.segments.iter().find(|s| s.kind == "rotate") else {
+        let Some(rot) = self.segments.iter().find(|s| s.kind == SegmentKind::Rotate) else {
             return self.object_initial;
         };
         if t <= rot.t0 {

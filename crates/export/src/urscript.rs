@@ -41,6 +41,7 @@
 
 use std::fmt::Write;
 
+use pregrasp_io::plan_file::GraspKind;
 use pregrasp_robot::Joints;
 
 use crate::timeline::Timeline;
@@ -359,7 +360,7 @@ pub fn arm_script(timeline: &Timeline, arm: usize, o: &Options) -> String {
             let _ = writeln!(w, "  pg_wait_peer({k}, \"{}\")", seg.name);
         }
         let holding = j > 0 && timeline.gripper_at(arm, seg.t0).0;
-        let opens = seg.kind == "reach" || seg.kind == "regrasp";
+        let opens = seg.kind.closes_at_end();
         if holding && !opens {
             let _ = writeln!(w, "  pg_grip_check(\"before {}\")", seg.name);
         }
@@ -383,7 +384,7 @@ pub fn arm_script(timeline: &Timeline, arm: usize, o: &Options) -> String {
             settle_ticks(o.lookahead)
         );
         if opens {
-            let force = if seg.grasp == "support" {
+            let force = if seg.grasp == GraspKind::Support {
                 o.support_grip_force
                     .or(timeline.support_grip_force.map(force_register))
                     .unwrap_or(o.grip_force)

@@ -6,7 +6,6 @@
 mod common;
 
 use pregrasp_export::{export, Format, Options};
-use pregrasp_robot::UrModel;
 
 fn files(format: Format, options: &Options) -> Vec<(String, String)> {
     let (file, _) = common::chair_side();
@@ -91,7 +90,7 @@ fn csv_round_trips_to_the_plan() {
         let mut events = Vec::new();
         for seg in &plan.segments {
             let t1 = t0 + seg.points.last().unwrap().t;
-            if seg.robot == robot && (seg.kind == "reach" || seg.kind == "regrasp") {
+            if seg.robot == robot && seg.kind.closes_at_end() {
                 events.push((t0, 0u8));
                 events.push((t1, 1u8));
             }
@@ -189,15 +188,12 @@ fn ros2_yaml_round_trips_to_the_plan() {
             }
         }
         assert_eq!(msg.points.len(), seg.points.len(), "{name}");
-        let model = UrModel::from_name(
-            &file
-                .robots
-                .iter()
-                .find(|r| r.name == seg.robot)
-                .unwrap()
-                .model,
-        )
-        .unwrap();
+        let model = file
+            .robots
+            .iter()
+            .find(|r| r.name == seg.robot)
+            .unwrap()
+            .model;
         let vmax = model.max_joint_speed();
         let n = seg.points.len();
         for (k, (p, want)) in msg.points.iter().zip(&seg.points).enumerate() {

@@ -3,12 +3,13 @@
 mod common;
 
 use pregrasp_export::{export, write_all, ExportError, Format, Options, OutFile};
+use pregrasp_io::plan_file::PlanStatus;
 
 #[test]
 fn a_plan_file_without_plans_is_refused() {
     let (file, mesh) = common::chair_side();
     let mut none = file.clone();
-    none.status = "no_plan".into();
+    none.status = PlanStatus::NoPlan;
     none.reason = Some("no candidate axis".into());
     none.plans.clear();
     let err = export(&none, 0, &Format::ALL, &Options::default(), Some(mesh)).unwrap_err();

@@ -7,11 +7,12 @@
 
 mod common;
 
+use pregrasp_io::plan_file::SegmentName;
 use std::collections::HashMap;
 
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use pregrasp_export::{export, Format, Options};
-use pregrasp_robot::{UrKinematics, UrModel};
+use pregrasp_robot::UrKinematics;
 
 fn glb() -> Vec<u8> {
     let (file, mesh) = common::chair_side();
@@ -204,7 +205,7 @@ fn animation_is_on_the_plan_time_line_and_nodes_follow_fk() {
     };
     let mut worst: f64 = 0.0;
     for r in &file.robots {
-        let kin = UrKinematics::new(UrModel::from_name(&r.model).unwrap());
+        let kin = UrKinematics::new(r.model);
         let base = r.base.to_isometry();
         let frames: Vec<usize> = (1..=6)
             .map(|i| by_name(&format!("{}_frame{i}", r.name)))
@@ -234,7 +235,7 @@ fn animation_is_on_the_plan_time_line_and_nodes_follow_fk() {
             let k = key_of(t0 + p.t);
             let want = match &p.object_pose {
                 Some(pose) => pose.to_isometry(),
-                None if seg.name == "sup1" => file.object.initial_pose.to_isometry(),
+                None if seg.name == SegmentName::Sup1 => file.object.initial_pose.to_isometry(),
                 None => plan.object_goal_pose.to_isometry(),
             };
             let gap = pose_gap(&pose(part, k), &want);

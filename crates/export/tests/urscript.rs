@@ -7,11 +7,11 @@
 
 mod common;
 
+use pregrasp_io::plan_file::{GraspKind, SegmentKind};
 use std::collections::HashSet;
 
 use pregrasp_export::urscript::{force_register, grip_pos, grip_pos_for_driver, DT};
 use pregrasp_export::{export, Format, Options};
-use pregrasp_robot::UrModel;
 
 /// One statement of a program, as the reader understands it.
 #[derive(Clone, Debug, PartialEq)]
@@ -153,7 +153,7 @@ fn interpreted_servoj_stream_reproduces_the_plan_within_limits() {
             .iter()
             .find(|r| format!("{}.script", r.name) == name)
             .unwrap();
-        let model = UrModel::from_name(&robot.model).unwrap();
+        let model = robot.model;
         let vmax = model.max_joint_speed();
         let limits = model.joint_limits();
         // (the force register settings do not move the arm)
@@ -298,14 +298,14 @@ fn gripper_commands_at_the_right_moments() {
         let expected: Vec<(String, u8)> = plan
             .segments
             .iter()
-            .filter(|s| s.robot == robot && (s.kind == "reach" || s.kind == "regrasp"))
+            .filter(|s| s.robot == robot && s.kind.closes_at_end())
             .map(|s| {
                 let pos = match (&s.fingers, s.grip_width) {
                     (Some(f), _) => grip_pos_for_driver(f.driver, squeeze),
                     (None, Some(g)) => grip_pos((g - squeeze).max(0.0)),
                     (None, None) => 255,
                 };
-                (s.name.clone(), pos)
+                (s.name.to_string(), pos)
             })
             .collect();
         assert_eq!(closes, expected, "{name}");
@@ -405,7 +405,7 @@ fn hand_off_never_deadlocks_nor_overlaps_in_any_interleaving() {
     let mut seen: HashSet<([usize; 2], [usize; 2], usize)> = HashSet::new();
     let mut stack: Vec<State> = vec![([0, 0], [0, 0], Vec::new())];
     let mut finished = 0;
-    let order: Vec<String> = plan.segments.iter().map(|s| s.name.clone()).collect();
+    let order: Vec<String> = plan.segments.iter().map(|s| s.name.to_string()).collect();
     while let Some((pc, pulses, started)) = stack.pop() {
         if !seen.insert((pc, pulses, started.len())) {
             continue;
@@ -518,11 +518,15 @@ fn support_grasp_squeezes_with_the_recommended_force() {
         let mut v: Vec<(String, u8)> = plan
             .segments
             .iter()
-            .filter(|s| s.kind != "rotate")
+            .filter(|s| s.kind != SegmentKind::Rotate)
             .map(|s| {
                 (
-                    s.name.clone(),
-                    if s.grasp == "support" { support } else { power },
+                    s.name.to_string(),
+                    if s.grasp == GraspKind::Support {
+                        support
+                    } else {
+                        power
+                    },
                 )
             })
             .collect();

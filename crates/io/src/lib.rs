@@ -6,5 +6,6 @@ pub mod mesh_io;
 pub mod output;
 pub mod plan_file;
 pub mod plan_format;
+pub mod plan_terms;
 pub mod scene;
 pub mod text;

@@ -10,6 +10,10 @@ use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use serde::{Deserialize, Serialize};
 
 pub use crate::output::OutputError;
+pub use crate::plan_terms::{
+    GraspKind, GripVerdict, Outcome, PlanStatus, RotationDirection, SegmentKind, SegmentName,
+};
+use pregrasp_robot::UrModel;
 
 /// The `format` value of every plan file this crate writes.
 pub const PLAN_FORMAT: &str = "pregrasp.plan/1";
@@ -50,8 +54,7 @@ impl PoseJson {
 pub struct PlanFile {
     pub format: String,
     pub scene: SceneRef,
-    /// `"planned"` or `"no_plan"`.
-    pub status: String,
+    pub status: PlanStatus,
     pub reason: Option<String>,
     pub support_height: f64,
     pub planner: PlannerJson,
@@ -115,7 +118,8 @@ pub struct ObjectJson {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RobotJson {
     pub name: String,
-    pub model: String,
+    #[serde(with = "crate::plan_terms::ur_model")]
+    pub model: UrModel,
     pub base: PoseJson,
     pub joint_names: Vec<String>,
     pub start: [f64; 6],
@@ -160,14 +164,13 @@ pub struct CandidateJson {
     pub id: usize,
     /// World endpoints at P_init.
     pub axis: [[f64; 3]; 2],
-    /// `"ccw"`: positive rotation about `axis[1] - axis[0]` (right-hand rule); `"cw"`: negative.
-    pub direction: String,
+    /// `ccw`: positive rotation about `axis[1] - axis[0]` (right-hand rule); `cw`: negative.
+    pub direction: RotationDirection,
     pub length: f64,
     pub theta_max: f64,
     pub score: f64,
     pub theta_goal: Option<f64>,
-    /// `"planned"`, `"rejected: <reason>"` or `"not evaluated…"`.
-    pub outcome: String,
+    pub outcome: Outcome,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -214,8 +217,7 @@ pub struct RobustnessLevelJson {
 /// in newtons; friction use is |tangential force| / (μ · normal force), 1 = at the cone's edge.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PhysicsJson {
-    /// `holds`, `cannot_hold` or `slides_at_support`.
-    pub verdict: String,
+    pub verdict: GripVerdict,
     /// The part's mass (kg) and where it comes from.
     pub mass: f64,
     pub mass_source: String,
@@ -254,13 +256,10 @@ pub struct PhysicsJson {
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SegmentJson {
-    /// `sup1`, `rot`, `mas1`, `sup2`.
-    pub name: String,
+    pub name: SegmentName,
     pub robot: String,
-    /// `reach`, `rotate`, `regrasp`.
-    pub kind: String,
-    /// `support` or `power`.
-    pub grasp: String,
+    pub kind: SegmentKind,
+    pub grasp: GraspKind,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub retreat_to: Option<usize>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -389,10 +388,24 @@ impl PlanFile {
     /// Parses plan-file text (`shown` names it in errors), checking its `format` and then the
     /// whole file's shape and ranges ([`crate::plan_format::validate`]).
     pub fn from_json_str(text: &str, shown: &str) -> Result<PlanFile, PlanFileError> {
-        let plan: PlanFile = serde_json::from_str(text).map_err(|error| PlanFileError::Parse {
-            path: shown.to_string(),
-            error,
-        })?;
+        let de = &mut serde_json::Deserializer::from_str(text);
+        let plan: PlanFile = match serde_path_to_error::deserialize(de) {
+            Ok(plan) => plan,
+            // A value of the wrong type or outside its vocabulary somewhere inside: named by
+            // its path, as the format check names what it refuses.
+            Err(e) if e.inner().is_data() && e.path().iter().next().is_some() => {
+                return Err(PlanFileError::Invalid {
+                    path: shown.to_string(),
+                    problem: format!("{}: {}", e.path(), e.inner()),
+                })
+            }
+            Err(e) => {
+                return Err(PlanFileError::Parse {
+                    path: shown.to_string(),
+                    error: e.into_inner(),
+                })
+            }
+        };
         if plan.format != PLAN_FORMAT {
             return Err(PlanFileError::Format {
                 path: shown.to_string(),

@@ -6,7 +6,6 @@
 //! validated file or one error naming the field.
 
 use crate::plan_file::{PhysicsJson, PlanFile, PoseJson};
-use pregrasp_robot::UrModel;
 
 /// Largest magnitude of a joint value (rad) a plan may hold: no UR joint turns beyond ±2π, so
 /// anything past ±20 rad is not a joint angle (values between the limits and this bound are
@@ -25,12 +24,6 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
             file.format
         ));
     }
-    if file.status != "planned" && file.status != "no_plan" {
-        return Err(format!(
-            "status: {:?} is neither \"planned\" nor \"no_plan\"",
-            file.status
-        ));
-    }
     number("support_height", file.support_height, MAX_COORDINATE)?;
     pose("object.initial_pose", &file.object.initial_pose)?;
     if !(file.object.scale.is_finite() && file.object.scale > 0.0) {
@@ -46,15 +39,6 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
         return Err(format!("robots: {} robots, expected 2", file.robots.len()));
     }
     for (i, r) in file.robots.iter().enumerate() {
-        // The schema's enum: lower case, as written (`UrModel::from_name` is lenient for
-        // scene files, a plan file is machine-written).
-        if !UrModel::ALL.iter().any(|m| m.name() == r.model) {
-            return Err(format!(
-                "robots[{i}].model: {:?} is not one of {}",
-                r.model,
-                UrModel::ALL.map(|m| m.name()).join(", ")
-            ));
-        }
         pose(&format!("robots[{i}].base"), &r.base)?;
         pose(&format!("robots[{i}].precision_point"), &r.precision_point)?;
         pose(&format!("robots[{i}].power_point"), &r.power_point)?;
@@ -74,24 +58,6 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
                 )?;
             }
         }
-        let outcome = cand.outcome.as_str();
-        if !(outcome == "planned"
-            || outcome
-                .strip_prefix("rejected: ")
-                .is_some_and(|r| !r.is_empty())
-            || outcome.starts_with("not evaluated"))
-        {
-            return Err(format!(
-                "candidates[{c}].outcome: {:?} is not \"planned\", \"rejected: <why>\" or \"not evaluated…\"",
-                crate::text::clip(outcome, 80)
-            ));
-        }
-        if cand.direction != "ccw" && cand.direction != "cw" {
-            return Err(format!(
-                "candidates[{c}].direction: {:?} is neither \"ccw\" nor \"cw\"",
-                cand.direction
-            ));
-        }
     }
     for (k, plan) in file.plans.iter().enumerate() {
         pose(
@@ -101,27 +67,16 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
         for (s, seg) in plan.segments.iter().enumerate() {
             let at = format!("plans[{k}].segments[{s}]");
             // Each segment of the format has one kind and one grasp (plan-format.md).
-            let (kind, grasp) = match seg.name.as_str() {
-                "sup1" => ("reach", "support"),
-                "rot" => ("rotate", "support"),
-                "mas1" => ("reach", "power"),
-                "sup2" => ("regrasp", "power"),
-                _ => {
-                    return Err(format!(
-                        "{at}.name: {:?} is not a segment of the format (sup1, rot, mas1, sup2)",
-                        seg.name
-                    ))
-                }
-            };
+            let (kind, grasp) = (seg.name.kind(), seg.name.grasp());
             if seg.kind != kind {
                 return Err(format!(
-                    "{at}.kind: {:?}, but segment {} is always {kind:?}",
+                    "{at}.kind: \"{}\", but segment {} is always \"{kind}\"",
                     seg.kind, seg.name
                 ));
             }
             if seg.grasp != grasp {
                 return Err(format!(
-                    "{at}.grasp: {:?}, but segment {} always ends at the {grasp} grasp",
+                    "{at}.grasp: \"{}\", but segment {} always ends at the {grasp} grasp",
                     seg.grasp, seg.name
                 ));
             }
@@ -178,17 +133,8 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
 /// Largest force (N) a plan's `physics` object may name.
 const MAX_FORCE: f64 = 1.0e6;
 
-/// The `physics` extension: a known verdict, finite non-negative numbers in range.
+/// The `physics` extension: finite non-negative numbers in range (its verdict is typed).
 fn physics(path: &str, p: &PhysicsJson) -> Result<(), String> {
-    if !matches!(
-        p.verdict.as_str(),
-        "holds" | "cannot_hold" | "slides_at_support"
-    ) {
-        return Err(format!(
-            "{path}.verdict: {:?} is not \"holds\", \"cannot_hold\" or \"slides_at_support\"",
-            p.verdict
-        ));
-    }
     let optional = [
         ("grip_force_min", p.grip_force_min),
         ("grip_force_required", p.grip_force_required),

@@ -105,8 +105,7 @@ pub struct AutoGrasps {
 #[derive(Clone, Debug, PartialEq)]
 pub struct RobotSpec {
     pub name: String,
-    /// One of [`ROBOT_MODELS`].
-    pub model: String,
+    pub model: UrModel,
     /// The arm base frame in world.
     pub base: Isometry3<f64>,
     /// Start joint angles (rad).
@@ -829,7 +828,7 @@ impl Cx {
         }
         Ok(RobotSpec {
             name,
-            model,
+            model: ur,
             base,
             start,
             gripper,

@@ -3,7 +3,7 @@
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::{PhysicsJson, PlanFile, SegmentJson};
+use pregrasp_io::plan_file::{PhysicsJson, PlanFile, SegmentJson, SegmentName};
 
 use crate::mass::{MassError, MassProperties};
 use crate::settings::{PhysicsSettings, GRAVITY, GRIP_FORCE_RANGE};
@@ -130,27 +130,8 @@ pub struct StateReport {
     pub equilibrium: Option<Equilibrium>,
 }
 
-/// The verdict on one plan.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Verdict {
-    /// Every state is held with a grip force within the gripper's range.
-    Holds,
-    /// Some state needs more than the gripper's 235 N (with the safety factor), or no force.
-    CannotHold,
-    /// Some state needs more support friction than there is.
-    SlidesAtSupport,
-}
-
-impl Verdict {
-    pub fn describe(self) -> &'static str {
-        match self {
-            Verdict::Holds => "holds",
-            Verdict::CannotHold => "cannot hold",
-            Verdict::SlidesAtSupport => "slides at the support",
-        }
-    }
-}
+/// The verdict on one plan (the plan file's vocabulary).
+pub use pregrasp_io::plan_terms::GripVerdict as Verdict;
 
 /// The check of one plan.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -195,12 +176,7 @@ impl PlanPhysics {
             |f: fn(&StateReport) -> Option<f64>| self.states.iter().filter_map(f).reduce(f64::max);
         let worst = self.states.get(self.worst);
         PhysicsJson {
-            verdict: match self.verdict {
-                Verdict::Holds => "holds",
-                Verdict::CannotHold => "cannot_hold",
-                Verdict::SlidesAtSupport => "slides_at_support",
-            }
-            .to_string(),
+            verdict: self.verdict,
             mass: self.part.mass,
             mass_source: self.part.source.clone(),
             mu_pad: self.settings.mu_pad,
@@ -368,7 +344,7 @@ fn analyse(
     let rot = plan
         .segments
         .iter()
-        .find(|s| s.name == "rot" || s.kind == "rotate")
+        .find(|s| s.name == SegmentName::Rot)
         .ok_or(PhysicsError::NoRotation { plan: plan_index })?;
     let candidate = file
         .candidates

@@ -2,6 +2,7 @@
 //! in-process: `plan/*` on rayon's default pool (every core), `plan_1thread/*` on one thread
 //! (the figure issue 13 sets a goal for).
 
+use pregrasp_io::plan_file::PlanStatus;
 use std::hint::black_box;
 use std::path::Path;
 
@@ -28,9 +29,8 @@ fn bench_plan(c: &mut Criterion) {
                     &PlanOptions::default(),
                     &|_| {},
                     &|| {},
-                )
-                .expect("plans");
-                assert_eq!(report.file.status, "planned");
+                );
+                assert_eq!(report.file.status, PlanStatus::Planned);
                 report
             };
             group.bench_function(name, |b| {

@@ -13,51 +13,21 @@
 //! Candidates are scored S_rot = ω_l · length + ω_m · θ_max and sorted best first.
 
 use std::cmp::Ordering;
-use std::fmt;
 
 use nalgebra::{Isometry3, Point3, Unit, Vector3};
 use pregrasp_geometry::rotation::{max_rotation_above, rotation_about_line};
 use pregrasp_geometry::{ConvexHull, Mesh};
-use pregrasp_io::plan_file::CandidateJson;
+use pregrasp_io::plan_file::{CandidateJson, Outcome};
 use pregrasp_io::scene::PlannerParams;
 
-/// The plan file's outcome for a candidate that only Algorithm 1 has seen.
-pub const OUTCOME_NOT_EVALUATED: &str = "not evaluated (axes only)";
+/// What follows "not evaluated" in the outcome of a candidate only Algorithm 1 has seen.
+const AXES_ONLY: &str = " (axes only)";
 
 /// Heights within this distance (m) of the support count as on it when a rotation starts.
 const HEIGHT_TOLERANCE: f64 = 1e-12;
 
-/// Sense of rotation about `axis[1] − axis[0]`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Direction {
-    /// Positive angle about `axis[1] − axis[0]` (right-hand rule).
-    Ccw,
-    /// Negative angle about `axis[1] − axis[0]`.
-    Cw,
-}
-
-impl Direction {
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Direction::Ccw => "ccw",
-            Direction::Cw => "cw",
-        }
-    }
-
-    /// `+1` for ccw, `−1` for cw.
-    pub fn sign(self) -> f64 {
-        match self {
-            Direction::Ccw => 1.0,
-            Direction::Cw => -1.0,
-        }
-    }
-}
-
-impl fmt::Display for Direction {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.pad(self.as_str())
-    }
-}
+/// Sense of rotation about `axis[1] − axis[0]` (the plan file's vocabulary).
+pub use pregrasp_io::plan_terms::RotationDirection as Direction;
 
 /// One (axis, direction) pair of Algorithm 1.
 #[derive(Clone, Debug, PartialEq)]
@@ -94,12 +64,12 @@ impl RotationAxisCandidate {
         CandidateJson {
             id: self.id,
             axis: [p(&self.axis[0]), p(&self.axis[1])],
-            direction: self.direction.to_string(),
+            direction: self.direction,
             length: self.length,
             theta_max: self.theta_max,
             score: self.score,
             theta_goal: None,
-            outcome: OUTCOME_NOT_EVALUATED.to_string(),
+            outcome: Outcome::NotEvaluated(AXES_ONLY.to_string()),
         }
     }
 }

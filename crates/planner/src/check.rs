@@ -18,9 +18,12 @@ use pregrasp_collision::{
     ArmModel, CollisionWorld, Grip, GripFailure, ObjectGeometry, ObjectPlacement, WorldState,
 };
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::{PlanFile, PlanJson, PointJson, PoseJson, SegmentJson};
+use pregrasp_io::plan_file::{
+    GraspKind, PlanFile, PlanJson, PlanStatus, PointJson, PoseJson, SegmentJson, SegmentKind,
+    SegmentName,
+};
 use pregrasp_io::scene::{DEFAULT_FINGER_SUPPORT_CLEARANCE, DEFAULT_LINK_CLEARANCE};
-use pregrasp_robot::{joint_sweep_radii, Gripper2F85, GripperState, Joints, UrModel};
+use pregrasp_robot::{joint_sweep_radii, Gripper2F85, GripperState, Joints};
 
 use crate::context::{grips as close_grips, Grips};
 use crate::timeline::{lerp_joints, lerp_pose, substeps, CONTACT_ZONE};
@@ -237,11 +240,18 @@ impl PlanChecker {
         let mut states_checked = 0u64;
         let mut rotation = Rule::new();
         let mut grasps = Rule::new();
-        if file.status == "planned" && file.plans.is_empty() {
-            structure.fail("status is \"planned\" but there is no plan".into());
+        let planned = file.status == PlanStatus::Planned;
+        if planned && file.plans.is_empty() {
+            structure.fail(format!(
+                "status is \"{}\" but there is no plan",
+                file.status
+            ));
         }
-        if file.status != "planned" && !file.plans.is_empty() {
-            structure.fail(format!("status is {:?} but plans are present", file.status));
+        if !planned && !file.plans.is_empty() {
+            structure.fail(format!(
+                "status is \"{}\" but plans are present",
+                file.status
+            ));
         }
         let (link_clearance, finger_clearance) = self.clearances;
         let (arms, world, lowest_candidates) = (&self.arms, &self.world, &self.lowest_candidates);
@@ -396,8 +406,7 @@ fn arm_models(file: &PlanFile) -> Result<[ArmModel; 2], String> {
     }
     let build = |i: usize| -> Result<ArmModel, String> {
         let r = &file.robots[i];
-        let model = UrModel::from_name(&r.model)
-            .ok_or_else(|| format!("robots[{i}].model: unknown robot model {:?}", r.model))?;
+        let model = r.model;
         let gripper = Gripper2F85 {
             precision_point_z: r.precision_point.xyz[2],
             power_point_z: r.power_point.xyz[2],
@@ -513,12 +522,6 @@ impl<'a> PlanCheck<'a> {
     fn run(&mut self) {
         let index = self.index;
         let plan: &'a PlanJson = self.plan;
-        let expected = [
-            ("sup1", "reach"),
-            ("rot", "rotate"),
-            ("mas1", "reach"),
-            ("sup2", "regrasp"),
-        ];
         if plan.segments.len() != 4 {
             self.structure.fail(format!(
                 "plan {}: {} segments, expected 4",
@@ -542,14 +545,16 @@ impl<'a> PlanCheck<'a> {
             ));
             return;
         }
-        for (seg, (name, kind)) in plan.segments.iter().zip(expected) {
-            let robot_ok = match name {
-                "mas1" => seg.robot == plan.master,
-                _ => seg.robot == plan.supportive,
+        for (seg, name) in plan.segments.iter().zip(SegmentName::ALL) {
+            let kind = name.kind();
+            let robot_ok = if name.by_master() {
+                seg.robot == plan.master
+            } else {
+                seg.robot == plan.supportive
             };
-            if seg.name != name || seg.kind != kind || !robot_ok {
+            if seg.name != *name || seg.kind != kind || !robot_ok {
                 self.structure.fail(format!(
-                    "plan {}: segment {:?} ({}, robot {}) where {name} ({kind}) was expected",
+                    "plan {}: segment \"{}\" ({}, robot {}) where {name} ({kind}) was expected",
                     index, seg.name, seg.kind, seg.robot
                 ));
                 return;
@@ -581,7 +586,7 @@ impl<'a> PlanCheck<'a> {
         let mut object = p_init;
 
         for seg in &plan.segments {
-            let arm = if seg.name == "mas1" { mas } else { sup };
+            let arm = if seg.name.by_master() { mas } else { sup };
             // Continuity: every segment starts where its arm is.
             let first = seg.points[0].q;
             let jump = (0..6)
@@ -595,8 +600,8 @@ impl<'a> PlanCheck<'a> {
                 return;
             }
             self.check_limits(arm, seg);
-            match seg.kind.as_str() {
-                "rotate" => {
+            match seg.kind {
+                SegmentKind::Rotate => {
                     gripper[arm] = self.held(arm, true);
                     holding[arm] = true;
                     self.check_rotation(arm, seg, &q, &gripper, &holding, &axis, &p_init, &g_s);
@@ -611,8 +616,8 @@ impl<'a> PlanCheck<'a> {
                         format!("plan {} rot: last object_pose vs object_goal_pose", index)
                     });
                 }
-                _ => {
-                    let precision = seg.name == "sup1";
+                SegmentKind::Reach | SegmentKind::Regrasp => {
+                    let precision = seg.name.grasp() == GraspKind::Support;
                     let goal = if precision {
                         object * g_s
                     } else {
@@ -660,13 +665,13 @@ impl<'a> PlanCheck<'a> {
             ));
         }
         let approach = seg.approach_from;
-        if seg.kind != "rotate" && approach.is_none_or(|a| a >= n) {
+        if seg.kind != SegmentKind::Rotate && approach.is_none_or(|a| a >= n) {
             return Err(format!(
                 "plan {} {}: approach_from missing or out of range",
                 index, seg.name
             ));
         }
-        if seg.kind == "regrasp" {
+        if seg.kind == SegmentKind::Regrasp {
             match (seg.retreat_to, approach) {
                 (Some(r), Some(a)) if r <= a => {}
                 _ => {
@@ -677,7 +682,7 @@ impl<'a> PlanCheck<'a> {
                 }
             }
         }
-        if seg.kind == "rotate" && seg.points.iter().any(|p| p.object_pose.is_none()) {
+        if seg.kind == SegmentKind::Rotate && seg.points.iter().any(|p| p.object_pose.is_none()) {
             return Err(format!("plan {} rot: a point has no object_pose", index));
         }
         Ok(())

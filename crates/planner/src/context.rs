@@ -13,7 +13,7 @@ use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::PadContactJson;
 use pregrasp_io::scene::Scene;
 use pregrasp_motion::{JointSpace, MotionValidator};
-use pregrasp_robot::{wrap_angle, Gripper2F85, GripperState, Joints, UrKinematics, UrModel};
+use pregrasp_robot::{wrap_angle, Gripper2F85, GripperState, Joints, UrKinematics};
 
 use crate::clock::StageClock;
 use crate::timeline::Moment;
@@ -48,17 +48,6 @@ pub struct Grips {
     pub power: [Result<Grip, GripFailure>; 2],
 }
 
-/// A scene that cannot be turned into models.
-#[derive(Debug, thiserror::Error)]
-pub enum ContextError {
-    #[error("{file}: robot[{index}].model: unknown robot model {model:?}")]
-    UnknownModel {
-        file: String,
-        index: usize,
-        model: String,
-    },
-}
-
 /// Read-only models of one planning problem.
 pub struct PlanningContext<'a> {
     pub scene: &'a Scene,
@@ -86,8 +75,8 @@ pub struct PlanningContext<'a> {
 pub const FIXED_START_TOLERANCE: f64 = 1e-6;
 
 impl<'a> PlanningContext<'a> {
-    pub fn new(scene: &'a Scene, mesh: &'a Mesh) -> Result<Self, ContextError> {
-        let arms = arm_models(scene)?;
+    pub fn new(scene: &'a Scene, mesh: &'a Mesh) -> Self {
+        let arms = arm_models(scene);
         let spaces = [
             pregrasp_collision::joint_space(&arms[0]),
             pregrasp_collision::joint_space(&arms[1]),
@@ -115,7 +104,7 @@ impl<'a> PlanningContext<'a> {
         let same =
             world.arms()[1].gripper.precision_point() == world.arms()[0].gripper.precision_point();
         let support_pads = [first, if same { first } else { support_pad(1) }];
-        Ok(PlanningContext {
+        PlanningContext {
             scene,
             mesh,
             p_init: scene.initial_object_pose(),
@@ -126,7 +115,7 @@ impl<'a> PlanningContext<'a> {
             support_pads,
             fixed_rot_start: None,
             clock: StageClock::default(),
-        })
+        }
     }
 
     /// The fingers of arm `arm` holding G_s (only called for an arm whose support grip
@@ -276,21 +265,14 @@ pub fn distinct_ik(kin: &UrKinematics, flange: &Isometry3<f64>, seed: &Joints) -
 }
 
 /// The two arm models of a scene, in world.
-pub fn arm_models(scene: &Scene) -> Result<[ArmModel; 2], ContextError> {
-    let build = |index: usize| -> Result<ArmModel, ContextError> {
-        let spec = &scene.robots[index];
-        let model = UrModel::from_name(&spec.model).ok_or_else(|| ContextError::UnknownModel {
-            file: scene.file.display().to_string(),
-            index,
-            model: spec.model.clone(),
-        })?;
+pub fn arm_models(scene: &Scene) -> [ArmModel; 2] {
+    scene.robots.each_ref().map(|spec| {
         let gripper = Gripper2F85 {
             precision_point_z: spec.precision_point_z,
             power_point_z: spec.power_point_z,
         };
-        Ok(ArmModel::new(&spec.name, model, spec.base, gripper))
-    };
-    Ok([build(0)?, build(1)?])
+        ArmModel::new(&spec.name, spec.model, spec.base, gripper)
+    })
 }
 
 /// How both grippers close on the part at G_s (`support`, by the precision point) and at their

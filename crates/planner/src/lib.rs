@@ -50,7 +50,7 @@ pub fn plan_scene(
     options: &pipeline::PlanOptions,
     on_candidates: &(dyn Fn(usize) + Sync),
     progress: &(dyn Fn() + Sync),
-) -> Result<pipeline::PlanReport, context::ContextError> {
+) -> pipeline::PlanReport {
     if scene.grasps.auto.is_some() {
         auto_grasps::plan_auto(scene, mesh, options, on_candidates, progress)
     } else {

@@ -4,8 +4,8 @@ use std::collections::BTreeMap;
 
 use nalgebra::Isometry3;
 use pregrasp_io::plan_file::{
-    FingersJson, GraspsJson, ObjectJson, PlanFile, PlanJson, PointJson, PoseJson, RobotJson,
-    SceneRef, SegmentJson, PLAN_FORMAT,
+    FingersJson, GraspsJson, ObjectJson, PlanFile, PlanJson, PlanStatus, PointJson, PoseJson,
+    RobotJson, SceneRef, SegmentJson, SegmentName, PLAN_FORMAT,
 };
 use pregrasp_io::scene::Scene;
 use pregrasp_robot::{Gripper2F85, GripperState, Joints, JOINT_NAMES};
@@ -18,7 +18,7 @@ use crate::rotate::RotationPath;
 use crate::timing::{scaled, time_along, CONTACT_SCALE};
 
 /// Everything of the plan file that does not depend on the planning result.
-pub fn plan_file_header(scene: &Scene, status: &str, reason: Option<String>) -> PlanFile {
+pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String>) -> PlanFile {
     let robots = scene.robots.clone().map(|r| {
         let gripper = Gripper2F85 {
             precision_point_z: r.precision_point_z,
@@ -26,7 +26,7 @@ pub fn plan_file_header(scene: &Scene, status: &str, reason: Option<String>) -> 
         };
         RobotJson {
             name: r.name.clone(),
-            model: r.model.clone(),
+            model: r.model,
             base: PoseJson::from(&r.base),
             joint_names: JOINT_NAMES.iter().map(|s| s.to_string()).collect(),
             start: r.start,
@@ -40,7 +40,7 @@ pub fn plan_file_header(scene: &Scene, status: &str, reason: Option<String>) -> 
             name: scene.name.clone(),
             file: scene.file.display().to_string(),
         },
-        status: status.to_string(),
+        status,
         reason,
         support_height: scene.support_height,
         planner: scene.planner.to_json(),
@@ -86,15 +86,15 @@ fn fingers_json(grip: GripperState) -> FingersJson {
 }
 
 fn reach_segment(
-    (name, robot, kind, grasp): (&str, &str, &str, &str),
+    (name, robot): (SegmentName, &str),
     (grip_width, grip): (f64, GripperState),
     m: &ReachMotion,
 ) -> SegmentJson {
     SegmentJson {
-        name: name.to_string(),
+        name,
         robot: robot.to_string(),
-        kind: kind.to_string(),
-        grasp: grasp.to_string(),
+        kind: name.kind(),
+        grasp: name.grasp(),
         retreat_to: m.retreat_to,
         approach_from: Some(m.approach_from),
         grip_width: Some(grip_width),
@@ -116,7 +116,7 @@ pub fn plan_json(
     let mas = &ctx.names[pose.master];
     let segments = vec![
         reach_segment(
-            ("sup1", sup, "reach", "support"),
+            (SegmentName::Sup1, sup),
             (
                 ctx.support_width(pose.supportive),
                 ctx.support_grip(pose.supportive),
@@ -125,12 +125,12 @@ pub fn plan_json(
         ),
         rot_segment(ctx, pose, &path.rot),
         reach_segment(
-            ("mas1", mas, "reach", "power"),
+            (SegmentName::Mas1, mas),
             (ctx.power_width(pose.master), ctx.power_grip(pose.master)),
             &path.mas1,
         ),
         reach_segment(
-            ("sup2", sup, "regrasp", "power"),
+            (SegmentName::Sup2, sup),
             (
                 ctx.power_width(pose.supportive),
                 ctx.power_grip(pose.supportive),
@@ -189,10 +189,10 @@ pub fn rot_segment(
         )
         .collect();
     SegmentJson {
-        name: "rot".to_string(),
+        name: SegmentName::Rot,
         robot: ctx.names[pose.supportive].clone(),
-        kind: "rotate".to_string(),
-        grasp: "support".to_string(),
+        kind: SegmentName::Rot.kind(),
+        grasp: SegmentName::Rot.grasp(),
         retreat_to: None,
         approach_from: None,
         grip_width: Some(ctx.support_width(pose.supportive)),

@@ -7,14 +7,14 @@
 use std::time::Instant;
 
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::{PlanFile, PlanJson};
+use pregrasp_io::plan_file::{Outcome, PlanFile, PlanJson, PlanStatus};
 use pregrasp_io::scene::Scene;
 use rayon::prelude::*;
 
 use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
 use crate::check::PlanChecker;
 use crate::clock::Stage;
-use crate::context::{ContextError, PlanningContext};
+use crate::context::PlanningContext;
 use crate::hold::{HoldCheck, HoldResult};
 use crate::output::{plan_file_header, plan_json, rot_only_plan_json};
 use crate::paths::{integrated_path, IntegratedPath, NoPath};
@@ -110,7 +110,7 @@ pub fn plan(
     options: &PlanOptions,
     on_candidates: &(dyn Fn(usize) + Sync),
     progress: &(dyn Fn() + Sync),
-) -> Result<PlanReport, ContextError> {
+) -> PlanReport {
     let t0 = Instant::now();
     let axes = rotation_axis_candidates(
         mesh,
@@ -121,7 +121,7 @@ pub fn plan(
     let t_axes = t0.elapsed();
 
     let t_ctx = Instant::now();
-    let mut ctx = PlanningContext::new(scene, mesh)?;
+    let mut ctx = PlanningContext::new(scene, mesh);
     let t_grips = t_ctx.elapsed();
     ctx.fixed_rot_start = options.fixed_rot_start;
     let ctx = ctx;
@@ -155,7 +155,7 @@ pub fn plan(
 
     let t2 = Instant::now();
     let header = {
-        let mut h = plan_file_header(scene, "planned", None);
+        let mut h = plan_file_header(scene, PlanStatus::Planned, None);
         h.candidates = candidates
             .iter()
             .map(RotationAxisCandidate::to_json)
@@ -267,53 +267,52 @@ pub fn plan(
             } => {
                 json.theta_goal = Some(pose.theta_goal);
                 if let Some(rule) = check {
-                    json.outcome = format!("rejected: failed the plan check: {rule}");
+                    json.outcome = Outcome::rejected(format!("failed the plan check: {rule}"));
                 } else if kept < options.max_plans {
-                    json.outcome = "planned".to_string();
+                    json.outcome = Outcome::Planned;
                     file.plans.push((**plan).clone());
                     kept += 1;
                 } else {
-                    json.outcome = format!(
-                        "rejected: outranked (only the best {} plans are kept)",
+                    json.outcome = Outcome::rejected(format!(
+                        "outranked (only the best {} plans are kept)",
                         options.max_plans
-                    );
+                    ));
                 }
             }
             CandidateOutcome::NoPose(rejection) => {
                 json.theta_goal = None;
-                json.outcome = format!("rejected: {}", rejection.describe(&ctx.names));
+                json.outcome = Outcome::rejected(rejection.describe(&ctx.names));
             }
             CandidateOutcome::NoPath { pose, reason }
             | CandidateOutcome::Unheld { pose, reason } => {
                 json.theta_goal = Some(pose.theta_goal);
-                json.outcome = format!("rejected: {reason}");
+                json.outcome = Outcome::rejected(reason);
             }
             CandidateOutcome::Skipped => {
                 json.theta_goal = None;
                 json.outcome =
-                    "not evaluated: not re-planned (the plan keeps another candidate)".into();
+                    Outcome::not_evaluated("not re-planned (the plan keeps another candidate)");
             }
             CandidateOutcome::StartBlocked => {
                 json.theta_goal = None;
-                json.outcome = format!(
-                    "rejected: {}",
+                json.outcome = Outcome::rejected(
                     start_problem
                         .as_deref()
-                        .unwrap_or("start configurations in collision")
+                        .unwrap_or("start configurations in collision"),
                 );
             }
             CandidateOutcome::NotEvaluated => {
                 json.theta_goal = None;
-                json.outcome = format!(
-                    "not evaluated: the best {} plans came from candidates with higher S_rot",
+                json.outcome = Outcome::not_evaluated(format!(
+                    "the best {} plans came from candidates with higher S_rot",
                     options.max_plans
-                );
+                ));
             }
         }
         file.candidates[candidate.id] = json;
     }
     if file.plans.is_empty() {
-        file.status = "no_plan".to_string();
+        file.status = PlanStatus::NoPlan;
         file.reason = Some(start_problem.unwrap_or_else(|| no_plan_reason(&ctx, &outcomes)));
     }
     let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
@@ -325,12 +324,12 @@ pub fn plan(
         file.timing_ms.insert(key.into(), spent);
     }
     file.timing_ms.insert("total".into(), ms(t0.elapsed()));
-    Ok(PlanReport {
+    PlanReport {
         file,
         physics_note: hold_check.unavailable().map(str::to_string),
         candidates,
         outcomes,
-    })
+    }
 }
 
 /// Whether `max_plans` plans are kept among the evaluated `outcomes` (ranked as the plan file

@@ -16,12 +16,12 @@
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::{CandidateJson, PlanFile};
+use pregrasp_io::plan_file::{CandidateJson, PlanFile, PlanStatus, RotationDirection, SegmentName};
 use pregrasp_io::scene::Scene;
 
 use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
 use crate::check::check_plan;
-use crate::context::{arm_models, ContextError};
+use crate::context::arm_models;
 use crate::pipeline::{plan, PlanOptions, PlanReport};
 
 /// Two axis endpoints, in the object frame, closer than this (m) are the same hull vertex.
@@ -62,14 +62,13 @@ pub struct Replanned {
 /// direction (positive angle = the candidate's direction).
 fn object_axis(
     axis: &[[f64; 3]; 2],
-    direction: &str,
+    direction: RotationDirection,
     p_init: &Isometry3<f64>,
 ) -> ([Point3<f64>; 2], Vector3<f64>) {
     let inv = p_init.inverse();
     let a = inv * Point3::from(axis[0]);
     let b = inv * Point3::from(axis[1]);
-    let sign = if direction == "cw" { -1.0 } else { 1.0 };
-    ([a, b], (b - a).normalize() * sign)
+    ([a, b], (b - a).normalize() * direction.sign())
 }
 
 /// The id of the candidate among `candidates` (Algorithm 1 at the pose whose P_init is
@@ -81,12 +80,12 @@ pub fn matching_candidate(
     candidates: &[RotationAxisCandidate],
     p_init: &Isometry3<f64>,
 ) -> Option<usize> {
-    let (ends, dir) = object_axis(&nominal.axis, &nominal.direction, nominal_p_init);
+    let (ends, dir) = object_axis(&nominal.axis, nominal.direction, nominal_p_init);
     candidates
         .iter()
         .find(|c| {
             let json = c.to_json();
-            let (e, d) = object_axis(&json.axis, &json.direction, p_init);
+            let (e, d) = object_axis(&json.axis, json.direction, p_init);
             let same = |x: &Point3<f64>, y: &Point3<f64>| (x - y).norm() <= SAME_VERTEX;
             let ends_match = (same(&e[0], &ends[0]) && same(&e[1], &ends[1]))
                 || (same(&e[0], &ends[1]) && same(&e[1], &ends[0]));
@@ -128,13 +127,13 @@ pub fn replan(
     plan_index: usize,
     object_pose: Isometry3<f64>,
     options: &PlanOptions,
-) -> Result<Replanned, ContextError> {
+) -> Replanned {
     let mut moved = scene.clone();
     moved.object.pose = object_pose;
     let matched = candidate_at(&moved, mesh, nominal, plan_index);
-    let full = |route| -> Result<Replanned, ContextError> {
-        let report = plan(&moved, mesh, options, &|_| {}, &|| {})?;
-        Ok(Replanned { report, route })
+    let full = |route| -> Replanned {
+        let report = plan(&moved, mesh, options, &|_| {}, &|| {});
+        Replanned { report, route }
     };
     let Some(id) = matched else {
         return full(ReplanRoute::CandidateGone);
@@ -149,12 +148,12 @@ pub fn replan(
         },
         &|_| {},
         &|| {},
-    )?;
-    if kept.file.status == "planned" {
-        Ok(Replanned {
+    );
+    if kept.file.status == PlanStatus::Planned {
+        Replanned {
             report: kept,
             route: ReplanRoute::KeptCandidate,
-        })
+        }
     } else {
         full(ReplanRoute::CandidateFailed)
     }
@@ -167,8 +166,6 @@ pub enum ResumeError {
     NoPlan(usize),
     #[error("plans[{plan}]: {problem}")]
     Plan { plan: usize, problem: String },
-    #[error(transparent)]
-    Context(#[from] ContextError),
 }
 
 /// Re-plans `rot`, `mas1` and `sup2` of plan `plan_index` of `nominal` after its `sup1` has
@@ -195,7 +192,7 @@ pub fn replan_from_rot(
     let sup1 = plan_json
         .segments
         .iter()
-        .find(|s| s.name == "sup1")
+        .find(|s| s.name == SegmentName::Sup1)
         .ok_or_else(|| bad("no sup1 segment".into()))?;
     let q_sup = sup1
         .points
@@ -214,7 +211,7 @@ pub fn replan_from_rot(
         })?;
     let mut moved = scene.clone();
     moved.object.pose = object_pose;
-    let arms = arm_models(&moved)?;
+    let arms = arm_models(&moved);
     let held = moved.initial_object_pose().inverse()
         * arms[sup].flange_world(&q_sup)
         * arms[sup].gripper.precision_point();
@@ -235,7 +232,7 @@ pub fn replan_from_rot(
         fixed_rot_start: Some((sup, q_sup)),
         ..PlanOptions::default()
     };
-    let mut report = plan(&moved, mesh, &options, &|_| {}, &|| {})?;
+    let mut report = plan(&moved, mesh, &options, &|_| {}, &|| {});
     let route = match (matched, report.file.plans.is_empty()) {
         (None, _) => ReplanRoute::CandidateGone,
         (Some(_), true) => ReplanRoute::CandidateFailed,
@@ -243,13 +240,13 @@ pub fn replan_from_rot(
     };
     if let Some(p) = report.file.plans.first_mut() {
         // The executed sup1 replaces the one planned to reach the same configuration.
-        if let Some(seg) = p.segments.iter_mut().find(|s| s.name == "sup1") {
+        if let Some(seg) = p.segments.iter_mut().find(|s| s.name == SegmentName::Sup1) {
             *seg = sup1.clone();
         }
         let verdict = check_plan(&report.file, mesh);
         if let Some(rule) = verdict.rules.iter().find(|r| r.ok == Some(false)) {
             report.file.plans.clear();
-            report.file.status = "no_plan".into();
+            report.file.status = PlanStatus::NoPlan;
             report.file.reason = Some(format!(
                 "replan --from rot: with the executed sup1 the plan fails rule {} ({})",
                 rule.rule, rule.detail
@@ -261,7 +258,7 @@ pub fn replan_from_rot(
         }
     }
     if route == ReplanRoute::CandidateGone {
-        report.file.status = "no_plan".into();
+        report.file.status = PlanStatus::NoPlan;
         report.file.reason = Some(
             "replan --from rot: the plan's rotation axis is not a candidate at the measured pose"
                 .into(),

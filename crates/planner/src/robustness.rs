@@ -13,7 +13,9 @@ use std::collections::BTreeMap;
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::{CandidateJson, PlanFile, RobustnessJson, RobustnessLevelJson};
+use pregrasp_io::plan_file::{
+    CandidateJson, Outcome, PlanFile, RobustnessJson, RobustnessLevelJson,
+};
 use pregrasp_io::scene::Scene;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -21,7 +23,6 @@ use rayon::prelude::*;
 
 use crate::axes::rotation_axis_candidates;
 use crate::check::check_plan;
-use crate::context::ContextError;
 use crate::paths::motion_seed;
 use crate::pipeline::{plan, PlanOptions};
 use crate::replan::matching_candidate;
@@ -152,7 +153,7 @@ pub fn robustness(
     samples: usize,
     seed: u64,
     progress: &(dyn Fn() + Sync),
-) -> Result<RobustnessReport, ContextError> {
+) -> RobustnessReport {
     let centre_obj = {
         let (mut lo, mut hi) = (
             Vector3::repeat(f64::INFINITY),
@@ -174,7 +175,7 @@ pub fn robustness(
     let jobs: Vec<(usize, usize)> = (0..levels.len())
         .flat_map(|l| (0..samples).map(move |s| (l, s)))
         .collect();
-    let results: Vec<Result<Sample, ContextError>> = jobs
+    let samples_out: Vec<Sample> = jobs
         .par_iter()
         .map(|&(level, k)| {
             let err = levels[level];
@@ -207,7 +208,7 @@ pub fn robustness(
                 max_plans: usize::MAX,
                 ..PlanOptions::default()
             };
-            let file = plan(&moved, mesh, &options, &|_| {}, &|| {})?.file;
+            let file = plan(&moved, mesh, &options, &|_| {}, &|| {}).file;
             let plans_again: Vec<usize> = (0..matched.len())
                 .filter(|&k| {
                     matched[k].is_some_and(|id| file.plans.iter().any(|p| p.candidate == id))
@@ -219,7 +220,7 @@ pub fn robustness(
                 check_plan(&single, mesh).closest_grasp_to_support
             });
             progress();
-            Ok(Sample {
+            Sample {
                 level,
                 dx,
                 dy,
@@ -230,10 +231,9 @@ pub fn robustness(
                 axis_found: matched.first().is_some_and(Option::is_some),
                 reason: file.reason.clone(),
                 closest_grasp_to_support: closest,
-            })
+            }
         })
         .collect();
-    let samples_out = results.into_iter().collect::<Result<Vec<_>, _>>()?;
     let summaries: Vec<LevelSummary> = levels
         .iter()
         .enumerate()
@@ -248,13 +248,13 @@ pub fn robustness(
         pos: always.iter().map(|e| e.pos).fold(0.0, f64::max),
         yaw: always.iter().map(|e| e.yaw).fold(0.0, f64::max),
     });
-    Ok(RobustnessReport {
+    RobustnessReport {
         seed,
         samples_per_level: samples,
         levels: summaries,
         samples: samples_out,
         axis_tolerance,
-    })
+    }
 }
 
 fn summarise<'a>(error: PlacementError, samples: impl Iterator<Item = &'a Sample>) -> LevelSummary {
@@ -337,7 +337,7 @@ pub fn plan_ranked_by_robustness(
     options: &PlanOptions,
     on_candidates: &(dyn Fn(usize) + Sync),
     progress: &(dyn Fn() + Sync),
-) -> Result<crate::pipeline::PlanReport, ContextError> {
+) -> crate::pipeline::PlanReport {
     let samples = scene.planner.robustness_samples as usize;
     if samples == 0 {
         return plan(scene, mesh, options, on_candidates, progress);
@@ -347,7 +347,7 @@ pub fn plan_ranked_by_robustness(
         max_plans: usize::MAX,
         ..options.clone()
     };
-    let mut report = plan(scene, mesh, &all, on_candidates, progress)?;
+    let mut report = plan(scene, mesh, &all, on_candidates, progress);
     let level = PlacementError {
         pos: scene.planner.robustness_pos,
         yaw: scene.planner.robustness_yaw,
@@ -360,7 +360,7 @@ pub fn plan_ranked_by_robustness(
         samples,
         scene.planner.seed,
         &|| {},
-    )?;
+    );
     let per = per_plan(&mc, report.file.plans.len());
     let file = &mut report.file;
     let mut order: Vec<usize> = (0..file.plans.len()).collect();
@@ -373,12 +373,12 @@ pub fn plan_ranked_by_robustness(
             p.robustness = Some(per[k].clone());
             plans.push(p);
         } else {
-            file.candidates[p.candidate].outcome = format!(
-                "rejected: outranked (only the best {} plans are kept, ranked by robustness: \
+            file.candidates[p.candidate].outcome = Outcome::rejected(format!(
+                "outranked (only the best {} plans are kept, ranked by robustness: \
                  axis planned again in {:.0} % of {samples} placements)",
                 options.max_plans,
                 100.0 * per[k].levels[0].share
-            );
+            ));
         }
     }
     file.plans = plans;
@@ -388,7 +388,7 @@ pub fn plan_ranked_by_robustness(
     );
     file.timing_ms
         .insert("total".into(), t0.elapsed().as_secs_f64() * 1e3);
-    Ok(report)
+    report
 }
 
 /// An SVG bar chart of the report: per level, the share of placements that planned (light)

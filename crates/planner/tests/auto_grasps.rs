@@ -5,6 +5,7 @@
 //! `cargo test --release -p pregrasp-planner --test auto_grasps -- --nocapture` prints the
 //! README's numbers.
 
+use pregrasp_io::plan_file::PlanStatus;
 use std::path::Path;
 use std::time::Instant;
 
@@ -31,9 +32,7 @@ fn auto_scene(text: &str, extra: &str) -> String {
 
 fn plan_text(text: &str, mesh: &pregrasp_geometry::Mesh) -> (Scene, PlanFile) {
     let scene = Scene::from_str(text, Path::new("auto.toml")).unwrap();
-    let file = plan_auto(&scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
-        .unwrap()
-        .file;
+    let file = plan_auto(&scene, mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
     (scene, file)
 }
 
@@ -44,16 +43,19 @@ fn the_examples_plan_from_auto_grasps_and_pass_the_check() {
         let text = auto_scene(&ex.scene_toml, "");
         let (scene, file) = plan_text(&text, &ex.mesh);
         assert!(scene.grasps.auto.is_some());
-        assert_eq!(file.status, "planned", "{name}: {:?}", file.reason);
+        assert_eq!(
+            file.status,
+            PlanStatus::Planned,
+            "{name}: {:?}",
+            file.reason
+        );
         let auto = file.grasps.auto.as_ref().expect("the search is reported");
         assert!(auto.sites > 0 && auto.planned > 0 && auto.chosen.is_some());
         let check = check_plan(&file, &ex.mesh);
         assert!(check.is_valid(), "{name}: {:?}", check.rules);
         // The hand-placed scene's best plan, for the README's comparison.
         let hand = Scene::from_str(&ex.scene_toml, Path::new("hand.toml")).unwrap();
-        let hand_file = plan_auto(&hand, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {})
-            .unwrap()
-            .file;
+        let hand_file = plan_auto(&hand, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
         println!(
             "{name}: auto score {:.3} (candidate {}), hand-placed {:.3} (candidate {}); widths {:?} mm",
             file.plans[0].score,
@@ -96,7 +98,7 @@ fn an_auto_scene_may_pin_the_support_grasp() {
     let (scene, file) = plan_text(&text, &ex.mesh);
     let pins = scene.grasps.auto.unwrap();
     assert!(pins.support_pinned && !pins.power_pinned);
-    assert_eq!(file.status, "planned", "{:?}", file.reason);
+    assert_eq!(file.status, PlanStatus::Planned, "{:?}", file.reason);
     let hand = Scene::from_str(&ex.scene_toml, Path::new("hand.toml")).unwrap();
     assert_eq!(
         file.grasps.support.to_isometry(),
@@ -121,7 +123,7 @@ fn a_solid_plate_has_no_graspable_bar() {
         0.025,
     );
     let (_, file) = plan_text(&auto_scene(&ex.scene_toml, ""), &plate);
-    assert_eq!(file.status, "no_plan");
+    assert_eq!(file.status, PlanStatus::NoPlan);
     let reason = file.reason.unwrap();
     assert!(reason.starts_with("no graspable bar"), "{reason}");
     assert_eq!(file.grasps.auto.unwrap().sites, 0);
@@ -188,7 +190,7 @@ fn a_sweep_over_generated_parts() {
             t * 1e3,
             bar * 1e3
         );
-        if file.status == "planned" {
+        if file.status == PlanStatus::Planned {
             planned += 1;
             let check = check_plan(&file, &ex.mesh);
             assert!(check.is_valid(), "{label}: {:?}", check.rules);

@@ -2,6 +2,7 @@
 //! rotation the pinch cannot hold is rejected with that reason (unless `[physics] reject =
 //! false`).
 
+use pregrasp_io::plan_file::{GripVerdict, Outcome, PlanStatus};
 use std::path::Path;
 
 use pregrasp_io::scene::Scene;
@@ -26,9 +27,7 @@ fn chair(mass: Option<f64>, physics: &str) -> (Scene, pregrasp_geometry::Mesh) {
 }
 
 fn run(scene: &Scene, mesh: &pregrasp_geometry::Mesh) -> pregrasp_io::plan_file::PlanFile {
-    plan(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
-        .unwrap()
-        .file
+    plan(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {}).file
 }
 
 #[test]
@@ -38,7 +37,7 @@ fn every_plan_carries_its_grip_force() {
     assert!(!file.plans.is_empty());
     for p in &file.plans {
         let phys = p.physics.as_ref().expect("physics object");
-        assert_eq!(phys.verdict, "holds");
+        assert_eq!(phys.verdict, GripVerdict::Holds);
         let (min, req, rec) = (
             phys.grip_force_min.unwrap(),
             phys.grip_force_required.unwrap(),
@@ -60,20 +59,24 @@ fn a_rotation_the_gripper_cannot_hold_is_rejected() {
     let light_file = run(&light, &mesh);
     let (heavy, _) = chair(Some(153.0), "");
     let file = run(&heavy, &mesh);
-    assert_eq!(file.status, "no_plan");
+    assert_eq!(file.status, PlanStatus::NoPlan);
     let reason = file.reason.as_deref().unwrap();
     assert!(reason.contains("physics: cannot hold"), "{reason}");
     // Exactly the candidates that planned before are the ones rejected for the grip now.
     let physics_rejected: Vec<usize> = file
         .candidates
         .iter()
-        .filter(|c| c.outcome.starts_with("rejected: physics: cannot hold"))
+        .filter(|c| {
+            c.outcome
+                .to_string()
+                .starts_with("rejected: physics: cannot hold")
+        })
         .map(|c| c.id)
         .collect();
     let planned_before: Vec<usize> = light_file
         .candidates
         .iter()
-        .filter(|c| c.outcome == "planned" || c.outcome.contains("outranked"))
+        .filter(|c| c.outcome == Outcome::Planned || c.outcome.to_string().contains("outranked"))
         .map(|c| c.id)
         .collect();
     assert_eq!(physics_rejected, planned_before);
@@ -86,10 +89,10 @@ fn a_rotation_the_gripper_cannot_hold_is_rejected() {
     // With `reject = false` the same plans are kept, flagged.
     let (kept, _) = chair(Some(153.0), "[physics]\nreject = false\n");
     let file = run(&kept, &mesh);
-    assert_eq!(file.status, "planned");
+    assert_eq!(file.status, PlanStatus::Planned);
     for p in &file.plans {
         let phys = p.physics.as_ref().unwrap();
-        assert_eq!(phys.verdict, "cannot_hold");
+        assert_eq!(phys.verdict, GripVerdict::CannotHold);
         assert_eq!(phys.grip_force_recommended, None);
         assert!(phys.grip_force_required.unwrap() > 235.0);
     }
@@ -120,11 +123,11 @@ fn an_open_mesh_plans_without_the_grip_check() {
     let (scene, mut mesh) = chair(None, "");
     let closed = run(&scene, &mesh);
     mesh.triangles.pop();
-    let report = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}).unwrap();
+    let report = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {});
     let note = report.physics_note.as_deref().expect("the report says why");
     assert!(note.contains("not a closed surface"), "{note}");
     let file = report.file;
-    assert_eq!(file.status, "planned");
+    assert_eq!(file.status, PlanStatus::Planned);
     assert!(file.plans.iter().all(|p| p.physics.is_none()));
     assert_eq!(file.plans.len(), closed.plans.len());
 }

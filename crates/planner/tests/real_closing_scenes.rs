@@ -3,6 +3,7 @@
 //! the table, the same ladder with too little rotation allowed, refused for its fingers, and
 //! the ladder planned with no clearances at all, which check (with none) must accept.
 
+use pregrasp_io::plan_file::PlanStatus;
 use std::path::Path;
 
 use pregrasp_examples::design::PartDesign;
@@ -27,7 +28,6 @@ fn plan_design(name: &str, design: &PartDesign, planner: &str) -> PlanFile {
         &|_| {},
         &|| {},
     )
-    .unwrap()
     .file
 }
 
@@ -52,7 +52,7 @@ fn ladder() -> PartDesign {
 #[test]
 fn a_bench_end_pinched_with_a_finger_in_its_hand_hole_plans_and_checks() {
     let file = plan_design("bench_end", &bench_end(), "");
-    assert_eq!(file.status, "planned", "{:?}", file.reason);
+    assert_eq!(file.status, PlanStatus::Planned, "{:?}", file.reason);
     let check = check_plan(&file, &bench_end().mesh());
     assert!(check.is_valid(), "{:?}", check.rules);
 }
@@ -60,7 +60,7 @@ fn a_bench_end_pinched_with_a_finger_in_its_hand_hole_plans_and_checks() {
 #[test]
 fn a_ladder_rail_is_power_grasped_within_9_degrees_and_checks() {
     let file = plan_design("ladder", &ladder(), "");
-    assert_eq!(file.status, "planned", "{:?}", file.reason);
+    assert_eq!(file.status, PlanStatus::Planned, "{:?}", file.reason);
     let theta = theta_goal_deg(&file);
     assert!(theta <= 9.0 + 1e-9, "θ_goal {theta:.1}°");
     let check = check_plan(&file, &ladder().mesh());
@@ -71,7 +71,7 @@ fn a_ladder_rail_is_power_grasped_within_9_degrees_and_checks() {
 fn fingers_closing_into_the_table_at_every_allowed_angle_are_refused_for_it() {
     // φ_obj 4°: the rail never rises far enough for the fingers to close under it.
     let file = plan_design("ladder_4deg", &ladder(), "max_angle_deg = 4.0");
-    assert_eq!(file.status, "no_plan");
+    assert_eq!(file.status, PlanStatus::NoPlan);
     let reason = file.reason.expect("a reason");
     assert!(
         reason.contains("closing fingers reach the support at every angle"),
@@ -86,7 +86,7 @@ fn a_plan_at_zero_clearances_is_accepted_by_check() {
     // must not ask for more.
     let planner = "finger_support_clearance = 0.0\nlink_clearance = 0.0\nextra_steps = 0";
     let file = plan_design("ladder_tight", &ladder(), planner);
-    assert_eq!(file.status, "planned", "{:?}", file.reason);
+    assert_eq!(file.status, PlanStatus::Planned, "{:?}", file.reason);
     let theta = theta_goal_deg(&file);
     assert!(theta <= 6.0 + 1e-9, "θ_goal {theta:.1}°");
     let check = check_plan(&file, &ladder().mesh());

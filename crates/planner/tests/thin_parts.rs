@@ -4,6 +4,7 @@
 //! clearance (issue 11).
 
 use pregrasp_examples::{with_design, ChairSideParams, ShelfSideParams, StoolSideParams};
+use pregrasp_io::plan_file::PlanStatus;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::check::check_plan;
 use pregrasp_planner::pipeline::{plan, PlanOptions};
@@ -62,10 +63,9 @@ fn real_stock_plans_and_passes_the_check_for_every_family() {
                     &PlanOptions::default(),
                     &|_| {},
                     &|| {},
-                )
-                .unwrap();
+                );
                 let file = report.file;
-                if file.status != "planned" {
+                if file.status != PlanStatus::Planned {
                     failures.push(format!("{label}: {}", file.reason.unwrap_or_default()));
                     continue;
                 }
@@ -117,9 +117,13 @@ fn declaring_the_true_pad_centre_never_does_worse() {
                 &|_| {},
                 &|| {},
             )
-            .unwrap()
             .file;
-            assert_eq!(file.status, "planned", "{family}: {:?}", file.reason);
+            assert_eq!(
+                file.status,
+                PlanStatus::Planned,
+                "{family}: {:?}",
+                file.reason
+            );
             let check = check_plan(&file, &example.mesh);
             assert!(check.is_valid(), "{family}: {:?}", check.rules);
             check.closest_grasp_to_support.unwrap()

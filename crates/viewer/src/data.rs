@@ -3,9 +3,9 @@
 //! model. Everything is in metres and radians; poses use the plan file's `PoseJson`.
 
 use pregrasp_geometry::{ConvexHull, Mesh};
-use pregrasp_io::plan_file::{PlanFile, PoseJson, RobotJson};
+use pregrasp_io::plan_file::{GraspKind, PlanFile, PoseJson, RobotJson};
 use pregrasp_robot::{
-    arm_geometry, Gripper2F85, GripperState, Joints, LinkShape, Primitive, UrKinematics, UrModel,
+    arm_geometry, Gripper2F85, GripperState, Joints, LinkShape, Primitive, UrKinematics,
 };
 use serde::Serialize;
 
@@ -208,17 +208,7 @@ pub fn gripper_of(robot: &RobotJson) -> Gripper2F85 {
 }
 
 fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
-    let Some(model) = UrModel::from_name(&robot.model) else {
-        return RobotModelJson {
-            name: robot.name.clone(),
-            model: robot.model.clone(),
-            known: false,
-            dh: DhJson::default(),
-            links: Vec::new(),
-            gripper: GripperShapesJson::default(),
-            fk_check: Vec::new(),
-        };
-    };
+    let model = robot.model;
     let dh = model.dh();
     let mut dh_json = DhJson::default();
     for i in 0..6 {
@@ -230,18 +220,18 @@ fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
     let gripper = gripper_of(robot);
     let shapes = |state| gripper.shapes(state).iter().map(ShapeJson::from).collect();
     // The fingers this robot holds the part with, as the plans record them.
-    let held = |grasp: &str| {
+    let held = |grasp: GraspKind| {
         plan.plans
             .iter()
             .flat_map(|p| &p.segments)
             .filter(|s| s.robot == robot.name && s.grasp == grasp)
             .find_map(|s| s.held_fingers())
     };
-    let closed_at = |grasp: &str| held(grasp).map(shapes);
+    let closed_at = |grasp: GraspKind| held(grasp).map(shapes);
     let kin = UrKinematics::new(model);
     RobotModelJson {
         name: robot.name.clone(),
-        model: robot.model.clone(),
+        model: model.name().to_string(),
         known: true,
         dh: dh_json,
         links: arm_geometry(model)
@@ -252,8 +242,8 @@ fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
         gripper: GripperShapesJson {
             open: shapes(GripperState::Open),
             closed: shapes(GripperState::fully_closed()),
-            closed_precision: closed_at("support"),
-            closed_power: closed_at("power"),
+            closed_precision: closed_at(GraspKind::Support),
+            closed_power: closed_at(GraspKind::Power),
         },
         fk_check: fk_check_configs(robot, plan)
             .into_iter()

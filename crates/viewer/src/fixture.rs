@@ -18,8 +18,9 @@ use pregrasp_geometry::rotation::rotation_about_line;
 use pregrasp_geometry::shapes::cuboid;
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{
-    CandidateJson, GraspsJson, ObjectJson, PlanFile, PlanJson, PlannerJson, PointJson, PoseJson,
-    RobotJson, SceneRef, SegmentJson, PLAN_FORMAT,
+    CandidateJson, GraspsJson, ObjectJson, Outcome, PlanFile, PlanJson, PlanStatus, PlannerJson,
+    PointJson, PoseJson, RobotJson, RotationDirection, SceneRef, SegmentJson, SegmentName,
+    PLAN_FORMAT,
 };
 use pregrasp_robot::{Gripper2F85, Joints, UrKinematics, UrModel, JOINT_NAMES};
 
@@ -54,22 +55,22 @@ pub fn demo_plan(mesh_path: &str) -> Result<PlanFile, FixtureError> {
     let setup = Setup::new(&plan);
     let first = build_plan(&setup, &plan.candidates[0], 0.7)?;
     plan.candidates[0].theta_goal = Some(0.7);
-    plan.candidates[0].outcome = "planned".into();
+    plan.candidates[0].outcome = Outcome::Planned;
     plan.plans.push(first);
     // A second, lower-scored plan for the page's plan selector, when reachable.
     if let Ok(second) = build_plan(&setup, &plan.candidates[2], 0.45) {
         plan.candidates[2].theta_goal = Some(0.45);
-        plan.candidates[2].outcome = "planned".into();
+        plan.candidates[2].outcome = Outcome::Planned;
         plan.plans.push(second);
     }
-    plan.status = "planned".into();
+    plan.status = PlanStatus::Planned;
     Ok(plan)
 }
 
 /// The same scene with no plan: status `no_plan`, every candidate rejected.
 pub fn no_plan(mesh_path: &str) -> PlanFile {
     let mut plan = base_file(mesh_path);
-    plan.status = "no_plan".into();
+    plan.status = PlanStatus::NoPlan;
     plan.reason = Some("no candidate axis admits a collision-free pre-grasp pose".into());
     plan
 }
@@ -101,7 +102,7 @@ fn robot(name: &str, x: f64, start: Joints) -> RobotJson {
     );
     RobotJson {
         name: name.into(),
-        model: "ur5e".into(),
+        model: UrModel::Ur5e,
         base: PoseJson::from(&base),
         joint_names: JOINT_NAMES.iter().map(|s| s.to_string()).collect(),
         start,
@@ -121,7 +122,7 @@ fn base_file(mesh_path: &str) -> PlanFile {
             name: Some("viewer fixture: plate".into()),
             file: "fixture.toml".into(),
         },
-        status: "no_plan".into(),
+        status: PlanStatus::NoPlan,
         reason: None,
         support_height: 0.0,
         planner: PlannerJson {
@@ -170,13 +171,14 @@ fn base_file(mesh_path: &str) -> PlanFile {
 /// reaches φ_obj = 90°; the other is stopped by the lift: θ_max = asin(lift / w), w the
 /// plate width across the edge.
 fn candidates() -> Vec<CandidateJson> {
+    use RotationDirection::{Ccw, Cw};
     let (hx, hy, z) = (PLATE[0] / 2.0, PLATE[1] / 2.0, LIFT);
     // (axis, direction that lifts, width across the edge)
     let edges = [
-        ([[-hx, hy, z], [hx, hy, z]], "cw", PLATE[1]),
-        ([[-hx, -hy, z], [hx, -hy, z]], "ccw", PLATE[1]),
-        ([[-hx, -hy, z], [-hx, hy, z]], "cw", PLATE[0]),
-        ([[hx, -hy, z], [hx, hy, z]], "ccw", PLATE[0]),
+        ([[-hx, hy, z], [hx, hy, z]], Cw, PLATE[1]),
+        ([[-hx, -hy, z], [hx, -hy, z]], Ccw, PLATE[1]),
+        ([[-hx, -hy, z], [-hx, hy, z]], Cw, PLATE[0]),
+        ([[hx, -hy, z], [hx, hy, z]], Ccw, PLATE[0]),
     ];
     let mut out = Vec::new();
     for lifting in [true, false] {
@@ -185,22 +187,22 @@ fn candidates() -> Vec<CandidateJson> {
             let (direction, theta_max) = if lifting {
                 (up, FRAC_PI_2)
             } else {
-                (if up == "cw" { "ccw" } else { "cw" }, (LIFT / width).asin())
+                (if up == Cw { Ccw } else { Cw }, (LIFT / width).asin())
             };
-            let outcome = if lifting {
-                "rejected: no collision-free pre-grasp pose"
+            let outcome = Outcome::rejected(if lifting {
+                "no collision-free pre-grasp pose"
             } else {
-                "rejected: θ_max leaves no room for a power grasp"
-            };
+                "θ_max leaves no room for a power grasp"
+            });
             out.push(CandidateJson {
                 id: out.len(),
                 axis,
-                direction: direction.into(),
+                direction,
                 length,
                 theta_max,
                 score: length + theta_max,
                 theta_goal: None,
-                outcome: outcome.into(),
+                outcome,
             });
         }
     }
@@ -319,7 +321,7 @@ fn build_plan(s: &Setup, cand: &CandidateJson, theta_goal: f64) -> Result<PlanJs
     let (mas, sup) = (0, 1);
     let a0 = Point3::from(cand.axis[0]);
     let d = Point3::from(cand.axis[1]) - a0;
-    let axis = Unit::new_normalize(if cand.direction == "ccw" { d } else { -d });
+    let axis = Unit::new_normalize(d * cand.direction.sign());
     let object_at = |theta: f64| rotation_about_line(&a0, &axis, theta) * s.p_init;
     let p_obj = object_at(theta_goal);
 
@@ -373,21 +375,18 @@ fn build_plan(s: &Setup, cand: &CandidateJson, theta_goal: f64) -> Result<PlanJs
     sup2.extend(s.straight(sup, &stand_s, &power_s, 5, q_stand_s, "sup2 approach")?);
 
     let names = ["left", "right"];
-    let segment =
-        |name: &str, r: usize, kind: &str, grasp: &str, points, retreat_to, approach_from| {
-            SegmentJson {
-                name: name.into(),
-                robot: names[r].into(),
-                kind: kind.into(),
-                grasp: grasp.into(),
-                retreat_to,
-                approach_from,
-                grip_width: None,
-                fingers: None,
-                pad_contact: None,
-                points,
-            }
-        };
+    let segment = |name: SegmentName, r: usize, points, retreat_to, approach_from| SegmentJson {
+        name,
+        robot: names[r].into(),
+        kind: name.kind(),
+        grasp: name.grasp(),
+        retreat_to,
+        approach_from,
+        grip_width: None,
+        fingers: None,
+        pad_contact: None,
+        points,
+    };
     Ok(PlanJson {
         candidate: cand.id,
         score: cand.score,
@@ -396,37 +395,23 @@ fn build_plan(s: &Setup, cand: &CandidateJson, theta_goal: f64) -> Result<PlanJs
         object_goal_pose: PoseJson::from(&p_obj),
         segments: vec![
             segment(
-                "sup1",
+                SegmentName::Sup1,
                 sup,
-                "reach",
-                "support",
                 timed(&sup1, None),
                 None,
                 Some(approach_sup1),
             ),
+            segment(SegmentName::Rot, sup, timed(&rot, Some(&poses)), None, None),
             segment(
-                "rot",
-                sup,
-                "rotate",
-                "support",
-                timed(&rot, Some(&poses)),
-                None,
-                None,
-            ),
-            segment(
-                "mas1",
+                SegmentName::Mas1,
                 mas,
-                "reach",
-                "power",
                 timed(&mas1, None),
                 None,
                 Some(approach_mas1),
             ),
             segment(
-                "sup2",
+                SegmentName::Sup2,
                 sup,
-                "regrasp",
-                "power",
                 timed(&sup2, None),
                 Some(retreat_to),
                 Some(approach_sup2),
@@ -444,7 +429,7 @@ mod tests {
     #[test]
     fn demo_plan_tool_meets_the_grasps() {
         let plan = demo_plan("plate.stl").expect("fixture is reachable");
-        assert_eq!(plan.status, "planned");
+        assert_eq!(plan.status, PlanStatus::Planned);
         let s = Setup::new(&plan);
         let p = &plan.plans[0];
         let names: Vec<&str> = p.segments.iter().map(|g| g.name.as_str()).collect();

@@ -2,6 +2,7 @@
 //! import, a policy that forbids fetching), escapes script-closing text, and carries correct
 //! robot models and hull edges.
 
+use pregrasp_io::plan_file::GraspKind;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_robot::{UrKinematics, UrModel};
 use pregrasp_viewer::{fixture, render_html, ViewOptions, CONTENT_SECURITY_POLICY};
@@ -186,17 +187,6 @@ fn robot_models_carry_dh_shapes_and_a_correct_fk_check() {
 }
 
 #[test]
-fn unknown_robot_model_is_marked_not_drawn() {
-    let mut plan = fixture::no_plan("plate.stl");
-    plan.robots[1].model = "ur7".into();
-    let html = render_html(&plan, &fixture::plate_mesh(), &ViewOptions::default());
-    let data = embedded(&html);
-    assert_eq!(data["robots"][0]["known"], true);
-    assert_eq!(data["robots"][1]["known"], false);
-    assert_eq!(data["robots"][1]["links"].as_array().unwrap().len(), 0);
-}
-
-#[test]
 fn options_and_title_reach_the_page() {
     let plan = fixture::no_plan("plate.stl");
     let options = ViewOptions {
@@ -234,7 +224,11 @@ fn a_degenerate_mesh_still_renders_without_hull_edges() {
 fn holding_grippers_are_drawn_at_their_grip_width() {
     let mut plan = fixture::demo_plan("plate.stl").expect("fixture builds");
     for seg in plan.plans.iter_mut().flat_map(|p| p.segments.iter_mut()) {
-        seg.grip_width = Some(if seg.grasp == "support" { 0.030 } else { 0.050 });
+        seg.grip_width = Some(if seg.grasp == GraspKind::Support {
+            0.030
+        } else {
+            0.050
+        });
     }
     let html = render_html(&plan, &fixture::plate_mesh(), &ViewOptions::default());
     let data = embedded(&html);

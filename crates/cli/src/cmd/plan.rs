@@ -9,7 +9,7 @@ use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::output::Outputs;
-use pregrasp_io::plan_file::PlanFile;
+use pregrasp_io::plan_file::{PlanFile, PlanStatus};
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::pipeline::{CandidateOutcome, PlanOptions, PlanReport};
 use pregrasp_planner::plan_scene;
@@ -108,7 +108,7 @@ pub fn plan_scene_file(
             &|total| bar.set_length(total as u64),
             &|| bar.inc(1),
         )
-    })?;
+    });
     bar.finish_and_clear();
     let mut file = report.file.clone();
     file.timing_ms
@@ -127,7 +127,7 @@ pub fn plan_scene_file(
             println!("wrote {}", html_path.display());
         }
     }
-    Ok(ExitCode::from(if file.status == "planned" {
+    Ok(ExitCode::from(if file.status == PlanStatus::Planned {
         EXIT_OK
     } else {
         EXIT_NO_PLAN
@@ -178,7 +178,7 @@ pub fn print_summary(report: &PlanReport, file: &PlanFile) {
             if let Some(p) = &best.physics {
                 println!(
                     "      grip: {} — needs {} N (× {} safety), set {} N; friction use pads {}, support {} (mass {:.2} kg, μ pad {}, support {})",
-                    p.verdict.replace('_', " "),
+                    p.verdict.describe(),
                     opt(p.grip_force_min, 1),
                     p.safety_factor,
                     opt(p.grip_force_recommended, 0),

@@ -152,7 +152,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 args.plan_index,
                 pose,
                 &PlanOptions::default(),
-            )?,
+            ),
             From::Rot => replan_from_rot(&scene, &mesh, &nominal, args.plan_index, pose)?,
         })
     })?;

@@ -2,6 +2,7 @@
 
 #![allow(dead_code)]
 
+use pregrasp_io::plan_file::PlanStatus;
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -17,10 +18,8 @@ pub fn chair_side() -> &'static (PlanFile, Mesh) {
         let ex = pregrasp_examples::by_name("chair_side").expect("built-in example");
         let scene = Scene::from_str(&ex.scene_toml, Path::new("examples/chair_side.toml"))
             .expect("example scene parses");
-        let file = plan(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {})
-            .expect("models build")
-            .file;
-        assert_eq!(file.status, "planned", "{:?}", file.reason);
+        let file = plan(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
+        assert_eq!(file.status, PlanStatus::Planned, "{:?}", file.reason);
         (file, ex.mesh)
     })
 }

@@ -21,12 +21,12 @@ pub mod bars;
 
 use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, UnitQuaternion};
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::AutoGraspsJson;
+use pregrasp_io::plan_file::{AutoGraspsJson, PlanStatus};
 use pregrasp_io::scene::{AutoGrasps, Scene};
 use rayon::prelude::*;
 
 use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
-use crate::context::{arm_models, distinct_ik, ContextError};
+use crate::context::{arm_models, distinct_ik};
 use crate::output::plan_file_header;
 use crate::pipeline::{plan, PlanOptions, PlanReport};
 use crate::poses::distance_to_line;
@@ -86,13 +86,13 @@ pub fn grasp_sets(
     sites: &[BarSite],
     axes: &[RotationAxisCandidate],
     p_init: &Isometry3<f64>,
-) -> Result<Vec<GraspSet>, ContextError> {
+) -> Vec<GraspSet> {
     // A scene with hand-placed grasps pins none here: every grasp is searched.
     let pins = scene.grasps.auto.unwrap_or(AutoGrasps {
         support_pinned: false,
         power_pinned: false,
     });
-    let arms = arm_models(scene)?;
+    let arms = arm_models(scene);
     let fingers = pregrasp_robot::FingerKinematics::robotiq_2f85();
     let precision_z = scene
         .robots
@@ -210,7 +210,7 @@ pub fn grasp_sets(
             .cmp(&a.reachable)
             .then(b.rank.total_cmp(&a.rank))
     });
-    Ok(sets)
+    sets
 }
 
 /// The pipeline on an auto scene: grasps found, the best few sets planned, the best plan kept.
@@ -221,7 +221,7 @@ pub fn plan_auto(
     options: &PlanOptions,
     on_candidates: &(dyn Fn(usize) + Sync),
     progress: &(dyn Fn() + Sync),
-) -> Result<PlanReport, ContextError> {
+) -> PlanReport {
     let Some(pins) = scene.grasps.auto else {
         return plan(scene, mesh, options, on_candidates, progress);
     };
@@ -236,7 +236,7 @@ pub fn plan_auto(
     let sets = if sites.is_empty() && !(pins.power_pinned && pins.support_pinned) {
         Vec::new()
     } else {
-        grasp_sets(scene, &slab, &sites, &axes.candidates, &axes.p_init)?
+        grasp_sets(scene, &slab, &sites, &axes.candidates, &axes.p_init)
     };
     let summary =
         |tried: usize, planned: usize, chosen: Option<usize>, widths: [f64; 3]| AutoGraspsJson {
@@ -266,7 +266,7 @@ pub fn plan_auto(
                 GRIPPER_SPACING * 1e3
             )
         };
-        let mut file = plan_file_header(scene, "no_plan", Some(reason));
+        let mut file = plan_file_header(scene, PlanStatus::NoPlan, Some(reason));
         file.candidates = axes
             .candidates
             .iter()
@@ -275,18 +275,18 @@ pub fn plan_auto(
         file.grasps.auto = Some(summary(0, 0, None, [0.0; 3]));
         file.timing_ms
             .insert("total".into(), t0.elapsed().as_secs_f64() * 1e3);
-        return Ok(PlanReport {
+        return PlanReport {
             file,
             physics_note: None,
             candidates: axes.candidates,
             outcomes: Vec::new(),
-        });
+        };
     }
     // Batches of SETS_PLANNED sets, in rank order, until a batch has a plan.
     on_candidates(sets.len());
     let mut reports: Vec<PlanReport> = Vec::new();
     for batch in sets.chunks(SETS_PLANNED) {
-        let planned: Vec<Result<PlanReport, ContextError>> = batch
+        let planned: Vec<PlanReport> = batch
             .par_iter()
             .map(|set| {
                 let mut s = scene.clone();
@@ -297,9 +297,7 @@ pub fn plan_auto(
                 r
             })
             .collect();
-        for r in planned {
-            reports.push(r?);
-        }
+        reports.extend(planned);
         if reports.iter().any(|r| !r.file.plans.is_empty()) {
             break;
         }
@@ -325,5 +323,5 @@ pub fn plan_auto(
     }
     file.timing_ms
         .insert("total".into(), t0.elapsed().as_secs_f64() * 1e3);
-    Ok(report)
+    report
 }

@@ -1,0 +1,320 @@
+//! The closed vocabularies of the plan format (`docs/plan-format.md`) as types: what the file
+//! spells as strings (`"rot"`, `"planned"`, `"ccw"`, `"ur5e"`), the code matches as enums.
+//! Each is written and read as exactly its lower-case word; a word outside the vocabulary is
+//! refused when the file is read, with the allowed ones listed.
+
+use std::fmt;
+use std::str::FromStr;
+
+use pregrasp_robot::UrModel;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+/// A closed vocabulary: each variant with its word in the file.
+macro_rules! vocabulary {
+    ($(#[$meta:meta])* $name:ident { $($(#[$vmeta:meta])* $variant:ident = $word:literal),+ $(,)? }) => {
+        $(#[$meta])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum $name {
+            $($(#[$vmeta])* $variant),+
+        }
+
+        impl $name {
+            /// Every value, in the format's order.
+            pub const ALL: &'static [$name] = &[$($name::$variant),+];
+
+            /// The word the file spells it with.
+            pub fn as_str(self) -> &'static str {
+                match self {
+                    $($name::$variant => $word),+
+                }
+            }
+        }
+
+        impl fmt::Display for $name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(self.as_str())
+            }
+        }
+
+        impl FromStr for $name {
+            type Err = String;
+
+            fn from_str(s: &str) -> Result<Self, String> {
+                $name::ALL
+                    .iter()
+                    .copied()
+                    .find(|v| v.as_str() == s)
+                    .ok_or_else(|| not_one_of(s, $name::ALL.iter().map(|v| v.as_str())))
+            }
+        }
+
+        impl Serialize for $name {
+            fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+                serializer.serialize_str(self.as_str())
+            }
+        }
+
+        impl<'de> Deserialize<'de> for $name {
+            fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+                let word = String::deserialize(deserializer)?;
+                word.parse().map_err(serde::de::Error::custom)
+            }
+        }
+    };
+}
+
+/// `"x" is not one of a, b, c` (the word clipped to 80 characters).
+fn not_one_of<'w>(word: &str, allowed: impl Iterator<Item = &'w str>) -> String {
+    format!(
+        "{:?} is not one of {}",
+        crate::text::clip(word, 80),
+        allowed.collect::<Vec<_>>().join(", ")
+    )
+}
+
+vocabulary! {
+    /// Whether the file holds plans (`status`).
+    PlanStatus {
+        Planned = "planned",
+        NoPlan = "no_plan",
+    }
+}
+
+vocabulary! {
+    /// The four motions of a plan, in the order they run (`segments[].name`; the paper's
+    /// μ_sup1, μ_rot, μ_mas1, μ_sup2).
+    SegmentName {
+        /// The supportive arm reaches the support grasp G_s.
+        Sup1 = "sup1",
+        /// The supportive arm turns the part about the axis.
+        Rot = "rot",
+        /// The master arm reaches its power grasp.
+        Mas1 = "mas1",
+        /// The supportive arm lets go and reaches its power grasp.
+        Sup2 = "sup2",
+    }
+}
+
+vocabulary! {
+    /// What a segment's motion is (`segments[].kind`).
+    SegmentKind {
+        /// From where the arm is to a grasp, ending in a straight approach.
+        Reach = "reach",
+        /// Holding the part while it turns.
+        Rotate = "rotate",
+        /// Releasing one grasp (straight retreat) and reaching another.
+        Regrasp = "regrasp",
+    }
+}
+
+vocabulary! {
+    /// Which grasp a segment ends at (`segments[].grasp`): the support grasp G_s (held by the
+    /// precision point) or the arm's power grasp (by the power point).
+    GraspKind {
+        Support = "support",
+        Power = "power",
+    }
+}
+
+vocabulary! {
+    /// The sense of a candidate's rotation about its axis `axis[1] − axis[0]`
+    /// (`candidates[].direction`): right-handed (`ccw`) or the other way.
+    RotationDirection {
+        Ccw = "ccw",
+        Cw = "cw",
+    }
+}
+
+vocabulary! {
+    /// The quasi-static grip check's verdict on a plan's rotation (`physics.verdict`).
+    GripVerdict {
+        /// Every state is held with a grip force within the gripper's range.
+        Holds = "holds",
+        /// Some state needs more than the gripper's 235 N (with the safety factor), or no
+        /// force holds it.
+        CannotHold = "cannot_hold",
+        /// Some state needs more support friction than there is.
+        SlidesAtSupport = "slides_at_support",
+    }
+}
+
+/// What became of a rotation-axis candidate (`candidates[].outcome`): `planned`,
+/// `rejected: <why>`, or `not evaluated…` (the planner did not get to it).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    Planned,
+    /// Why not (non-empty).
+    Rejected(String),
+    /// What follows the words "not evaluated" (e.g. ` (axes only)`, `: not re-planned`).
+    NotEvaluated(String),
+}
+
+impl Outcome {
+    /// `not evaluated: <why>`.
+    pub fn not_evaluated(why: impl fmt::Display) -> Outcome {
+        Outcome::NotEvaluated(format!(": {why}"))
+    }
+
+    /// `rejected: <why>`.
+    pub fn rejected(why: impl fmt::Display) -> Outcome {
+        Outcome::Rejected(why.to_string())
+    }
+}
+
+impl fmt::Display for Outcome {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Outcome::Planned => f.write_str("planned"),
+            Outcome::Rejected(why) => write!(f, "rejected: {why}"),
+            Outcome::NotEvaluated(rest) => write!(f, "not evaluated{rest}"),
+        }
+    }
+}
+
+impl FromStr for Outcome {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s == "planned" {
+            return Ok(Outcome::Planned);
+        }
+        if let Some(why) = s.strip_prefix("rejected: ").filter(|w| !w.is_empty()) {
+            return Ok(Outcome::Rejected(why.to_string()));
+        }
+        if let Some(rest) = s.strip_prefix("not evaluated") {
+            return Ok(Outcome::NotEvaluated(rest.to_string()));
+        }
+        Err(format!(
+            "{:?} is not \"planned\", \"rejected: <why>\" or \"not evaluated…\"",
+            crate::text::clip(s, 80)
+        ))
+    }
+}
+
+impl Serialize for Outcome {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_str(self)
+    }
+}
+
+impl<'de> Deserialize<'de> for Outcome {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let text = String::deserialize(deserializer)?;
+        text.parse().map_err(serde::de::Error::custom)
+    }
+}
+
+impl GripVerdict {
+    /// In words, for people.
+    pub fn describe(self) -> &'static str {
+        match self {
+            GripVerdict::Holds => "holds",
+            GripVerdict::CannotHold => "cannot hold",
+            GripVerdict::SlidesAtSupport => "slides at the support",
+        }
+    }
+}
+
+impl SegmentName {
+    /// The segment's kind: fixed per segment by the format.
+    pub fn kind(self) -> SegmentKind {
+        match self {
+            SegmentName::Sup1 | SegmentName::Mas1 => SegmentKind::Reach,
+            SegmentName::Rot => SegmentKind::Rotate,
+            SegmentName::Sup2 => SegmentKind::Regrasp,
+        }
+    }
+
+    /// The grasp the segment ends at (held throughout `rot`): fixed per segment.
+    pub fn grasp(self) -> GraspKind {
+        match self {
+            SegmentName::Sup1 | SegmentName::Rot => GraspKind::Support,
+            SegmentName::Mas1 | SegmentName::Sup2 => GraspKind::Power,
+        }
+    }
+
+    /// Whether the master arm moves in it (`mas1`); the supportive arm moves in the others.
+    pub fn by_master(self) -> bool {
+        self == SegmentName::Mas1
+    }
+}
+
+impl SegmentKind {
+    /// Whether the gripper opens at the segment's first point and closes at its last
+    /// (`reach`, `regrasp`); it stays closed through `rotate`.
+    pub fn closes_at_end(self) -> bool {
+        matches!(self, SegmentKind::Reach | SegmentKind::Regrasp)
+    }
+}
+
+impl RotationDirection {
+    /// `+1` for `ccw`, `−1` for `cw`: the sign of the rotation angle about the axis.
+    pub fn sign(self) -> f64 {
+        match self {
+            RotationDirection::Ccw => 1.0,
+            RotationDirection::Cw => -1.0,
+        }
+    }
+}
+
+/// Serde for a UR model by its lower-case name (`robots[].model`): a plan file is
+/// machine-written, so the name must be exact (scene files are lenient, see
+/// [`UrModel::from_name`]).
+pub mod ur_model {
+    use super::*;
+
+    pub fn serialize<S: Serializer>(model: &UrModel, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(model.name())
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<UrModel, D::Error> {
+        let word = String::deserialize(deserializer)?;
+        UrModel::ALL
+            .into_iter()
+            .find(|m| m.name() == word)
+            .ok_or_else(|| {
+                serde::de::Error::custom(not_one_of(&word, UrModel::ALL.iter().map(|m| m.name())))
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_word_reads_back_as_its_value_and_others_are_refused() {
+        for name in SegmentName::ALL {
+            let json = serde_json::to_string(name).unwrap();
+            assert_eq!(serde_json::from_str::<SegmentName>(&json).unwrap(), *name);
+        }
+        for status in PlanStatus::ALL {
+            assert_eq!(status.as_str().parse::<PlanStatus>().unwrap(), *status);
+        }
+        let err = serde_json::from_str::<SegmentName>("\"Rot\"").unwrap_err();
+        assert!(
+            err.to_string()
+                .starts_with("\"Rot\" is not one of sup1, rot, mas1, sup2"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn each_segment_has_the_kind_and_grasp_of_the_format() {
+        use GraspKind::*;
+        use SegmentKind::*;
+        let table: Vec<(SegmentName, SegmentKind, GraspKind)> = SegmentName::ALL
+            .iter()
+            .map(|s| (*s, s.kind(), s.grasp()))
+            .collect();
+        assert_eq!(
+            table,
+            [
+                (SegmentName::Sup1, Reach, Support),
+                (SegmentName::Rot, Rotate, Support),
+                (SegmentName::Mas1, Reach, Power),
+                (SegmentName::Sup2, Regrasp, Power),
+            ]
+        );
+    }
+}
