@@ -53,7 +53,7 @@ impl SceneStatus {
 
 impl std::fmt::Display for SceneStatus {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.as_str())
+        f.pad(self.as_str())
     }
 }
 

@@ -32,7 +32,7 @@ macro_rules! vocabulary {
 
         impl fmt::Display for $name {
             fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str(self.as_str())
+                f.pad(self.as_str())
             }
         }
 
@@ -291,6 +291,8 @@ mod tests {
         for status in PlanStatus::ALL {
             assert_eq!(status.as_str().parse::<PlanStatus>().unwrap(), *status);
         }
+        // Tables pad them like the strings they replaced.
+        assert_eq!(format!("[{:4}]", RotationDirection::Cw), "[cw  ]");
         let err = serde_json::from_str::<SegmentName>("\"Rot\"").unwrap_err();
         assert!(
             err.to_string()
