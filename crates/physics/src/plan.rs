@@ -64,6 +64,18 @@ impl PartMass {
         given: Option<(f64, &str)>,
         density: f64,
     ) -> Result<PartMass, PhysicsError> {
+        PartMass::resolve_with_hull(file, mesh, None, given, density)
+    }
+
+    /// [`PartMass::resolve`] with the vertices of the mesh's convex hull given by a caller
+    /// that has them (the planner computed the hull for Algorithm 1); computed when `None`.
+    pub fn resolve_with_hull(
+        file: &PlanFile,
+        mesh: &Mesh,
+        hull: Option<&[Point3<f64>]>,
+        given: Option<(f64, &str)>,
+        density: f64,
+    ) -> Result<PartMass, PhysicsError> {
         let props = MassProperties::from_mesh(mesh)?;
         let (mass, source) = match (given, file.object.mass) {
             (Some((m, label)), _) => (m, label.to_string()),
@@ -79,9 +91,12 @@ impl PartMass {
         if !(mass.is_finite() && mass > 0.0 && mass <= pregrasp_io::scene::MAX_MASS) {
             return Err(PhysicsError::BadMass(mass));
         }
-        let hull = pregrasp_geometry::ConvexHull::of_mesh(mesh)
-            .map(|h| h.vertices)
-            .unwrap_or_else(|_| mesh.vertices.clone());
+        let hull = match hull {
+            Some(vertices) => vertices.to_vec(),
+            None => pregrasp_geometry::ConvexHull::of_mesh(mesh)
+                .map(|h| h.vertices)
+                .unwrap_or_else(|_| mesh.vertices.clone()),
+        };
         Ok(PartMass {
             mass,
             source,

@@ -180,19 +180,21 @@ pub struct PlanChecker {
 impl PlanChecker {
     /// The models of `file`'s header; an error when its robots cannot be modelled.
     pub fn new(file: &PlanFile, mesh: &Mesh) -> Result<PlanChecker, String> {
-        Self::sharing_part(file, mesh, None, None)
+        Self::sharing_part(file, mesh, None, None, None)
     }
 
     /// [`PlanChecker::new`] with the part's collision geometry (its mesh `mesh`, with the BVH)
     /// taken from another world of the same part rather than built again: the planner hands
     /// its own, the geometry of the mesh alone; the checker's clearances and hull are its own.
     /// `grips`: how the grippers close at the file's grasps, when the caller has closed them
-    /// on the same part (the planner verifying its own plans); closed again otherwise.
+    /// on the same part (the planner verifying its own plans); closed again otherwise. `hull`:
+    /// the vertices of the mesh's convex hull, when the caller has them (Algorithm 1's).
     pub fn sharing_part(
         file: &PlanFile,
         mesh: &Mesh,
         part: Option<Arc<ObjectGeometry>>,
         grips: Option<&Grips>,
+        hull: Option<&[Point3<f64>]>,
     ) -> Result<PlanChecker, String> {
         let arms = arm_models(file)?;
         let link_clearance = file
@@ -220,9 +222,12 @@ impl PlanChecker {
             Err(_) => world,
         };
         // The lowest point of the part is always a vertex of its convex hull.
-        let lowest_candidates = pregrasp_geometry::hull::ConvexHull::of_mesh(mesh)
-            .map(|h| h.vertices)
-            .unwrap_or_else(|_| mesh.vertices.clone());
+        let lowest_candidates = match hull {
+            Some(vertices) => vertices.to_vec(),
+            None => pregrasp_geometry::hull::ConvexHull::of_mesh(mesh)
+                .map(|h| h.vertices)
+                .unwrap_or_else(|_| mesh.vertices.clone()),
+        };
         Ok(PlanChecker {
             arms,
             world,

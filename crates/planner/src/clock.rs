@@ -1,5 +1,5 @@
 //! Where Algorithm 3's time goes: per part of it, the time spent summed over candidates, for
-//! the plan file's `timing_ms` and `pregrasp bench plan` (the profile split of the README).
+//! the plan file's `timing_ms` and `pregrasp bench plan` (docs/performance.md).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;

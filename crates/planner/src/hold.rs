@@ -31,10 +31,16 @@ pub struct HoldResult {
 }
 
 impl HoldCheck {
-    /// `header`: the plan file being written (its `object.mass` and `object.mesh`).
-    pub fn new(scene: &Scene, header: &PlanFile, mesh: &Mesh) -> HoldCheck {
+    /// `header`: the plan file being written (its `object.mass` and `object.mesh`); `hull`:
+    /// the vertices of the mesh's convex hull, when the caller has them.
+    pub fn new(
+        scene: &Scene,
+        header: &PlanFile,
+        mesh: &Mesh,
+        hull: Option<&[nalgebra::Point3<f64>]>,
+    ) -> HoldCheck {
         let settings = PhysicsSettings::default().with_scene(&scene.physics);
-        let part = PartMass::resolve(header, mesh, None, settings.density)
+        let part = PartMass::resolve_with_hull(header, mesh, hull, None, settings.density)
             .map_err(|e| format!("physics: the rotation is not checked: {e}"));
         HoldCheck {
             part,

@@ -102,8 +102,9 @@ pub struct PlanReport {
 /// Runs the pipeline on a loaded scene and mesh. `on_candidates` is told how many candidates
 /// Algorithm 1 found; `progress` is called once per candidate finished (from worker threads).
 ///
-/// Every plan is re-verified by [`crate::check::check_plan`] before it is kept; a plan that fails
-/// (which would be a bug) is dropped and its candidate says which rule failed.
+/// Every plan is re-verified by a [`crate::check::PlanChecker`] (the rules of `check`) before it
+/// is kept; a plan that fails (which would be a bug) is dropped and its candidate says which
+/// rule failed.
 pub fn plan(
     scene: &Scene,
     mesh: &Mesh,
@@ -162,8 +163,12 @@ pub fn plan(
             .collect();
         h
     };
-    let checker = PlanChecker::sharing_part(&header, mesh, ctx.world.part(), Some(&ctx.grips));
-    let hold_check = HoldCheck::new(scene, &header, mesh);
+    // One hull for the whole plan: Algorithm 1's, for the checker's lowest points and the
+    // grip check's support contacts (none when the mesh has no hull: each falls back alike).
+    let hull = (!axes.hull.vertices.is_empty()).then_some(&axes.hull.vertices[..]);
+    let checker =
+        PlanChecker::sharing_part(&header, mesh, ctx.world.part(), Some(&ctx.grips), hull);
+    let hold_check = HoldCheck::new(scene, &header, mesh, hull);
     let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose| {
         // The grip check reads μ_rot alone: Algorithm 3 asks it once a candidate's straight
         // lines hold, and a rotation the pinch cannot hold gets no transits.

@@ -48,7 +48,7 @@ impl PlacementError {
     }
 }
 
-/// The levels of the README's table: position alone (2–50 mm), yaw alone (1–20°), both.
+/// The levels of docs/replan.md's table: position alone (2–50 mm), yaw alone (1–20°), both.
 pub fn default_levels() -> Vec<PlacementError> {
     let mm = |x: f64| x * 1e-3;
     let deg = |x: f64| x.to_radians();

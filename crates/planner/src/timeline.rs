@@ -19,23 +19,6 @@ use pregrasp_robot::{GripperState, Joints};
 /// closes on or releases (plan-format.md, rule 2): 2 cm.
 pub const CONTACT_ZONE: f64 = 0.02;
 
-/// Which point frame of the gripper a segment's grasp uses.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum GraspPoint {
-    /// Fingertip grasp at the support grasp G_s.
-    Precision,
-    /// Power grasp at G_p1 / G_p2.
-    Power,
-}
-
-/// The kind of a segment, as in the plan file.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SegmentKind {
-    Reach,
-    Rotate,
-    Regrasp,
-}
-
 /// Everything the collision model needs at one instant.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Moment {

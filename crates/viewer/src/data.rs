@@ -54,7 +54,8 @@ pub struct MeshJson {
 pub struct RobotModelJson {
     pub name: String,
     pub model: String,
-    /// False when `model` is not a known UR model; the page then draws no arm.
+    /// False for a robot the page cannot draw (none today: every UR model of a plan file is
+    /// known); the page then draws no arm.
     pub known: bool,
     pub dh: DhJson,
     /// Link shapes in their DH frames (`frame` indexes frames 0..=6 of the FK).

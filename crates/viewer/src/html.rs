@@ -24,8 +24,8 @@ const SCRIPT: &str = include_str!("web/viewer.js");
 
 /// One self-contained HTML page showing `plan` with the part `mesh` (object frame, metres).
 ///
-/// Robots whose model is unknown are listed in the data with `known: false` and not drawn;
-/// callers that want an error instead check `UrModel::from_name` first.
+/// Every robot of a plan file has a known model (the file's reader refuses others); the data's
+/// `known` flag stays for robots the page cannot draw.
 pub fn render_html(plan: &PlanFile, mesh: &Mesh, options: &ViewOptions) -> String {
     let data = ViewData::new(plan, mesh, options);
     let json = serde_json::to_string(&data).expect("view data serialises");
