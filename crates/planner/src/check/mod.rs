@@ -1,0 +1,421 @@
+//! `pregrasp check`: re-verifies a plan file, with the project's own models, against every rule
+//! of plan-format.md, "What a valid plan satisfies". It needs nothing but the plan file and the
+//! object mesh it names: the arms, tool frames, grasps and poses all come from the file.
+//!
+//! Motions are checked as the format defines them — linear in joint space between neighbouring
+//! points (the object's pose interpolated by slerp during `rot`) — at [`CHECK_RESOLUTION`]: no
+//! point of a moving arm travels farther than that between two checked states, and at
+//! [`FINE_CHECK_RESOLUTION`] where a gripper grasps (μ_rot, the last 2 cm of an approach and the
+//! first 2 cm of a retreat). Rule 2 is applied with the clearances the plan's `planner` echo
+//! states (`link_clearance`, `finger_support_clearance`; defaults when absent), on the same
+//! link and gripper shapes as the planner, each gripper closed on the part at the width it
+//! closes on — measured here again from the mesh, not read from the file.
+
+use std::sync::Arc;
+
+use nalgebra::Point3;
+use pregrasp_collision::{ArmModel, CollisionWorld, Grip, GripFailure, ObjectGeometry};
+use pregrasp_geometry::Mesh;
+use pregrasp_io::plan_file::{PlanFile, PlanStatus, PoseJson};
+use pregrasp_io::scene::{DEFAULT_FINGER_SUPPORT_CLEARANCE, DEFAULT_LINK_CLEARANCE};
+use pregrasp_robot::Gripper2F85;
+
+use crate::context::{grips as close_grips, Grips};
+
+mod motions;
+mod walk;
+
+use walk::PlanCheck;
+
+/// Largest travel of any arm point between two checked states (m).
+pub const CHECK_RESOLUTION: f64 = 0.002;
+/// Largest travel of any arm point between two checked states while a gripper grasps (m):
+/// finer than the finger–support clearance.
+pub const FINE_CHECK_RESOLUTION: f64 = 0.001;
+/// Rule 3: how far the object may go below the support (m).
+pub const BELOW_SUPPORT_TOLERANCE: f64 = 0.001;
+/// Rule 3: how far an axis endpoint may move during `rot` (m).
+pub const AXIS_MOTION_TOLERANCE: f64 = 0.002;
+/// Rule 4: tool pose vs grasp pose.
+pub const GRASP_POSITION_TOLERANCE: f64 = 0.001;
+pub const GRASP_ANGLE_TOLERANCE: f64 = 0.01;
+/// Rule 4: tool vs its straight approach/retreat line.
+pub const LINE_POSITION_TOLERANCE: f64 = 0.002;
+pub const LINE_ANGLE_TOLERANCE: f64 = 0.01;
+
+/// Rounding a plan's time stamps may carry (s): half a microsecond, as written with six
+/// decimals. Rule 1 judges speeds allowing it (see `check_limits`).
+pub const ROUNDING_T: f64 = 5e-7;
+/// Rounding a plan's joint values may carry (rad): half of 1e-6 rad, six decimals.
+pub const ROUNDING_Q: f64 = 5e-7;
+
+const STRUCTURE: &str = "plan structure (segments, robots, times, continuity)";
+const STRUCTURE_OK: &str = "segments sup1, rot, mas1, sup2 in order, times increasing, continuous";
+
+/// The verdict on one rule.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RuleResult {
+    /// Rule number in plan-format.md (0 = file structure, checked first).
+    pub rule: u8,
+    pub title: &'static str,
+    /// `None`: not checkable from a plan file alone.
+    pub ok: Option<bool>,
+    /// The worst value found, or the first violation.
+    pub detail: String,
+}
+
+/// The verdict on a whole plan file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckReport {
+    pub rules: Vec<RuleResult>,
+    /// The closest any grasping gripper came to the support over all checked states (m;
+    /// `None` when no state was checked).
+    pub closest_grasp_to_support: Option<f64>,
+    /// The file does not follow the plan format: the offending field's path and the problem.
+    /// No motion was judged.
+    pub malformed: Option<String>,
+}
+
+impl CheckReport {
+    /// Valid iff no checked rule failed.
+    pub fn is_valid(&self) -> bool {
+        self.rules.iter().all(|r| r.ok != Some(false))
+    }
+}
+
+/// Accumulates the worst value and the first violation of one rule across all plans.
+struct Rule {
+    worst: f64,
+    worst_at: String,
+    violation: Option<String>,
+}
+
+impl Rule {
+    fn new() -> Self {
+        Rule {
+            worst: f64::NEG_INFINITY,
+            worst_at: String::new(),
+            violation: None,
+        }
+    }
+    /// Records a value where larger is worse; `limit` is the largest allowed value.
+    fn value(&mut self, value: f64, limit: f64, at: impl FnOnce() -> String) {
+        if value > self.worst || self.violation.is_none() && value > limit {
+            let at = at();
+            if value > self.worst {
+                self.worst = value;
+                self.worst_at = at.clone();
+            }
+            if value > limit && self.violation.is_none() {
+                self.violation = Some(at);
+            }
+        }
+    }
+    fn fail(&mut self, what: String) {
+        if self.violation.is_none() {
+            self.violation = Some(what);
+        }
+    }
+    fn result(self, rule: u8, title: &'static str, unit: impl Fn(f64) -> String) -> RuleResult {
+        match self.violation {
+            Some(v) => RuleResult {
+                rule,
+                title,
+                ok: Some(false),
+                detail: v,
+            },
+            None if self.worst.is_finite() => RuleResult {
+                rule,
+                title,
+                ok: Some(true),
+                detail: format!("worst {} ({})", unit(self.worst), self.worst_at),
+            },
+            None => RuleResult {
+                rule,
+                title,
+                ok: Some(true),
+                detail: "nothing to check".into(),
+            },
+        }
+    }
+}
+
+/// Checks every plan in `file`; `mesh` is the object mesh in the object frame (scaled).
+pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
+    if let Err(e) = crate::plan_format::validate(file) {
+        let mut structure = Rule::new();
+        structure.fail(format!("malformed plan file: {e}"));
+        return CheckReport {
+            rules: vec![structure.result(0, STRUCTURE, |_| String::new())],
+            closest_grasp_to_support: None,
+            malformed: Some(e),
+        };
+    }
+    match PlanChecker::new(file, mesh) {
+        Ok(checker) => checker.check(file),
+        Err(e) => {
+            let mut structure = Rule::new();
+            structure.fail(e);
+            CheckReport {
+                rules: vec![structure.result(0, STRUCTURE, |_| String::new())],
+                closest_grasp_to_support: None,
+                malformed: None,
+            }
+        }
+    }
+}
+
+/// The models a plan file is checked with — arms, the collision world with the plan's
+/// clearances, the widths the grippers close on, the part's hull — built once for any number of
+/// plans of the same file header (robots, grasps, planner settings, support, mesh).
+pub struct PlanChecker {
+    arms: [ArmModel; 2],
+    world: CollisionWorld,
+    grips: Result<HeldGrips, String>,
+    lowest_candidates: Vec<Point3<f64>>,
+    clearances: (f64, f64),
+}
+
+impl PlanChecker {
+    /// The models of `file`'s header; an error when its robots cannot be modelled.
+    pub fn new(file: &PlanFile, mesh: &Mesh) -> Result<PlanChecker, String> {
+        Self::sharing_part(file, mesh, None, None, None)
+    }
+
+    /// [`PlanChecker::new`] with the part's collision geometry (its mesh `mesh`, with the BVH)
+    /// taken from another world of the same part rather than built again: the planner hands
+    /// its own, the geometry of the mesh alone; the checker's clearances and hull are its own.
+    /// `grips`: how the grippers close at the file's grasps, when the caller has closed them
+    /// on the same part (the planner verifying its own plans); closed again otherwise. `hull`:
+    /// the vertices of the mesh's convex hull, when the caller has them (Algorithm 1's).
+    pub fn sharing_part(
+        file: &PlanFile,
+        mesh: &Mesh,
+        part: Option<Arc<ObjectGeometry>>,
+        grips: Option<&Grips>,
+        hull: Option<&[Point3<f64>]>,
+    ) -> Result<PlanChecker, String> {
+        let arms = arm_models(file)?;
+        let link_clearance = file
+            .planner
+            .link_clearance
+            .unwrap_or(DEFAULT_LINK_CLEARANCE);
+        let finger_clearance = file
+            .planner
+            .finger_support_clearance
+            .unwrap_or(DEFAULT_FINGER_SUPPORT_CLEARANCE);
+        let world = match part {
+            Some(part) => {
+                CollisionWorld::with_part(Some(file.support_height), Some(part), arms.clone())
+            }
+            None => CollisionWorld::new(file.support_height, Some(mesh), arms.clone()),
+        }
+        .with_margin(link_clearance)
+        .with_grasp_support_margin(finger_clearance);
+        let grips = held_grips(file, &world, grips);
+        let world = match &grips {
+            Ok(g) => world.with_held_fingers([
+                &[g.support[0].state(), g.power[0].state()],
+                &[g.support[1].state(), g.power[1].state()],
+            ]),
+            Err(_) => world,
+        };
+        // The lowest point of the part is always a vertex of its convex hull.
+        let lowest_candidates = match hull {
+            Some(vertices) => vertices.to_vec(),
+            None => pregrasp_geometry::hull::ConvexHull::of_mesh(mesh)
+                .map(|h| h.vertices)
+                .unwrap_or_else(|_| mesh.vertices.clone()),
+        };
+        Ok(PlanChecker {
+            arms,
+            world,
+            grips,
+            lowest_candidates,
+            clearances: (link_clearance, finger_clearance),
+        })
+    }
+
+    /// Checks every plan in `file` (whose header must be the one the checker was built for).
+    pub fn check(&self, file: &PlanFile) -> CheckReport {
+        let mut structure = Rule::new();
+        let mut limits = Rule::new();
+        let mut collisions = Rule::new();
+        let mut states_checked = 0u64;
+        let mut rotation = Rule::new();
+        let mut grasps = Rule::new();
+        let planned = file.status == PlanStatus::Planned;
+        if planned && file.plans.is_empty() {
+            structure.fail(format!(
+                "status is \"{}\" but there is no plan",
+                file.status
+            ));
+        }
+        if !planned && !file.plans.is_empty() {
+            structure.fail(format!(
+                "status is \"{}\" but plans are present",
+                file.status
+            ));
+        }
+        let (link_clearance, finger_clearance) = self.clearances;
+        let (arms, world, lowest_candidates) = (&self.arms, &self.world, &self.lowest_candidates);
+        let grips = match &self.grips {
+            Ok(g) => Some(g.clone()),
+            Err(e) => {
+                collisions.fail(e.clone());
+                None
+            }
+        };
+        let mut finger_support = f64::INFINITY;
+        for (index, plan) in file.plans.iter().enumerate() {
+            let mut cx = PlanCheck {
+                file,
+                plan,
+                index,
+                arms,
+                world,
+                grips: &grips,
+                finger_support: &mut finger_support,
+                lowest_candidates,
+                structure: &mut structure,
+                limits: &mut limits,
+                collisions: &mut collisions,
+                states_checked: &mut states_checked,
+                rotation: &mut rotation,
+                grasps: &mut grasps,
+            };
+            cx.run();
+        }
+        let mm = |x: f64| format!("{:.2} mm", x * 1e3);
+        CheckReport {
+            closest_grasp_to_support: finger_support.is_finite().then_some(finger_support),
+            malformed: None,
+            rules: vec![
+                match structure.violation {
+                    Some(v) => RuleResult {
+                        rule: 0,
+                        title: STRUCTURE,
+                        ok: Some(false),
+                        detail: v,
+                    },
+                    None => RuleResult {
+                        rule: 0,
+                        title: STRUCTURE,
+                        ok: Some(true),
+                        detail: format!("{} plan(s): {STRUCTURE_OK}", file.plans.len()),
+                    },
+                },
+                limits.result(1, "joint limits and joint speeds", |x| {
+                    format!("{:.1} % of a limit", x * 100.0)
+                }),
+                collision_result(
+                    collisions,
+                    states_checked,
+                    finger_support,
+                    (link_clearance, finger_clearance),
+                ),
+                rotation.result(
+                    3,
+                    "rotation keeps the part on the support about a fixed axis",
+                    mm,
+                ),
+                grasps.result(
+                    4,
+                    "tool poses at grasps and on approach/retreat lines",
+                    |x| format!("{:.2} % of a tolerance", x * 100.0),
+                ),
+                RuleResult {
+                    rule: 5,
+                    title: "determinism",
+                    ok: None,
+                    detail: "not checkable from one file: plan the scene twice and compare bytes"
+                        .into(),
+                },
+            ],
+        }
+    }
+}
+
+/// How the grippers close on the part, per arm: at G_s and at its power grasp.
+#[derive(Clone)]
+struct HeldGrips {
+    support: [Grip; 2],
+    power: [Grip; 2],
+}
+
+/// Closes, on the mesh, each gripper at each grasp.
+fn held_grips(
+    file: &PlanFile,
+    world: &CollisionWorld,
+    known: Option<&Grips>,
+) -> Result<HeldGrips, String> {
+    let power = file.grasps.power.each_ref().map(PoseJson::to_isometry);
+    let closed = match known {
+        Some(g) => g.clone(),
+        None => close_grips(world, &file.grasps.support.to_isometry(), &power),
+    };
+    let name = |arm: usize| &file.robots[arm].name;
+    let [s0, s1] = closed.support;
+    let [p0, p1] = closed.power;
+    let support = |arm: usize, g: Result<Grip, GripFailure>| {
+        g.map_err(|e| format!("support grasp of arm {}: {e}", name(arm)))
+    };
+    let power = |arm: usize, g: Result<Grip, GripFailure>| {
+        g.map_err(|e| format!("power grasp of arm {}: {e}", name(arm)))
+    };
+    let gaps = HeldGrips {
+        support: [support(0, s0)?, support(1, s1)?],
+        power: [power(0, p0)?, power(1, p1)?],
+    };
+    Ok(gaps)
+}
+
+/// Rule 2's verdict: the first contact, or how many states were checked and the closest a
+/// grasping gripper came to the support.
+fn collision_result(
+    rule: Rule,
+    states: u64,
+    finger_support: f64,
+    (link, finger): (f64, f64),
+) -> RuleResult {
+    let title = "no forbidden contact (support, arms, grippers, object)";
+    match rule.violation {
+        Some(v) => RuleResult {
+            rule: 2,
+            title,
+            ok: Some(false),
+            detail: v,
+        },
+        None => RuleResult {
+            rule: 2,
+            title,
+            ok: Some(true),
+            detail: format!(
+                "{states} states checked at {} mm of arm travel ({} mm while grasping), none \
+                 closer than the clearances (links {:.1} mm, grasping gripper to support {:.1} \
+                 mm); closest grasping gripper to the support: {:.2} mm",
+                CHECK_RESOLUTION * 1e3,
+                FINE_CHECK_RESOLUTION * 1e3,
+                link * 1e3,
+                finger * 1e3,
+                finger_support * 1e3
+            ),
+        },
+    }
+}
+
+fn arm_models(file: &PlanFile) -> Result<[ArmModel; 2], String> {
+    if file.robots.len() != 2 {
+        return Err(format!("expected 2 robots, found {}", file.robots.len()));
+    }
+    let build = |i: usize| -> Result<ArmModel, String> {
+        let r = &file.robots[i];
+        let model = r.model;
+        let gripper = Gripper2F85 {
+            precision_point_z: r.precision_point.xyz[2],
+            power_point_z: r.power_point.xyz[2],
+        };
+        Ok(ArmModel::new(&r.name, model, r.base.to_isometry(), gripper))
+    };
+    Ok([build(0)?, build(1)?])
+}

@@ -1,0 +1,238 @@
+//! The motions of a plan against rules 2, 3 and 4: reaches and regrasps with their straight
+//! lines, and the rotation about its axis.
+
+use nalgebra::{Isometry3, Point3, Vector3};
+use pregrasp_io::plan_file::SegmentJson;
+use pregrasp_robot::{joint_sweep_radii, GripperState, Joints};
+
+use crate::timeline::{lerp_joints, lerp_pose, CONTACT_ZONE};
+
+use super::walk::{at, edge, pose_error, PlanCheck, Queued};
+use super::{
+    Rule, AXIS_MOTION_TOLERANCE, BELOW_SUPPORT_TOLERANCE, CHECK_RESOLUTION, FINE_CHECK_RESOLUTION,
+    GRASP_ANGLE_TOLERANCE, GRASP_POSITION_TOLERANCE, LINE_ANGLE_TOLERANCE, LINE_POSITION_TOLERANCE,
+};
+
+/// Which straight line a point of a reach/regrasp segment lies on, if any.
+#[derive(Clone, Copy)]
+struct Line {
+    /// The tool pose at the end that touches the part (the grasp end).
+    grasp_end: Isometry3<f64>,
+}
+
+/// Rule 4: a tool pose vs the grasp pose it should meet.
+pub(super) fn grasp_error(rule: &mut Rule, dp: f64, da: f64, at: impl Fn() -> String) {
+    let worst = (dp / GRASP_POSITION_TOLERANCE).max(da / GRASP_ANGLE_TOLERANCE);
+    rule.value(worst, 1.0, || {
+        format!("{}: {:.3} mm, {:.4} rad", at(), dp * 1e3, da)
+    });
+}
+
+/// Rule 4: a tool pose vs the straight line ending at `line.grasp_end`.
+fn line_error(
+    rule: &mut Rule,
+    tool: &Isometry3<f64>,
+    line: &Line,
+    at: impl Fn() -> String,
+) {
+    let end = &line.grasp_end;
+    let dir: Vector3<f64> = end.rotation * Vector3::z();
+    let v = tool.translation.vector - end.translation.vector;
+    let off = (v - dir * v.dot(&dir)).norm();
+    let angle = tool.rotation.angle_to(&end.rotation);
+    let worst = (off / LINE_POSITION_TOLERANCE).max(angle / LINE_ANGLE_TOLERANCE);
+    rule.value(worst, 1.0, || {
+        format!(
+            "{}: {:.3} mm off the line, {:.4} rad",
+            at(),
+            off * 1e3,
+            angle
+        )
+    });
+}
+
+impl<'a> PlanCheck<'a> {
+    /// Rules 2 and 4 along a reach (`sup1`, `mas1`) or regrasp (`sup2`) segment.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn check_reach(
+        &mut self,
+        arm: usize,
+        seg: &SegmentJson,
+        q: &[Joints; 2],
+        gripper: &[GripperState; 2],
+        holding: &[bool; 2],
+        object: &Isometry3<f64>,
+        precision: bool,
+        goal: &Isometry3<f64>,
+        closed: GripperState,
+    ) {
+        let index = self.index;
+        let pts = &seg.points;
+        let n = pts.len();
+        let approach_from = seg.approach_from.unwrap_or(n - 1);
+        let retreat_to = seg.retreat_to;
+        let weights = joint_sweep_radii(self.arms[arm].model(), &self.arms[arm].gripper);
+        // The retreat leaves the support grasp (precision point) the arm held at its first point.
+        let retreat_line = retreat_to.map(|_| Line {
+            grasp_end: self.tool(arm, &pts[0].q, true),
+        });
+        let approach_line = Line {
+            grasp_end: self.tool(arm, &pts[n - 1].q, precision),
+        };
+
+        // Rule 4: the tool meets the grasp, and the stand-off is approach_distance back.
+        let end = self.tool(arm, &pts[n - 1].q, precision);
+        let (dp, da) = pose_error(&end, goal);
+        grasp_error(self.grasps, dp, da, || {
+            format!("{}: tool vs grasp", at(index, seg, n - 1))
+        });
+        let standoff = self.tool(arm, &pts[approach_from].q, precision);
+        let d = (standoff.translation.vector - end.translation.vector).norm();
+        let expected = self.file.planner.approach_distance;
+        self.grasps
+            .value((d - expected).abs() / GRASP_POSITION_TOLERANCE, 1.0, || {
+                format!(
+                    "{}: stand-off {:.2} mm from the grasp",
+                    at(index, seg, approach_from),
+                    d * 1e3
+                )
+            });
+
+        let mut queue = Queued::default();
+        for k in 0..n {
+            // The straight lines may bring the gripper within millimetres of the support.
+            let grasping_edge = k >= approach_from || retreat_to.is_some_and(|r| k < r);
+            let resolution = if grasping_edge {
+                FINE_CHECK_RESOLUTION
+            } else {
+                CHECK_RESOLUTION
+            };
+            let (edge_end, steps) = edge(pts, k, &weights, resolution);
+            for s in 0..steps {
+                let f = s as f64 / steps as f64;
+                let qi = lerp_joints(&pts[k].q, &pts[edge_end].q, f);
+                let mut all = *q;
+                all[arm] = qi;
+                let on_approach = k >= approach_from;
+                let on_retreat = retreat_to.is_some_and(|r| edge_end <= r && (k < r || s == 0));
+                let mut contact = *holding;
+                contact[arm] = false;
+                if on_approach {
+                    let tool = self.tool(arm, &qi, precision);
+                    line_error(self.grasps, &tool, &approach_line, || {
+                        format!("{} (+{f:.2})", at(index, seg, k))
+                    });
+                    let dist = (tool.translation.vector
+                        - approach_line.grasp_end.translation.vector)
+                        .norm();
+                    contact[arm] = dist <= CONTACT_ZONE + 1e-9;
+                }
+                if on_retreat {
+                    let line = retreat_line.expect("retreat has a line");
+                    let tool = self.tool(arm, &qi, true);
+                    line_error(self.grasps, &tool, &line, || {
+                        format!("{} (+{f:.2}) retreat", at(index, seg, k))
+                    });
+                    let dist = (tool.translation.vector - line.grasp_end.translation.vector).norm();
+                    contact[arm] = contact[arm] || dist <= CONTACT_ZONE + 1e-9;
+                }
+                // The gripper closes at the last point.
+                let mut grip = *gripper;
+                if k == n - 1 {
+                    grip[arm] = closed;
+                    contact[arm] = true;
+                }
+                let state = self.state(all, grip, *object, contact);
+                self.collide(state, (k, f), &mut queue);
+            }
+        }
+        self.collide_all(arm, &queue, |k, f| {
+            format!("plan {index} {} point {k} (+{f:.2})", seg.name)
+        });
+        self.check_closing(arm, seg, &pts[n - 1].q, precision);
+    }
+
+    /// Rules 2, 3 and 4 along `rot`.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn check_rotation(
+        &mut self,
+        arm: usize,
+        seg: &SegmentJson,
+        q: &[Joints; 2],
+        gripper: &[GripperState; 2],
+        holding: &[bool; 2],
+        axis: &[Point3<f64>; 2],
+        p_init: &Isometry3<f64>,
+        g_s: &Isometry3<f64>,
+    ) {
+        let index = self.index;
+        let pts = &seg.points;
+        let n = pts.len();
+        let weights = joint_sweep_radii(self.arms[arm].model(), &self.arms[arm].gripper);
+        let support = self.file.support_height;
+        let axis_band = self.file.planner.support_distance + self.file.planner.lift + 0.001;
+        let init_inv = p_init.inverse();
+        let poses: Vec<Isometry3<f64>> = pts
+            .iter()
+            .map(|p| p.object_pose.as_ref().expect("checked").to_isometry())
+            .collect();
+        let (dp, da) = pose_error(&poses[0], p_init);
+        grasp_error(self.grasps, dp, da, || {
+            format!("plan {} rot: first object_pose vs P_init", index)
+        });
+        let mut queue = Queued::default();
+        for k in 0..n {
+            // Rule 4: precision point on G_s at every point.
+            let tool = self.tool(arm, &pts[k].q, true);
+            let (dp, da) = pose_error(&tool, &(poses[k] * g_s));
+            grasp_error(self.grasps, dp, da, || {
+                format!("{}: tool vs object_pose·G_s", at(index, seg, k))
+            });
+            let (edge_end, steps) = edge(pts, k, &weights, FINE_CHECK_RESOLUTION);
+            for s in 0..steps {
+                let f = s as f64 / steps as f64;
+                let object = lerp_pose(&poses[k], &poses[edge_end], f);
+                // Rule 3: above the support, axis fixed and on the support.
+                let lowest = self
+                    .lowest_candidates
+                    .iter()
+                    .map(|v| (object * v).z)
+                    .fold(f64::INFINITY, f64::min);
+                let below = support - lowest;
+                self.rotation.value(below, BELOW_SUPPORT_TOLERANCE, || {
+                    format!(
+                        "plan {} rot point {k} (+{f:.2}): part {:.2} mm below the support",
+                        index,
+                        below * 1e3
+                    )
+                });
+                for (e, p) in axis.iter().enumerate() {
+                    let moved = object * (init_inv * p);
+                    let shift = (moved - p).norm();
+                    self.rotation.value(shift, AXIS_MOTION_TOLERANCE, || {
+                        format!(
+                            "plan {} rot point {k} (+{f:.2}): axis end {e} moved {:.2} mm",
+                            index,
+                            shift * 1e3
+                        )
+                    });
+                    let height = moved.z - support;
+                    if height > axis_band {
+                        self.rotation.fail(format!(
+                            "plan {} rot point {k}: axis end {e} {:.2} mm above the support",
+                            self.index,
+                            height * 1e3
+                        ));
+                    }
+                }
+                let mut all = *q;
+                all[arm] = lerp_joints(&pts[k].q, &pts[edge_end].q, f);
+                let state = self.state(all, *gripper, object, *holding);
+                self.collide(state, (k, f), &mut queue);
+            }
+        }
+        self.collide_all(arm, &queue, |k, f| {
+            format!("plan {index} rot point {k} (+{f:.2})")
+        });
+    }
+}
