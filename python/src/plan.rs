@@ -9,9 +9,7 @@ use std::time::Instant;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pregrasp_geometry::Mesh;
 use pregrasp_io::mesh_io::load_mesh;
-use pregrasp_io::plan_file::{
-    resolve_beside, write_atomic, CandidateJson, PlanFile, PlanJson, SegmentJson,
-};
+use pregrasp_io::plan_file::{write_atomic, CandidateJson, PlanFile, PlanJson, SegmentJson};
 use pregrasp_planner::pipeline::PlanOptions;
 use pyo3::exceptions::PyKeyError;
 use pyo3::prelude::*;
@@ -104,9 +102,14 @@ impl Plan {
         self.file.to_json()
     }
 
-    /// Writes the plan file to `path` atomically (temp file, then rename).
+    /// Writes the plan file to `path` atomically (temp file, then rename), as `pregrasp plan -o
+    /// path` would: `to_json()` plus where the scene and the mesh are from the file's folder
+    /// (`scene.file_from_plan`, `object.mesh_from_plan`), so that the file finds them wherever
+    /// it is opened from.
     fn write(&self, path: PathBuf) -> PyResult<()> {
-        write_atomic(&path, self.file.to_json().as_bytes())
+        let mut file = (*self.file).clone();
+        file.locate_inputs(&path);
+        write_atomic(&path, file.to_json().as_bytes())
             .map_err(|e| PlanFileError::new_err(e.to_string()))
     }
 
@@ -447,7 +450,7 @@ pub fn axes<'py>(py: Python<'py>, scene: &Scene) -> PyResult<Bound<'py, PyAny>> 
 /// to the plan file) when the file is checked.
 fn read_plan(path: PathBuf) -> PyResult<Plan> {
     let file = PlanFile::read(&path).map_err(|e| PlanFileError::new_err(e.to_string()))?;
-    let mesh_path = resolve_beside(&path, &file.object.mesh);
+    let mesh_path = file.mesh_path(&path);
     let mesh = load_mesh(&mesh_path, file.object.scale)
         .ok()
         .map(|m| Arc::new(m.mesh));

@@ -1,6 +1,7 @@
 """Plans from Python are the CLI's plans; the arrays API plans parts with no file."""
 
 import json
+import pathlib
 import re
 import threading
 
@@ -30,13 +31,22 @@ def test_examples_plan_byte_for_byte_as_the_cli(cli, examples, index):
         cli_text = f.read()
     plan = pregrasp.plan(scene)
     assert plan.status == "planned"
-    py_text = plan.to_json()
+    # Written beside the CLI's: the same file (both record where scene and mesh are from it).
+    plan.write("py.json")
+    with open("py.json", encoding="utf-8") as f:
+        py_text = f.read()
     assert without_timing(py_text) == without_timing(cli_text)
     # Same keys in timing_ms too (stages and "process").
     assert json.loads(py_text)["timing_ms"].keys() == json.loads(cli_text)["timing_ms"].keys()
+    # to_json() is that file without the two locations.
+    located = json.loads(py_text)
+    del located["scene"]["file_from_plan"], located["object"]["mesh_from_plan"]
+    assert json.loads(plan.to_json()) == located
     # And the same with one thread and through a loaded Scene object.
     again = pregrasp.plan(pregrasp.Scene.load(scene), threads=1)
-    assert without_timing(again.to_json()) == without_timing(cli_text)
+    again.write("again.json")
+    with open("again.json", encoding="utf-8") as f:
+        assert without_timing(f.read()) == without_timing(cli_text)
 
 
 def test_plan_segments_are_numpy_arrays(examples):
@@ -131,9 +141,13 @@ def test_plan_files_read_write_and_errors(examples, tmp_path):
     plan = pregrasp.plan(examples[1])
     path = tmp_path / "shelf.plan.json"
     plan.write(path)
-    assert path.read_text() == plan.to_json()
     again = pregrasp.Plan.load(path)
-    assert again.to_json() == plan.to_json()
+    assert again.to_json() == path.read_text()
+    # The file says where its scene and mesh are from its own folder.
+    written = json.loads(path.read_text())
+    assert (tmp_path / written["object"]["mesh_from_plan"]).resolve() == (
+        pathlib.Path(json.loads(plan.to_json())["object"]["mesh"]).resolve()
+    )
     assert pregrasp.check(path).valid
     with pytest.raises(pregrasp.PlanFileError, match="x.json: not a pregrasp plan file"):
         pregrasp.Plan.from_json('{"format": "other/1"}', "x.json")

@@ -347,6 +347,7 @@ fn plan_scene(
             let mut file = report.file;
             file.timing_ms
                 .insert("process".into(), started.elapsed().as_secs_f64() * 1e3);
+            file.locate_inputs(&plan_path);
             let page = pregrasp_viewer::render_html(&file, &mesh, &Default::default());
             let files = [
                 (plan_path.clone(), file.to_json().into_bytes()),

@@ -70,7 +70,14 @@ pub struct PlanFile {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SceneRef {
     pub name: Option<String>,
+    /// The scene file as it was given (relative to the directory the planner ran in).
     pub file: String,
+    /// (Extension) The same file relative to the folder of the plan file, as the command that
+    /// wrote the plan saw it ([`PlanFile::locate_inputs`]): readers try it when `file` does not
+    /// exist as given, so a plan moved together with its scene and mesh, or opened from another
+    /// folder, finds them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file_from_plan: Option<String>,
 }
 
 /// Every `[planner]` key of the scene format with the value used.
@@ -108,6 +115,9 @@ pub struct PlannerJson {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ObjectJson {
     pub mesh: String,
+    /// (Extension) `mesh` relative to the plan file's folder (see [`SceneRef::file_from_plan`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh_from_plan: Option<String>,
     pub scale: f64,
     /// P_init, including the lift.
     pub initial_pose: PoseJson,
@@ -348,7 +358,9 @@ pub const MAX_PLAN_BYTES: u64 = 256 << 20;
 
 /// A path a plan file names (`object.mesh`, `scene.file`): as written (relative to the current
 /// directory), else relative to the plan file's directory — how `check`, `view`, `export`,
-/// `physics`, `replan` and the Python package find a plan's mesh and scene.
+/// `physics`, `replan` and the Python package find a plan's mesh and scene when the file does
+/// not say where they are from its own folder ([`PlanFile::scene_path`],
+/// [`PlanFile::mesh_path`] try that first).
 pub fn resolve_beside(plan_path: &Path, entry: &str) -> PathBuf {
     let given = PathBuf::from(entry);
     if given.is_absolute() || given.exists() {
@@ -360,7 +372,96 @@ pub fn resolve_beside(plan_path: &Path, entry: &str) -> PathBuf {
     }
 }
 
+/// An input of the plan file read from `plan_path`: the path as given when it exists (as
+/// before the extension), else its path relative to the plan's folder when the file records
+/// one and it exists, else [`resolve_beside`] of the path as given.
+fn resolve_input(plan_path: &Path, given: &str, from_plan: Option<&str>) -> PathBuf {
+    if Path::new(given).exists() {
+        return PathBuf::from(given);
+    }
+    if let Some(rel) = from_plan {
+        let dir = plan_path.parent().unwrap_or(Path::new(""));
+        let there = dir.join(rel);
+        if there.is_file() {
+            return there;
+        }
+    }
+    resolve_beside(plan_path, given)
+}
+
+/// `path` made absolute against the current directory and normalised lexically (`.` dropped,
+/// `..` taken back), without touching the filesystem.
+fn lexical_absolute(path: &Path) -> Option<PathBuf> {
+    use std::path::Component;
+    let absolute = std::path::absolute(path).ok()?;
+    let mut out = PathBuf::new();
+    for c in absolute.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    Some(out)
+}
+
+/// `target` relative to the folder `from` (both as the current directory sees them), with `/`
+/// between components; `None` when there is no such path (another drive) or it is not UTF-8.
+fn relative_path(from: &Path, target: &Path) -> Option<String> {
+    use std::path::Component;
+    let (from, target) = (lexical_absolute(from)?, lexical_absolute(target)?);
+    let (a, b): (Vec<Component>, Vec<Component>) =
+        (from.components().collect(), target.components().collect());
+    if a.first() != b.first() {
+        return None;
+    }
+    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    let mut parts: Vec<String> = vec!["..".to_string(); a.len() - common];
+    for c in &b[common..] {
+        parts.push(c.as_os_str().to_str()?.to_string());
+    }
+    Some(if parts.is_empty() {
+        ".".to_string()
+    } else {
+        parts.join("/")
+    })
+}
+
 impl PlanFile {
+    /// Records where the scene and the mesh are from the folder the file is about to be written
+    /// to (`plan_path`): `scene.file_from_plan`, `object.mesh_from_plan`. Call it with the path
+    /// the file will have; the paths it names are taken as the current directory sees them.
+    pub fn locate_inputs(&mut self, plan_path: &Path) {
+        let dir = match plan_path.parent() {
+            Some(dir) if !dir.as_os_str().is_empty() => dir,
+            _ => Path::new("."),
+        };
+        self.scene.file_from_plan = relative_path(dir, Path::new(&self.scene.file));
+        self.object.mesh_from_plan = relative_path(dir, Path::new(&self.object.mesh));
+    }
+
+    /// The scene file of a plan read from `plan_path`: as given when it exists, else from the
+    /// plan's folder when the file records where, else beside the plan ([`resolve_beside`]).
+    pub fn scene_path(&self, plan_path: &Path) -> PathBuf {
+        resolve_input(
+            plan_path,
+            &self.scene.file,
+            self.scene.file_from_plan.as_deref(),
+        )
+    }
+
+    /// The mesh of a plan read from `plan_path`, found as [`PlanFile::scene_path`] finds the
+    /// scene.
+    pub fn mesh_path(&self, plan_path: &Path) -> PathBuf {
+        resolve_input(
+            plan_path,
+            &self.object.mesh,
+            self.object.mesh_from_plan.as_deref(),
+        )
+    }
+
     /// The file as pretty JSON with a trailing newline (deterministic for equal values).
     pub fn to_json(&self) -> String {
         let mut s = serde_json::to_string_pretty(self).expect("plan file serialises");
@@ -430,4 +531,27 @@ impl PlanFile {
 /// Writes `bytes` to `path` as a command's one output ([`crate::output::write_one`]).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     crate::output::write_one(path, bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn relative_paths_are_lexical_and_walk_up_as_needed() {
+        let rel = |from: &str, to: &str| relative_path(Path::new(from), Path::new(to));
+        assert_eq!(rel("/a/b", "/a/c/d.toml").as_deref(), Some("../c/d.toml"));
+        assert_eq!(rel("/a/b", "/a/b/d.toml").as_deref(), Some("d.toml"));
+        assert_eq!(rel("/a/b/c", "/a/x.stl").as_deref(), Some("../../x.stl"));
+        assert_eq!(
+            rel("/a/./b/../b", "/a/b/m/./n.stl").as_deref(),
+            Some("m/n.stl")
+        );
+        assert_eq!(rel("/a", "/a").as_deref(), Some("."));
+        // Relative paths are taken against the current directory, on both sides alike.
+        assert_eq!(
+            rel("out", "parts/p.toml").as_deref(),
+            Some("../parts/p.toml")
+        );
+    }
 }

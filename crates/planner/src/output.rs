@@ -39,6 +39,7 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
         scene: SceneRef {
             name: scene.name.clone(),
             file: scene.file.display().to_string(),
+            file_from_plan: None,
         },
         status,
         reason,
@@ -46,6 +47,7 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
         planner: scene.planner.to_json(),
         object: ObjectJson {
             mesh: scene.object.mesh_path.display().to_string(),
+            mesh_from_plan: None,
             scale: scene.object.scale,
             initial_pose: PoseJson::from(&scene.initial_object_pose()),
             mass: scene.object.mass,

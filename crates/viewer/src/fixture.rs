@@ -121,6 +121,7 @@ fn base_file(mesh_path: &str) -> PlanFile {
         scene: SceneRef {
             name: Some("viewer fixture: plate".into()),
             file: "fixture.toml".into(),
+            file_from_plan: None,
         },
         status: PlanStatus::NoPlan,
         reason: None,
@@ -146,6 +147,7 @@ fn base_file(mesh_path: &str) -> PlanFile {
         },
         object: ObjectJson {
             mesh: mesh_path.into(),
+            mesh_from_plan: None,
             scale: 1.0,
             initial_pose: PoseJson::from(&p_init),
             mass: Some(4.5),

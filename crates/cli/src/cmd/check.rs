@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use pregrasp_io::mesh_io::load_mesh;
-use pregrasp_io::plan_file::{resolve_beside, PlanFile};
+use pregrasp_io::plan_file::PlanFile;
 use pregrasp_planner::check::check_plan;
 
 use super::{EXIT_NO_PLAN, EXIT_OK};
@@ -29,7 +29,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mesh_path = args
         .mesh
         .clone()
-        .unwrap_or_else(|| resolve_beside(&args.plan, &file.object.mesh));
+        .unwrap_or_else(|| file.mesh_path(&args.plan));
     let mesh = load_mesh(&mesh_path, file.object.scale)
         .with_context(|| format!("{}: object.mesh", args.plan.display()))?
         .mesh;

@@ -10,7 +10,6 @@ use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::plan_file::PlanFile;
 
 use super::EXIT_OK;
-use pregrasp_io::plan_file::resolve_beside;
 
 #[derive(clap::Args)]
 #[command(
@@ -108,7 +107,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let path = args
             .mesh
             .clone()
-            .unwrap_or_else(|| resolve_beside(&args.plan, &file.object.mesh));
+            .unwrap_or_else(|| file.mesh_path(&args.plan));
         let loaded =
             load_mesh(&path, file.object.scale).with_context(|| format!("{shown}: object.mesh"))?;
         for w in &loaded.warnings {

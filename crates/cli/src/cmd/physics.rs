@@ -55,13 +55,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mesh_path = args
         .mesh
         .clone()
-        .unwrap_or_else(|| pregrasp_io::plan_file::resolve_beside(&args.plan, &file.object.mesh));
+        .unwrap_or_else(|| file.mesh_path(&args.plan));
     let mesh = load_mesh(&mesh_path, file.object.scale)
         .with_context(|| format!("{}: object.mesh", args.plan.display()))?
         .mesh;
 
     let mut settings = PhysicsSettings::default();
-    let scene_path = pregrasp_io::plan_file::resolve_beside(&args.plan, &file.scene.file);
+    let scene_path = file.scene_path(&args.plan);
     let scene_note = if scene_path.is_file() {
         // The scene's own errors name the file and the key.
         settings = settings.with_scene_file(&scene_path)?;

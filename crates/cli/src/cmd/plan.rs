@@ -114,6 +114,7 @@ pub fn plan_scene_file(
     file.timing_ms
         .insert("process".into(), started.elapsed().as_secs_f64() * 1e3);
 
+    file.locate_inputs(output);
     outputs.write(plan_out, file.to_json().as_bytes())?;
     if let Some(id) = html_out {
         let page = pregrasp_viewer::render_html(&file, &loaded.mesh, &Default::default());

@@ -110,7 +110,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let scene_path = args
         .scene
         .clone()
-        .unwrap_or_else(|| pregrasp_io::plan_file::resolve_beside(&args.plan, &nominal.scene.file));
+        .unwrap_or_else(|| nominal.scene_path(&args.plan));
     // The plan's grasps (for an auto scene, the ones its search chose) are the ones followed.
     let scene = Scene::load(&scene_path)?.with_grasps_of(&nominal.grasps);
     let mut outputs = Outputs::new();
@@ -159,6 +159,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let ms = started.elapsed().as_secs_f64() * 1e3;
     let mut file = result.report.file;
     file.timing_ms.insert("replan".into(), ms);
+    file.locate_inputs(&args.output);
     outputs.write(out, file.to_json().as_bytes())?;
     outputs.commit()?;
     match file.plans.first() {

@@ -179,6 +179,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         {
             p.robustness = Some(r);
         }
+        if let Some(path) = &args.write_plan {
+            file.locate_inputs(path);
+        }
         outputs.write(id, file.to_json().as_bytes())?;
     }
     if let Some(id) = json_out {

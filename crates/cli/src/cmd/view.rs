@@ -40,7 +40,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let plan = PlanFile::read(&args.plan)?;
     let mesh_path = match &args.mesh {
         Some(p) => p.clone(),
-        None => pregrasp_io::plan_file::resolve_beside(&args.plan, &plan.object.mesh),
+        None => plan.mesh_path(&args.plan),
     };
     let mut outputs = Outputs::new();
     outputs

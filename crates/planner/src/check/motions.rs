@@ -29,12 +29,7 @@ pub(super) fn grasp_error(rule: &mut Rule, dp: f64, da: f64, at: impl Fn() -> St
 }
 
 /// Rule 4: a tool pose vs the straight line ending at `line.grasp_end`.
-fn line_error(
-    rule: &mut Rule,
-    tool: &Isometry3<f64>,
-    line: &Line,
-    at: impl Fn() -> String,
-) {
+fn line_error(rule: &mut Rule, tool: &Isometry3<f64>, line: &Line, at: impl Fn() -> String) {
     let end = &line.grasp_end;
     let dir: Vector3<f64> = end.rotation * Vector3::z();
     let v = tool.translation.vector - end.translation.vector;
