@@ -94,3 +94,47 @@ fn a_measurement_far_from_any_resting_pose_is_refused() {
         }
     }
 }
+
+/// Issue 35's cell loop: the plan's own pose as a camera reports it — ±3 mm in z, ±1° of roll
+/// and pitch — settles, replans with the plan's axis, and the new plan passes the check.
+#[test]
+fn a_noisy_measurement_of_the_plans_own_pose_replans_and_checks() {
+    use pregrasp_io::plan_file::PlanStatus;
+    use pregrasp_planner::check::check_plan;
+    use pregrasp_planner::pipeline::{plan, PlanOptions};
+    use pregrasp_planner::replan::replan;
+
+    let (scene, mesh) = chair();
+    let nominal = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
+    assert_eq!(nominal.status, PlanStatus::Planned, "{:?}", nominal.reason);
+    let tolerance = SettleTolerance::default();
+    for (dz, roll, pitch) in [(0.003, 1.0, -1.0), (-0.003, -1.0, 1.0), (0.003, -1.0, -1.0)] {
+        let measured_pose = measured(&mesh, &scene.object.pose, dz, roll, pitch);
+        let settled = settle(&mesh, &measured_pose, scene.support_height, &tolerance).unwrap();
+        let again = replan(
+            &scene,
+            &mesh,
+            &nominal,
+            0,
+            settled.pose,
+            &PlanOptions::default(),
+        );
+        let file = again.report.file;
+        assert_eq!(
+            file.status,
+            PlanStatus::Planned,
+            "{dz} {roll} {pitch}: {:?}",
+            file.reason
+        );
+        assert_eq!(
+            file.plans[0].candidate, nominal.plans[0].candidate,
+            "{dz} {roll} {pitch}: the plan's own axis"
+        );
+        let report = check_plan(&file, &mesh);
+        assert!(report.is_valid(), "{dz} {roll} {pitch}: {:?}", report.rules);
+    }
+    // 50 mm in the air is not a measurement error: refused, naming the tolerance.
+    let high = measured(&mesh, &scene.object.pose, 0.05, 0.0, 0.0);
+    let e = settle(&mesh, &high, scene.support_height, &tolerance).unwrap_err();
+    assert!(e.to_string().contains("at most 10.0 mm and 5.0°"), "{e}");
+}
