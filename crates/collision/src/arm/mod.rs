@@ -1,8 +1,7 @@
 //! One arm of the world: kinematics, base placement, gripper, and its collision primitives
 //! cached in their DH link frames, ready to be posed at a configuration.
 
-use std::collections::BTreeMap;
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::Arc;
 
 use nalgebra::Isometry3;
 use pregrasp_robot::{
@@ -12,7 +11,7 @@ use pregrasp_robot::{
 
 use crate::error::CollisionError;
 use crate::shape::{Bounded, Placed};
-use crate::tight::{Lookup, Part, Tight};
+use crate::tight::Tight;
 
 /// Most primitives (arm links + gripper parts) one arm may have; the posed arm lives in a
 /// fixed-size buffer so that a collision check never touches the heap.
@@ -96,23 +95,12 @@ impl GripperPose {
     }
 }
 
-/// The exact pieces of the gripper's shapes (shared by every arm).
-fn gripper_tight(gripper: &Gripper2F85) -> Arc<Vec<Option<Tight>>> {
-    static TIGHT: OnceLock<Arc<Vec<Option<Tight>>>> = OnceLock::new();
-    TIGHT
-        .get_or_init(|| {
-            let mut tight: Vec<Option<Tight>> = (0..gripper.static_count()).map(|_| None).collect();
-            tight.extend(
-                gripper
-                    .finger_solids()
-                    .links
-                    .iter()
-                    .map(|s| Tight::new(&s.pieces)),
-            );
-            Arc::new(tight)
-        })
-        .clone()
-}
+mod pieces;
+mod posed;
+
+use pieces::{frame_spheres, gripper_sphere, gripper_tight, tight_pieces, TightSet};
+use posed::place;
+pub(crate) use posed::{Local, PosedArm};
 
 /// An arm in the world: a UR model at `base` with a Robotiq 2F-85 on its flange.
 ///
@@ -455,289 +443,5 @@ impl ArmModel {
     /// depends on `q`, so it is mounted, not moving.
     pub(crate) fn is_base_part(&self, i: usize) -> bool {
         self.shapes.parts.get(i).is_some_and(|p| p.0 == 0)
-    }
-}
-
-/// A sphere around the gripper at every opening: centre on the flange axis, radius covering
-/// every shape's bounding sphere at 65 openings from closed to open, plus 1 mm for the motion
-/// between them (the fingers move less than that between neighbouring samples' spheres).
-fn gripper_sphere(gripper: &Gripper2F85) -> (nalgebra::Point3<f64>, f64) {
-    // The shapes (not the precision and power points) decide it: the same for every gripper.
-    static SPHERE: OnceLock<(nalgebra::Point3<f64>, f64)> = OnceLock::new();
-    *SPHERE.get_or_init(|| gripper_sphere_of(gripper))
-}
-
-fn gripper_sphere_of(gripper: &Gripper2F85) -> (nalgebra::Point3<f64>, f64) {
-    let center = nalgebra::Point3::new(0.0, 0.0, 0.09);
-    let mut radius: f64 = 0.0;
-    let states = gripper.sample_states();
-    for state in states {
-        gripper.for_each_shape(state, |_, _, prim| {
-            let b = Bounded::new(place(&Isometry3::identity(), &prim));
-            radius = radius.max((b.center - center).norm() + b.radius);
-        });
-    }
-    (center, radius + 0.001)
-}
-
-/// Per DH frame, a sphere holding the bounding spheres of that frame's link shapes: centre at
-/// the middle of their box, radius to the farthest one.
-fn frame_spheres(links: &[LinkShape]) -> [(nalgebra::Point3<f64>, f64); 7] {
-    std::array::from_fn(|f| {
-        let spheres: Vec<Bounded> = links
-            .iter()
-            .filter(|l| l.frame == f)
-            .map(|l| {
-                let mut b = Bounded::new(place(&Isometry3::identity(), &l.primitive));
-                b.radius += l.pieces.map_or(0.0, |p| p.slack);
-                b
-            })
-            .collect();
-        if spheres.is_empty() {
-            return (nalgebra::Point3::origin(), 0.0);
-        }
-        let mut lo = nalgebra::Point3::from([f64::INFINITY; 3]);
-        let mut hi = nalgebra::Point3::from([f64::NEG_INFINITY; 3]);
-        for b in &spheres {
-            let r = nalgebra::Vector3::repeat(b.radius);
-            lo = lo.inf(&(b.center - r));
-            hi = hi.sup(&(b.center + r));
-        }
-        let c = nalgebra::center(&lo, &hi);
-        let radius = spheres
-            .iter()
-            .map(|b| (b.center - c).norm() + b.radius)
-            .fold(0.0, f64::max);
-        (c, radius)
-    })
-}
-
-/// Per link shape of an arm, its exact pieces where it has them.
-type TightSet = Arc<Vec<Option<Tight>>>;
-
-/// The exact pieces of `model`'s link shapes, built once per process and model, then shared by
-/// every arm of that model.
-fn tight_pieces(model: UrModel, links: &[LinkShape]) -> TightSet {
-    static CACHE: OnceLock<Mutex<BTreeMap<&'static str, TightSet>>> = OnceLock::new();
-    let mut cache = CACHE
-        .get_or_init(Default::default)
-        .lock()
-        .unwrap_or_else(|e| e.into_inner());
-    cache
-        .entry(model.name())
-        .or_insert_with(|| {
-            Arc::new(
-                links
-                    .iter()
-                    .map(|l| l.pieces.and_then(Tight::new))
-                    .collect(),
-            )
-        })
-        .clone()
-}
-
-/// An arm link's primitive ready to be posed: in its frame, a rounded cylinder already as its
-/// inset core, with the bounding sphere's radius (the same in every pose) grown by the exact
-/// pieces' `slack`, which the sphere must hold too.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Local {
-    shape: Placed,
-    radius: f64,
-    slack: f64,
-}
-
-impl Local {
-    fn new(prim: &Primitive, slack: f64) -> Self {
-        let b = Bounded::new(place(&Isometry3::identity(), prim));
-        Local {
-            shape: b.shape,
-            radius: b.radius + slack,
-            slack,
-        }
-    }
-
-    /// The primitive in the world, its frame at `t`.
-    #[inline]
-    fn place(&self, t: &Isometry3<f64>) -> Bounded {
-        let (shape, center) = match self.shape {
-            Placed::Capsule { a, b, radius } => {
-                let (a, b) = (t * a, t * b);
-                (Placed::Capsule { a, b, radius }, nalgebra::center(&a, &b))
-            }
-            Placed::Cylinder {
-                a,
-                b,
-                radius,
-                border,
-            } => {
-                let (a, b) = (t * a, t * b);
-                let shape = Placed::Cylinder {
-                    a,
-                    b,
-                    radius,
-                    border,
-                };
-                (shape, nalgebra::center(&a, &b))
-            }
-            Placed::Cuboid { pose, half } => {
-                let pose = t * pose;
-                let center = nalgebra::Point3::from(pose.translation.vector);
-                (Placed::Cuboid { pose, half }, center)
-            }
-        };
-        Bounded {
-            shape,
-            center,
-            radius: self.radius,
-            slack: self.slack,
-        }
-    }
-}
-
-/// A primitive of frame `t` placed in the world.
-#[inline]
-fn place(t: &Isometry3<f64>, prim: &Primitive) -> Placed {
-    match prim {
-        Primitive::Capsule(c) => Placed::Capsule {
-            a: t * c.a,
-            b: t * c.b,
-            radius: c.radius,
-        },
-        Primitive::Cylinder(c) => {
-            let (a, b, radius) = c.inset();
-            Placed::Cylinder {
-                a: t * a,
-                b: t * b,
-                radius,
-                border: c.border,
-            }
-        }
-        Primitive::Cuboid { pose, half_extents } => Placed::Cuboid {
-            pose: t * pose,
-            half: *half_extents,
-        },
-    }
-}
-
-/// An arm's primitives placed in the world at one configuration (fixed-size buffer).
-#[derive(Clone, Debug)]
-pub(crate) struct PosedArm {
-    shapes: [Bounded; MAX_ARM_SHAPES],
-    len: usize,
-    /// The first `links` shapes are the arm's links, the rest its gripper's.
-    links: usize,
-    /// Per DH frame, a sphere holding its link shapes.
-    frame_spheres: [Bounded; 7],
-    /// The DH frames 0..=6 in the world.
-    frames: [Isometry3<f64>; 7],
-    /// Per gripper shape, the frame its pieces are given in, in the world (valid where the
-    /// gripper's shapes are placed).
-    gripper_frames: [Isometry3<f64>; MAX_GRIPPER_SHAPES],
-    /// Whether `gripper_frames` are placed for the current pose.
-    gripper_frames_placed: bool,
-    /// A sphere holding the whole gripper.
-    gripper: Bounded,
-    /// The gripper's state the shapes are placed for.
-    gripper_state: GripperState,
-    /// Bit `k`: shape `k` is placed (a query about a few pairs places only their shapes).
-    placed: u64,
-}
-
-impl PosedArm {
-    /// An arm with no shapes (a buffer to pose into).
-    pub const EMPTY: PosedArm = PosedArm {
-        shapes: [Bounded::EMPTY; MAX_ARM_SHAPES],
-        len: 0,
-        links: 0,
-        frame_spheres: [Bounded::EMPTY; 7],
-        frames: [IDENTITY; 7],
-        gripper_frames: [IDENTITY; MAX_GRIPPER_SHAPES],
-        gripper_frames_placed: false,
-        gripper: Bounded::EMPTY,
-        gripper_state: GripperState::Open,
-        placed: 0,
-    };
-}
-
-const IDENTITY: Isometry3<f64> = Isometry3 {
-    rotation: nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(
-        1.0, 0.0, 0.0, 0.0,
-    )),
-    translation: nalgebra::Translation3::new(0.0, 0.0, 0.0),
-};
-
-impl PosedArm {
-    #[inline]
-    pub fn shapes(&self) -> &[Bounded] {
-        &self.shapes[..self.len]
-    }
-
-    /// Shape `k` as a solid for the pair tests: its primitive and, for an arm link that has
-    /// them, the way to its exact pieces (looked up only when a test needs them).
-    #[inline]
-    pub(crate) fn part<'a>(&'a self, set: &'a ShapeSet, k: usize) -> Part<'a> {
-        Part {
-            bounded: &self.shapes[k],
-            lookup: Some(Lookup {
-                tight: &set.tight,
-                parts: &set.parts,
-                frames: &self.frames,
-                gripper_tight: &set.gripper_tight,
-                gripper_frames: &self.gripper_frames,
-                k,
-            }),
-        }
-    }
-
-    /// Index range of the gripper's shapes in [`shapes`](Self::shapes).
-    #[inline]
-    pub fn gripper_range(&self) -> std::ops::Range<usize> {
-        self.links..self.len
-    }
-
-    /// A sphere holding every gripper shape.
-    #[inline]
-    pub fn gripper_sphere(&self) -> &Bounded {
-        &self.gripper
-    }
-
-    /// The sphere holding the link shapes of DH frame `f`.
-    #[inline]
-    pub fn frame_sphere(&self, f: usize) -> &Bounded {
-        &self.frame_spheres[f]
-    }
-
-    /// The sphere of shape group `g` (DH frames 0..=6, 7 = the gripper).
-    #[inline]
-    pub fn group_sphere(&self, g: usize) -> &Bounded {
-        if g < 7 {
-            &self.frame_spheres[g]
-        } else {
-            &self.gripper
-        }
-    }
-
-    /// DH frame `f` (0..=6) in the world.
-    #[inline]
-    pub fn frame(&self, f: usize) -> &Isometry3<f64> {
-        &self.frames[f]
-    }
-
-    /// Flange pose in the world (DH frame 6).
-    #[inline]
-    pub fn flange(&self) -> &Isometry3<f64> {
-        &self.frames[6]
-    }
-
-    /// Axis-aligned box around the whole arm: the union of the parts' bounding-sphere boxes.
-    pub fn bounds(&self) -> (nalgebra::Point3<f64>, nalgebra::Point3<f64>) {
-        let mut lo = nalgebra::Point3::from([f64::INFINITY; 3]);
-        let mut hi = nalgebra::Point3::from([f64::NEG_INFINITY; 3]);
-        for s in self.shapes() {
-            let r = nalgebra::Vector3::repeat(s.radius);
-            lo = lo.inf(&(s.center - r));
-            hi = hi.sup(&(s.center + r));
-        }
-        (lo, hi)
     }
 }

@@ -1,0 +1,109 @@
+//! What an arm model is built from once per model: the exact pieces of its links and gripper
+//! (shared by every world of that model) and the bounding spheres of its shape groups.
+
+use std::collections::BTreeMap;
+use std::sync::{Arc, Mutex, OnceLock};
+
+use nalgebra::Isometry3;
+use pregrasp_robot::{Gripper2F85, LinkShape, UrModel};
+
+use crate::shape::Bounded;
+use crate::tight::Tight;
+
+use super::posed::place;
+
+/// The exact pieces of the gripper's shapes (shared by every arm).
+pub(super) fn gripper_tight(gripper: &Gripper2F85) -> Arc<Vec<Option<Tight>>> {
+    static TIGHT: OnceLock<Arc<Vec<Option<Tight>>>> = OnceLock::new();
+    TIGHT
+        .get_or_init(|| {
+            let mut tight: Vec<Option<Tight>> = (0..gripper.static_count()).map(|_| None).collect();
+            tight.extend(
+                gripper
+                    .finger_solids()
+                    .links
+                    .iter()
+                    .map(|s| Tight::new(&s.pieces)),
+            );
+            Arc::new(tight)
+        })
+        .clone()
+}
+
+/// A sphere around the gripper at every opening: centre on the flange axis, radius covering
+/// every shape's bounding sphere at 65 openings from closed to open, plus 1 mm for the motion
+/// between them (the fingers move less than that between neighbouring samples' spheres).
+pub(super) fn gripper_sphere(gripper: &Gripper2F85) -> (nalgebra::Point3<f64>, f64) {
+    // The shapes (not the precision and power points) decide it: the same for every gripper.
+    static SPHERE: OnceLock<(nalgebra::Point3<f64>, f64)> = OnceLock::new();
+    *SPHERE.get_or_init(|| gripper_sphere_of(gripper))
+}
+
+pub(super) fn gripper_sphere_of(gripper: &Gripper2F85) -> (nalgebra::Point3<f64>, f64) {
+    let center = nalgebra::Point3::new(0.0, 0.0, 0.09);
+    let mut radius: f64 = 0.0;
+    let states = gripper.sample_states();
+    for state in states {
+        gripper.for_each_shape(state, |_, _, prim| {
+            let b = Bounded::new(place(&Isometry3::identity(), &prim));
+            radius = radius.max((b.center - center).norm() + b.radius);
+        });
+    }
+    (center, radius + 0.001)
+}
+
+/// Per DH frame, a sphere holding the bounding spheres of that frame's link shapes: centre at
+/// the middle of their box, radius to the farthest one.
+pub(super) fn frame_spheres(links: &[LinkShape]) -> [(nalgebra::Point3<f64>, f64); 7] {
+    std::array::from_fn(|f| {
+        let spheres: Vec<Bounded> = links
+            .iter()
+            .filter(|l| l.frame == f)
+            .map(|l| {
+                let mut b = Bounded::new(place(&Isometry3::identity(), &l.primitive));
+                b.radius += l.pieces.map_or(0.0, |p| p.slack);
+                b
+            })
+            .collect();
+        if spheres.is_empty() {
+            return (nalgebra::Point3::origin(), 0.0);
+        }
+        let mut lo = nalgebra::Point3::from([f64::INFINITY; 3]);
+        let mut hi = nalgebra::Point3::from([f64::NEG_INFINITY; 3]);
+        for b in &spheres {
+            let r = nalgebra::Vector3::repeat(b.radius);
+            lo = lo.inf(&(b.center - r));
+            hi = hi.sup(&(b.center + r));
+        }
+        let c = nalgebra::center(&lo, &hi);
+        let radius = spheres
+            .iter()
+            .map(|b| (b.center - c).norm() + b.radius)
+            .fold(0.0, f64::max);
+        (c, radius)
+    })
+}
+
+/// Per link shape of an arm, its exact pieces where it has them.
+pub(super) type TightSet = Arc<Vec<Option<Tight>>>;
+
+/// The exact pieces of `model`'s link shapes, built once per process and model, then shared by
+/// every arm of that model.
+pub(super) fn tight_pieces(model: UrModel, links: &[LinkShape]) -> TightSet {
+    static CACHE: OnceLock<Mutex<BTreeMap<&'static str, TightSet>>> = OnceLock::new();
+    let mut cache = CACHE
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    cache
+        .entry(model.name())
+        .or_insert_with(|| {
+            Arc::new(
+                links
+                    .iter()
+                    .map(|l| l.pieces.and_then(Tight::new))
+                    .collect(),
+            )
+        })
+        .clone()
+}
