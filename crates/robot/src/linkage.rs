@@ -62,7 +62,9 @@ pub struct FingerLinkage {
     pub pad_tip: Vector2<f64>,
     pub limits: LinkageLimits,
     /// What [`FingerLinkage::assemble`] and [`FingerLinkage::parallel`] derive from the fields
-    /// above at every call otherwise (lengths, fixed angles, the loop's branches).
+    /// above at every call otherwise (lengths, fixed angles, the loop's branches), computed by
+    /// the constructor: a linkage of other dimensions needs a constructor of its own, not the
+    /// fields above changed in place.
     derived: Derived,
 }
 
