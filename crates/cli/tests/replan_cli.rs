@@ -222,3 +222,32 @@ fn a_measured_pose_is_brought_onto_the_support_first() {
     assert!(err.contains("check the measurement"), "{err}");
     assert!(!dir.path().join("re2.json").exists());
 }
+
+#[test]
+fn bench_replan_replans_near_the_pose_and_reports_the_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = examples_dir().join("chair_side.toml");
+    let out = pregrasp(
+        dir.path(),
+        &[
+            "bench",
+            "replan",
+            scene.to_str().unwrap(),
+            "--samples",
+            "3",
+            "--threads",
+            "1",
+        ],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(
+        stdout.contains("3 placements") && stdout.contains("3 planned, 3 kept the plan's axis"),
+        "{stdout}"
+    );
+    let bad = pregrasp(
+        dir.path(),
+        &["bench", "replan", scene.to_str().unwrap(), "--pos-mm=-1"],
+    );
+    assert_eq!(bad.status.code(), Some(1), "{bad:?}");
+}

@@ -2,7 +2,7 @@
 //! the collision world (support, object mesh, arms), P_init — shared read-only by every
 //! pipeline stage (so candidates can be evaluated in parallel without locks).
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use nalgebra::Isometry3;
 use pregrasp_collision::{
@@ -74,18 +74,94 @@ pub struct PlanningContext<'a> {
 /// Largest joint difference (rad) between μ_rot's first point and a fixed start.
 pub const FIXED_START_TOLERANCE: f64 = 1e-6;
 
+/// What a planning context can take from an earlier one of the same part: the part's geometry
+/// (its BVH) and how the grippers close on it at the scene's grasps. Both live in the object
+/// frame, so they hold for any pose of the part: `replan` in a cell, the part measured again
+/// and again, builds them once ([`PlanOptions::known`](crate::pipeline::PlanOptions::known)).
+#[derive(Clone)]
+pub struct PartKnowledge {
+    /// The mesh they were built from, by address: only the same mesh may use them.
+    mesh: usize,
+    part: Arc<pregrasp_collision::ObjectGeometry>,
+    support: Isometry3<f64>,
+    power: [Isometry3<f64>; 2],
+    /// Per arm: precision and power point distance from the flange.
+    points: [(f64, f64); 2],
+    grips: Grips,
+}
+
+impl std::fmt::Debug for PartKnowledge {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PartKnowledge")
+            .field("support", &self.support)
+            .field("power", &self.power)
+            .finish_non_exhaustive()
+    }
+}
+
+impl PartKnowledge {
+    /// The part's geometry and closings for `scene` on `mesh` (as a planning context builds
+    /// them).
+    pub fn new(scene: &Scene, mesh: &Mesh) -> PartKnowledge {
+        PartKnowledge::of(&PlanningContext::new(scene, mesh))
+    }
+
+    /// What `ctx` built.
+    pub fn of(ctx: &PlanningContext) -> PartKnowledge {
+        PartKnowledge {
+            mesh: ctx.mesh as *const Mesh as usize,
+            part: ctx.world.part().expect("a planning world has the part"),
+            support: ctx.scene.grasps.support,
+            power: ctx.scene.grasps.power,
+            points: tool_points(ctx.scene),
+            grips: ctx.grips.clone(),
+        }
+    }
+
+    /// Whether it was built for this mesh, these grasps and these tool points (exactly).
+    fn fits(&self, scene: &Scene, mesh: &Mesh) -> bool {
+        self.mesh == mesh as *const Mesh as usize
+            && self.support == scene.grasps.support
+            && self.power == scene.grasps.power
+            && self.points == tool_points(scene)
+    }
+}
+
+/// Per arm of `scene`: its precision and power point distance from the flange.
+fn tool_points(scene: &Scene) -> [(f64, f64); 2] {
+    scene
+        .robots
+        .each_ref()
+        .map(|r| (r.precision_point_z, r.power_point_z))
+}
+
 impl<'a> PlanningContext<'a> {
     pub fn new(scene: &'a Scene, mesh: &'a Mesh) -> Self {
+        PlanningContext::with_knowledge(scene, mesh, None)
+    }
+
+    /// [`PlanningContext::new`], taking the part's geometry and closings from `known` when it
+    /// was built for this mesh, these grasps and tool points (built afresh otherwise).
+    pub fn with_knowledge(scene: &'a Scene, mesh: &'a Mesh, known: Option<&PartKnowledge>) -> Self {
         let arms = arm_models(scene);
         let spaces = [
             pregrasp_collision::joint_space(&arms[0]),
             pregrasp_collision::joint_space(&arms[1]),
         ];
         let params = &scene.planner;
-        let world = CollisionWorld::new(scene.support_height, Some(mesh), arms)
-            .with_margin(params.link_clearance + PLANNING_MARGIN)
-            .with_grasp_support_margin(params.finger_support_clearance + FINE_PLANNING_MARGIN);
-        let grips = grips(&world, &scene.grasps.support, &scene.grasps.power);
+        let known = known.filter(|k| k.fits(scene, mesh));
+        let world = match known {
+            Some(k) => {
+                CollisionWorld::with_part(Some(scene.support_height), Some(k.part.clone()), arms)
+            }
+            None => CollisionWorld::new(scene.support_height, Some(mesh), arms),
+        }
+        .with_margin(params.link_clearance + PLANNING_MARGIN)
+        .with_grasp_support_margin(params.finger_support_clearance + FINE_PLANNING_MARGIN);
+        let grips = match known {
+            Some(k) => k.grips.clone(),
+            None => grips(&world, &scene.grasps.support, &scene.grasps.power),
+        };
         let held = |arm: usize| -> Vec<GripperState> {
             [&grips.support[arm], &grips.power[arm]]
                 .into_iter()

@@ -38,6 +38,10 @@ pub struct PlanOptions {
     /// are above every candidate not yet run, so no later one could be kept. The waves do not
     /// depend on the thread count: the plan file does not either.
     pub wave: usize,
+    /// The part's geometry and gripper closings from an earlier context of the same part
+    /// (object frame, so any pose): used when they fit the scene's mesh, grasps and tool
+    /// points, built afresh otherwise. `replan` in a loop passes them.
+    pub known: Option<std::sync::Arc<crate::context::PartKnowledge>>,
 }
 
 impl Default for PlanOptions {
@@ -47,6 +51,7 @@ impl Default for PlanOptions {
             only: None,
             fixed_rot_start: None,
             wave: DEFAULT_WAVE,
+            known: None,
         }
     }
 }
@@ -122,7 +127,7 @@ pub fn plan(
     let t_axes = t0.elapsed();
 
     let t_ctx = Instant::now();
-    let mut ctx = PlanningContext::new(scene, mesh);
+    let mut ctx = PlanningContext::with_knowledge(scene, mesh, options.known.as_deref());
     let t_grips = t_ctx.elapsed();
     ctx.fixed_rot_start = options.fixed_rot_start;
     let ctx = ctx;

@@ -144,7 +144,7 @@ pub fn replan(
         &PlanOptions {
             max_plans: 1,
             only: Some(vec![id]),
-            ..PlanOptions::default()
+            ..options.clone()
         },
         &|_| {},
         &|| {},

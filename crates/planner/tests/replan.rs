@@ -213,3 +213,55 @@ fn replan_from_rot_keeps_the_executed_sup1() {
     );
     assert!(check_plan(file, &mesh).is_valid());
 }
+
+/// The cell's loop: the part's geometry and closings built once ([`PartKnowledge`]) and handed
+/// to every replan give the plans a replan from scratch gives, byte for byte but timing; and a
+/// knowledge built for other grasps is not used.
+#[test]
+fn replans_reusing_the_parts_knowledge_are_the_replans_from_scratch() {
+    use pregrasp_planner::context::PartKnowledge;
+    use pregrasp_planner::robustness::displaced;
+    use std::sync::Arc;
+    for name in ["chair_side", "stool_side"] {
+        let (scene, mesh, nominal) = example(name);
+        let known = PlanOptions {
+            known: Some(Arc::new(PartKnowledge::new(&scene, &mesh))),
+            ..PlanOptions::default()
+        };
+        let centre = scene.object.pose * Point3::new(0.2, 0.2, 0.0);
+        for (dx, dy, yaw) in [
+            (0.004, -0.002, 1.5f64),
+            (-0.005, 0.003, -2.0),
+            (0.0, 0.0, 0.5),
+        ] {
+            let pose = displaced(&scene.object.pose, &centre, dx, dy, yaw.to_radians());
+            let fresh = replan(&scene, &mesh, &nominal, 0, pose, &PlanOptions::default());
+            let reused = replan(&scene, &mesh, &nominal, 0, pose, &known);
+            let json = |f: &PlanFile| {
+                let mut f = f.clone();
+                f.timing_ms.clear();
+                f.to_json()
+            };
+            assert_eq!(fresh.route, reused.route, "{name}");
+            assert_eq!(
+                json(&fresh.report.file),
+                json(&reused.report.file),
+                "{name}"
+            );
+            assert!(check_plan(&reused.report.file, &mesh).is_valid(), "{name}");
+        }
+    }
+    // Knowledge of other grasps does not fit: the closings are built afresh, same plan.
+    let (mut scene, mesh, _) = example("chair_side");
+    let known = PlanOptions {
+        known: Some(Arc::new(PartKnowledge::new(&scene, &mesh))),
+        ..PlanOptions::default()
+    };
+    scene.grasps.support.translation.vector.x += 0.01;
+    let json = |options: &PlanOptions| {
+        let mut f = plan(&scene, &mesh, options, &|_| {}, &|| {}).file;
+        f.timing_ms.clear();
+        f.to_json()
+    };
+    assert_eq!(json(&PlanOptions::default()), json(&known));
+}

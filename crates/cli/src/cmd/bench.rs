@@ -8,6 +8,11 @@
 //! `pregrasp bench plan SCENE.toml… [--runs N]` runs the whole pipeline (Algorithms 1–3, the
 //! plan check and the grip check) N times in-process on each scene and prints the median / p95
 //! time per stage, Algorithm 3 split into its parts (`pregrasp_planner::clock`).
+//!
+//! `pregrasp bench replan SCENE.toml… [--samples N]` plans each scene once, then replans it
+//! in-process at N placements drawn uniformly within ±5 mm along world x and y and ±2° of yaw
+//! about the part's centre (seeded; what `pregrasp replan` does in a cell after measuring the
+//! part): median / p95 time per replan and how many kept the plan's axis.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -25,6 +30,30 @@ pub enum BenchCommand {
     Reach(ReachArgs),
     /// The whole pipeline on each scene, repeated: median / p95 time per stage.
     Plan(PlanArgs),
+    /// Replanning each scene's plan at random nearby placements: median / p95 time.
+    Replan(ReplanArgs),
+}
+
+#[derive(clap::Args)]
+pub struct ReplanArgs {
+    /// The scene files (e.g. `examples/*.toml`).
+    #[arg(required = true)]
+    pub scenes: Vec<PathBuf>,
+    /// Placements per scene (after one warm-up replan).
+    #[arg(long, default_value_t = 15)]
+    pub samples: usize,
+    /// Largest position error along world x and y (mm).
+    #[arg(long, default_value_t = 5.0)]
+    pub pos_mm: f64,
+    /// Largest yaw error about the part's centre (degrees).
+    #[arg(long, default_value_t = 2.0)]
+    pub yaw_deg: f64,
+    /// Seed of the placements.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
 }
 
 #[derive(clap::Args)]
@@ -71,6 +100,7 @@ pub fn run(command: BenchCommand) -> anyhow::Result<ExitCode> {
     match command {
         BenchCommand::Reach(args) => reach(args),
         BenchCommand::Plan(args) => plan(args),
+        BenchCommand::Replan(args) => replan(args),
     }
 }
 
@@ -171,6 +201,103 @@ fn plan_one(
         })
         .collect();
     Ok((status, summary))
+}
+
+fn replan(args: ReplanArgs) -> anyhow::Result<ExitCode> {
+    use pregrasp_planner::pipeline::PlanOptions;
+    use pregrasp_planner::replan::{replan, ReplanRoute};
+    use pregrasp_planner::robustness::displaced;
+    if !(args.pos_mm >= 0.0 && args.pos_mm.is_finite() && args.pos_mm <= 100.0) {
+        anyhow::bail!("--pos-mm must be in [0, 100], got {}", args.pos_mm);
+    }
+    if !(args.yaw_deg >= 0.0 && args.yaw_deg.is_finite() && args.yaw_deg <= 45.0) {
+        anyhow::bail!("--yaw-deg must be in [0, 45], got {}", args.yaw_deg);
+    }
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = args.threads {
+        builder = builder.num_threads(n.max(1));
+    }
+    let pool = builder.build()?;
+    // SplitMix64: uniform numbers in [−1, 1), the same for the same seed.
+    let mut state = args.seed;
+    let mut uniform = move || {
+        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    for path in &args.scenes {
+        let scene = pregrasp_io::scene::Scene::load(path)?;
+        let mesh = pregrasp_io::mesh_io::load_mesh(&scene.object.mesh_path, scene.object.scale)
+            .with_context(|| format!("{}: object.mesh", path.display()))?
+            .mesh;
+        let nominal = pool.install(|| {
+            pregrasp_planner::plan_scene(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        });
+        if nominal.file.plans.is_empty() {
+            println!("{}: no plan to replan", path.display());
+            continue;
+        }
+        // An auto scene's placements keep the grasps its search chose.
+        let scene = scene.with_grasps_of(&nominal.file.grasps);
+        let (lo, hi) = mesh.vertices.iter().fold(
+            (
+                nalgebra::Point3::from([f64::INFINITY; 3]),
+                nalgebra::Point3::from([f64::NEG_INFINITY; 3]),
+            ),
+            |(lo, hi), v| (lo.inf(v), hi.sup(v)),
+        );
+        let centre = scene.object.pose * nalgebra::center(&lo, &hi);
+        // What the cell keeps between measurements: the part's geometry and the closings at
+        // its grasps (object frame), built once.
+        let options = PlanOptions {
+            known: Some(std::sync::Arc::new(
+                pregrasp_planner::context::PartKnowledge::new(&scene, &mesh),
+            )),
+            ..PlanOptions::default()
+        };
+        let mut times = Vec::with_capacity(args.samples);
+        let (mut kept, mut planned) = (0usize, 0usize);
+        for k in 0..=args.samples {
+            let (dx, dy) = (
+                uniform() * args.pos_mm * 1e-3,
+                uniform() * args.pos_mm * 1e-3,
+            );
+            let dyaw = uniform() * args.yaw_deg.to_radians();
+            let pose = displaced(&scene.object.pose, &centre, dx, dy, dyaw);
+            let started = std::time::Instant::now();
+            let result = pool.install(|| replan(&scene, &mesh, &nominal.file, 0, pose, &options));
+            let ms = started.elapsed().as_secs_f64() * 1e3;
+            if k == 0 {
+                continue; // warm-up: the first query builds the models' caches
+            }
+            times.push(ms);
+            planned += usize::from(!result.report.file.plans.is_empty());
+            kept += usize::from(result.route == ReplanRoute::KeptCandidate);
+        }
+        times.sort_by(f64::total_cmp);
+        let at = |q: f64| times[((times.len().max(1) - 1) as f64 * q).round() as usize];
+        if times.is_empty() {
+            println!("{}: no samples", path.display());
+            continue;
+        }
+        println!(
+            "{}: {} placements (±{} mm, ±{}°, seed {}) on {} thread(s): {planned} planned, {kept} \
+             kept the plan's axis; replan median {:.2} ms, p95 {:.2} ms, max {:.2} ms",
+            path.display(),
+            times.len(),
+            args.pos_mm,
+            args.yaw_deg,
+            args.seed,
+            pool.current_num_threads(),
+            at(0.5),
+            at(0.95),
+            times[times.len() - 1]
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 fn reach(args: ReachArgs) -> anyhow::Result<ExitCode> {
