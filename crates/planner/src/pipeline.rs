@@ -70,6 +70,9 @@ pub enum CandidateOutcome {
         path: Box<IntegratedPath>,
         plan: Box<PlanJson>,
         check: Option<String>,
+        /// How close a grasping gripper comes to the support along the plan (m), from the
+        /// same check.
+        closest_grasp_to_support: Option<f64>,
     },
     /// Algorithm 3 found μ_rot and the straight lines of its reach motions, but the pinch
     /// cannot hold the part during μ_rot (`[physics] reject`): `reason` says why; no transit
@@ -93,6 +96,24 @@ pub enum CandidateOutcome {
     /// Algorithm 2 found a pose, but Algorithm 3 was not run: `max_plans` plans were kept from
     /// candidates that rank above it whatever it would give (see [`PlanOptions::wave`]).
     NotEvaluated,
+}
+
+impl PlanReport {
+    /// How close a grasping gripper comes to the support along plan `k` of the file (m), as
+    /// the plan check measured it before the plan was kept.
+    pub fn closest_grasp_to_support(&self, k: usize) -> Option<f64> {
+        let candidate = self.file.plans.get(k)?.candidate;
+        self.candidates
+            .iter()
+            .position(|c| c.id == candidate)
+            .and_then(|i| match self.outcomes.get(i)? {
+                CandidateOutcome::Planned {
+                    closest_grasp_to_support,
+                    ..
+                } => *closest_grasp_to_support,
+                _ => None,
+            })
+    }
 }
 
 /// The result of [`plan`]: the plan file plus per-candidate details for reports.
@@ -198,9 +219,9 @@ pub fn plan(
             Ok((path, physics)) => {
                 let mut single = header.clone();
                 single.plans = vec![plan_json(&ctx, candidate.id, candidate.score, &pose, &path)];
-                let check = match &checker {
+                let (check, closest_grasp_to_support) = match &checker {
                     Ok(checker) => ctx.clock.time(Stage::Recheck, || verify(checker, &single)),
-                    Err(e) => Some(format!("rule 0 ({e})")),
+                    Err(e) => (Some(format!("rule 0 ({e})")), None),
                 };
                 let mut plan = single.plans.swap_remove(0);
                 plan.physics = physics;
@@ -209,6 +230,7 @@ pub fn plan(
                     path: Box::new(path),
                     plan: Box::new(plan),
                     check,
+                    closest_grasp_to_support,
                 }
             }
             Err(NoPath::Motions(reason)) => CandidateOutcome::NoPath { pose, reason },
@@ -396,13 +418,16 @@ fn required_force(outcome: &CandidateOutcome) -> f64 {
 
 /// Checks the one plan of `single` (with the candidates known so far); the first failed rule,
 /// if any.
-fn verify(checker: &PlanChecker, single: &PlanFile) -> Option<String> {
+/// The first rule `single`'s plan fails, if any, and how close a grasping gripper comes to the
+/// support along it (from the same check).
+fn verify(checker: &PlanChecker, single: &PlanFile) -> (Option<String>, Option<f64>) {
     let report = checker.check(single);
-    report
+    let failed = report
         .rules
         .into_iter()
         .find(|r| r.ok == Some(false))
-        .map(|r| format!("rule {} ({})", r.rule, r.detail))
+        .map(|r| format!("rule {} ({})", r.rule, r.detail));
+    (failed, report.closest_grasp_to_support)
 }
 
 /// Names the stage at which every candidate failed.

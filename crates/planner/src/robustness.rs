@@ -22,7 +22,6 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 use crate::axes::rotation_axis_candidates;
-use crate::check::check_plan;
 use crate::paths::motion_seed;
 use crate::pipeline::{plan, PlanOptions};
 use crate::replan::matching_candidate;
@@ -175,6 +174,8 @@ pub fn robustness(
     let jobs: Vec<(usize, usize)> = (0..levels.len())
         .flat_map(|l| (0..samples).map(move |s| (l, s)))
         .collect();
+    // The part's geometry and closings hold for every placement (object frame): built once.
+    let known = std::sync::Arc::new(crate::context::PartKnowledge::new(scene, mesh));
     let samples_out: Vec<Sample> = jobs
         .par_iter()
         .map(|&(level, k)| {
@@ -206,19 +207,17 @@ pub fn robustness(
                 .collect();
             let options = PlanOptions {
                 max_plans: usize::MAX,
+                known: Some(known.clone()),
                 ..PlanOptions::default()
             };
-            let file = plan(&moved, mesh, &options, &|_| {}, &|| {}).file;
+            let report = plan(&moved, mesh, &options, &|_| {}, &|| {});
+            let closest = report.closest_grasp_to_support(0);
+            let file = report.file;
             let plans_again: Vec<usize> = (0..matched.len())
                 .filter(|&k| {
                     matched[k].is_some_and(|id| file.plans.iter().any(|p| p.candidate == id))
                 })
                 .collect();
-            let closest = file.plans.first().and_then(|best| {
-                let mut single = file.clone();
-                single.plans = vec![best.clone()];
-                check_plan(&single, mesh).closest_grasp_to_support
-            });
             progress();
             Sample {
                 level,
