@@ -10,6 +10,11 @@ byte but ``timing_ms``).
 >>> plan = pregrasp.plan(scene)
 >>> plan.status, plan.plans[0].segment("rot").q.shape
 
+In a cell, :class:`Replanner` replans a plan each time the part is measured again:
+
+>>> cell = pregrasp.Replanner(scene, plan)
+>>> again = cell.replan(measured_pose)      # 4x4, brought onto the table first
+
 Errors: :class:`SceneError` (a scene or its mesh cannot be used), :class:`PlanFileError`
 (a plan file cannot be read or written); both derive from :class:`PregraspError` and carry the
 CLI's message, which names the file and the key.
@@ -26,6 +31,7 @@ from ._pregrasp import (
     PlanEntry,
     PlanFileError,
     PregraspError,
+    Replanner,
     Report,
     Scene,
     SceneError,
@@ -40,6 +46,7 @@ __all__ = [
     "PlanEntry",
     "PlanFileError",
     "PregraspError",
+    "Replanner",
     "Report",
     "Scene",
     "SceneError",

@@ -122,6 +122,19 @@ class Plan:
     def to_json(self) -> str: ...
     def write(self, path: _Path) -> None: ...
 
+class Replanner:
+    """Replans a plan at measured poses of its part, the part's geometry and the gripper
+    closings at its grasps built once."""
+
+    def __init__(self, scene: Scene, plan: Plan) -> None: ...
+    def replan(
+        self,
+        pose: npt.ArrayLike,
+        plan_index: int = 0,
+        as_measured: bool = False,
+        threads: Optional[int] = None,
+    ) -> Plan: ...
+
 class Report:
     """The checker's verdict."""
 

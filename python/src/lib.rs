@@ -10,6 +10,7 @@ mod batch;
 mod convert;
 mod kin;
 mod plan;
+mod replan;
 mod scene;
 
 use pyo3::create_exception;
@@ -48,6 +49,7 @@ fn _pregrasp(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<plan::PlanEntry>()?;
     m.add_class::<plan::Segment>()?;
     m.add_class::<plan::Report>()?;
+    m.add_class::<replan::Replanner>()?;
     m.add_function(wrap_pyfunction!(scene::default_robots, m)?)?;
     m.add_function(wrap_pyfunction!(scene::write_examples, m)?)?;
     m.add_function(wrap_pyfunction!(plan::plan_scene, m)?)?;

@@ -201,3 +201,28 @@ def test_planning_releases_the_gil(examples):
     assert results == ["planned"] * 8
     assert seen - {0}, f"never saw a plan in its GIL-free section: {seen}"
     assert 2 in seen, f"two plans never ran at once: {seen}"
+
+
+def test_replanner_follows_the_measured_part(examples):
+    scene = pregrasp.Scene.load(examples[0])
+    plan = pregrasp.plan(scene)
+    cell = pregrasp.Replanner(scene, plan)
+    # Shifted on the table, measured 2 mm high: settled, replanned with the plan's own axis.
+    pose = scene.pose.copy()
+    pose[0, 3] += 0.004
+    pose[1, 3] -= 0.002
+    pose[2, 3] += 0.002
+    again = cell.replan(pose, threads=1)
+    assert again.status == "planned", again.reason
+    assert again.plans[0].candidate == plan.plans[0].candidate
+    assert "replan" in again.timing_ms
+    assert pregrasp.check(again).valid
+    # Replanning again and again gives the same plan (the part's knowledge is reused, not changed).
+    assert without_timing(cell.replan(pose, threads=2).to_json()) == without_timing(again.to_json())
+    # 5 cm in the air is no measurement error.
+    high = scene.pose.copy()
+    high[2, 3] += 0.05
+    with pytest.raises(pregrasp.SceneError, match="check the measurement"):
+        cell.replan(high)
+    with pytest.raises(IndexError):
+        cell.replan(pose, plan_index=7)
