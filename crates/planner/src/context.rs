@@ -80,8 +80,9 @@ pub const FIXED_START_TOLERANCE: f64 = 1e-6;
 /// and again, builds them once ([`PlanOptions::known`](crate::pipeline::PlanOptions::known)).
 #[derive(Clone)]
 pub struct PartKnowledge {
-    /// The mesh they were built from, by address: only the same mesh may use them.
-    mesh: usize,
+    /// The mesh they were built from, by content ([`mesh_fingerprint`]): only that mesh may
+    /// use them.
+    mesh: u64,
     part: Arc<pregrasp_collision::ObjectGeometry>,
     support: Isometry3<f64>,
     power: [Isometry3<f64>; 2],
@@ -109,7 +110,7 @@ impl PartKnowledge {
     /// What `ctx` built.
     pub fn of(ctx: &PlanningContext) -> PartKnowledge {
         PartKnowledge {
-            mesh: ctx.mesh as *const Mesh as usize,
+            mesh: mesh_fingerprint(ctx.mesh),
             part: ctx.world.part().expect("a planning world has the part"),
             support: ctx.scene.grasps.support,
             power: ctx.scene.grasps.power,
@@ -120,11 +121,33 @@ impl PartKnowledge {
 
     /// Whether it was built for this mesh, these grasps and these tool points (exactly).
     fn fits(&self, scene: &Scene, mesh: &Mesh) -> bool {
-        self.mesh == mesh as *const Mesh as usize
-            && self.support == scene.grasps.support
+        self.support == scene.grasps.support
             && self.power == scene.grasps.power
             && self.points == tool_points(scene)
+            && self.mesh == mesh_fingerprint(mesh)
     }
+}
+
+/// A 64-bit digest of a mesh's vertices and triangles (every coordinate's bits, every index):
+/// equal meshes give equal digests, and a different mesh colliding is a 2⁻⁶⁴ accident.
+fn mesh_fingerprint(mesh: &Mesh) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut mix = |x: u64| {
+        h = (h ^ x).wrapping_mul(0x0000_0100_0000_01b3).rotate_left(29);
+    };
+    mix(mesh.vertices.len() as u64);
+    for v in &mesh.vertices {
+        for c in v.coords.iter() {
+            mix(c.to_bits());
+        }
+    }
+    mix(mesh.triangles.len() as u64);
+    for t in &mesh.triangles {
+        for i in t {
+            mix(u64::from(*i));
+        }
+    }
+    h
 }
 
 /// Per arm of `scene`: its precision and power point distance from the flange.
