@@ -7,5 +7,6 @@ pub mod output;
 pub mod plan_file;
 pub mod plan_format;
 pub mod plan_terms;
+pub mod ranges;
 pub mod scene;
 pub mod text;

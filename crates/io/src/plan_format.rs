@@ -33,7 +33,7 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
         ));
     }
     if let Some(m) = file.object.mass {
-        crate::scene::check_physics_value("mass", m).map_err(|p| format!("object.mass: {p}"))?;
+        crate::ranges::check_physics_value("mass", m).map_err(|p| format!("object.mass: {p}"))?;
     }
     if file.robots.len() != 2 {
         return Err(format!("robots: {} robots, expected 2", file.robots.len()));

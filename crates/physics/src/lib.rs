@@ -11,6 +11,7 @@
 //! is slow), the line contact with the support modelled by its two endpoints, both pads
 //! squeezing with the same normal force. See `docs/physics.md`.
 
+mod grip_force;
 pub mod mass;
 mod pivot;
 pub mod plan;
@@ -18,6 +19,7 @@ mod polish;
 pub mod settings;
 pub mod statics;
 
+pub use grip_force::{min_grip_force, min_grip_force_from, WarmStart};
 pub use mass::{MassError, MassProperties};
 pub use plan::{
     analyse_plan, screen_plan, PartMass, PhysicsError, PlanPhysics, StateReport, StateStatus,
@@ -28,6 +30,6 @@ pub use settings::{
     DEFAULT_SAFETY_FACTOR, GRAVITY, GRIP_FORCE_RANGE, PAD_PATCH_TORSION_RADIUS,
 };
 pub use statics::{
-    min_grip_force, min_grip_force_conic, min_grip_force_from, ContactModel, Equilibrium, Pads,
-    SolverError, StaticOutcome, StaticProblem, WarmStart,
+    min_grip_force_conic, ContactModel, Equilibrium, Pads, SolverError, StaticOutcome,
+    StaticProblem,
 };

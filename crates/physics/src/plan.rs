@@ -5,11 +5,10 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{PhysicsJson, PlanFile, SegmentJson, SegmentName};
 
+use crate::grip_force::{min_grip_force_from, WarmStart};
 use crate::mass::{MassError, MassProperties};
 use crate::settings::{PhysicsSettings, GRAVITY, GRIP_FORCE_RANGE};
-use crate::statics::{
-    min_grip_force_from, Equilibrium, Pads, SolverError, StaticOutcome, StaticProblem, WarmStart,
-};
+use crate::statics::{Equilibrium, Pads, SolverError, StaticOutcome, StaticProblem};
 
 /// Support contacts are the rotation axis' endpoints (at each state's pose) that lie at most
 /// this far (m) from the support plane, beyond the plan's `lift` (P_init hovers `lift` above it).

@@ -1,5 +1,5 @@
 //! One quasi-static state: the part under gravity, pinched by two pads and resting on point
-//! contacts with the support. [`min_grip_force`] finds the smallest grip force that keeps it in
+//! contacts with the support. [`min_grip_force`](crate::min_grip_force) finds the smallest grip force that keeps it in
 //! equilibrium without slipping anywhere: a second-order cone program, solved in closed form or
 //! by Newton's method from the previous state where the part rests on its edge
 //! (module `pivot`), else by Clarabel.
@@ -24,7 +24,6 @@ use clarabel::solver::{
 };
 use nalgebra::{DVector, Point3, Vector3};
 
-use crate::pivot::EdgeProblem;
 use crate::polish::{Cone, ConicProgram, PrimalDual};
 
 /// The two pads of a parallel gripper closed on the part.
@@ -166,76 +165,10 @@ pub struct SolverError {
     pub status: String,
 }
 
-/// The smallest grip force that holds `problem` in equilibrium, or why none does: in closed
-/// form where the part rests on its edge and the support's friction does not limit the grip,
-/// else by the conic program — reduced to the edge's one balance equation where the part rests
-/// on two contacts (module `pivot`), the general one ([`min_grip_force_conic`]) otherwise.
-pub fn min_grip_force(
-    problem: &StaticProblem,
-    model: &ContactModel,
-) -> Result<StaticOutcome, SolverError> {
-    min_grip_force_from(problem, model, &mut WarmStart::default())
-}
-
-/// What one state's solution offers the next state of the same rotation: its optimum, from
-/// which Newton's method reaches a neighbouring state's optimum in a few steps where the same
-/// constraints are active (module `polish`; the result is checked to be an optimum, else the
-/// interior-point solver runs). Whatever it holds, the answer is the program's optimum, to the
-/// solvers' tolerance; only the time to it depends on the start.
-#[derive(Clone, Debug, Default)]
-pub struct WarmStart(Option<PrimalDual>);
-
-/// [`min_grip_force`] started from a neighbouring state's `warm`, which it replaces with this
-/// state's.
-pub fn min_grip_force_from(
-    problem: &StaticProblem,
-    model: &ContactModel,
-    warm: &mut WarmStart,
-) -> Result<StaticOutcome, SolverError> {
-    check_model(problem, model);
-    let mu_s = model.mu_support;
-    let edge = (mu_s > 0.0)
-        .then(|| EdgeProblem::new(problem, model))
-        .flatten();
-    let Some(edge) = edge else {
-        return min_grip_force_conic(problem, model);
-    };
-    let w = problem.weight;
-    if let Some(eq) = edge.closed_form(w, mu_s) {
-        return Ok(StaticOutcome::Held(eq));
-    }
-    // Where the interior-point solver stalls on the reduced program (its columns can be worse
-    // scaled than the general program's), the general program decides.
-    on_edge(&edge, w, mu_s, warm).or_else(|_| {
-        warm.0 = None;
-        min_grip_force_conic(problem, model)
-    })
-}
-
-/// The reduced program of a part resting on its edge, started from `warm`.
-fn on_edge(
-    edge: &EdgeProblem,
-    w: f64,
-    mu_s: f64,
-    warm: &mut WarmStart,
-) -> Result<StaticOutcome, SolverError> {
-    Ok(match edge.conic(w, mu_s, warm.0.as_ref())? {
-        Some((eq, solution)) => {
-            warm.0 = Some(solution);
-            StaticOutcome::Held(eq)
-        }
-        // Would the support hold with (practically) unlimited friction?
-        None => match edge.conic(w, STICKY, None)? {
-            Some(_) => StaticOutcome::Slides,
-            None => StaticOutcome::CannotHold,
-        },
-    })
-}
-
 /// The support friction that stands for "unlimited" when telling sliding from not holding.
-const STICKY: f64 = 1e3;
+pub(crate) const STICKY: f64 = 1e3;
 
-/// [`min_grip_force`] by the second-order cone program alone (Clarabel), whatever the contacts.
+/// [`min_grip_force`](crate::min_grip_force) by the second-order cone program alone (Clarabel), whatever the contacts.
 pub fn min_grip_force_conic(
     problem: &StaticProblem,
     model: &ContactModel,
@@ -257,7 +190,7 @@ pub fn min_grip_force_conic(
     }
 }
 
-fn check_model(problem: &StaticProblem, model: &ContactModel) {
+pub(crate) fn check_model(problem: &StaticProblem, model: &ContactModel) {
     assert!(model.mu_pad > 0.0, "mu_pad must be > 0");
     assert!(model.mu_support >= 0.0, "mu_support must be >= 0");
     assert!(problem.weight > 0.0, "weight must be > 0");

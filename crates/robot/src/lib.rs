@@ -16,6 +16,7 @@ mod ik;
 mod linkage;
 mod links;
 mod model;
+mod sweep_radii;
 
 pub use angle::{atan2, wrap_angle};
 pub use closing::{
@@ -31,8 +32,8 @@ pub use gripper::{Gripper2F85, GripperState, GRIPPER_FRAME};
 pub use ik::{joint_distance, IkSolutions, IK_RESIDUAL_TOL};
 pub use linkage::{FingerConfig, FingerLinkage, LinkageLimits, PlanarPose, FINGER_LINKS};
 pub use links::{
-    arm_geometry, fitted_links_of, flange_sweep_radii, group_sweep_radii, joint_sweep_radii,
-    point_cylinder_distance, ArmGeometry, Capsule, ConvexPieces, Cylinder, FittedLink, LinkShape,
-    Primitive, SHAPE_GROUPS,
+    arm_geometry, fitted_links_of, point_cylinder_distance, ArmGeometry, Capsule, ConvexPieces,
+    Cylinder, FittedLink, LinkShape, Primitive, SHAPE_GROUPS,
 };
 pub use model::{DhParams, Joints, UnknownModel, UrModel, DEFAULT_JOINT_ACCEL, JOINT_NAMES};
+pub use sweep_radii::{flange_sweep_radii, group_sweep_radii, joint_sweep_radii};

@@ -11,6 +11,9 @@ use serde::Serialize;
 
 use crate::options::ViewOptions;
 
+/// The page no longer loads three.js; the view data's `three_version` field says `none`.
+pub const THREE_VERSION: &str = "none";
+
 /// Format tag of the embedded document.
 pub const VIEW_FORMAT: &str = "pregrasp.view/1";
 
@@ -152,7 +155,7 @@ impl<'a> ViewData<'a> {
         ViewData {
             format: VIEW_FORMAT,
             title: page_title(plan, options),
-            three_version: crate::html::THREE_VERSION,
+            three_version: THREE_VERSION,
             options: OptionsJson {
                 initial_plan: options.initial_plan,
                 speed: options.speed,

@@ -10,9 +10,6 @@ use pregrasp_io::plan_file::PlanFile;
 use crate::data::ViewData;
 use crate::options::ViewOptions;
 
-/// The page no longer loads three.js; the view data's `three_version` field says `none`.
-pub const THREE_VERSION: &str = "none";
-
 /// The page's Content-Security-Policy: nothing is fetched (`default-src 'none'`), only the
 /// page's own inline style and script run, and nothing may be framed or submitted.
 pub const CONTENT_SECURITY_POLICY: &str = "default-src 'none'; script-src 'unsafe-inline'; \

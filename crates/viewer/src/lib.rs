@@ -16,5 +16,6 @@ pub mod fixture;
 pub mod html;
 pub mod options;
 
-pub use html::{escape_json_for_script, render_html, CONTENT_SECURITY_POLICY, THREE_VERSION};
+pub use data::THREE_VERSION;
+pub use html::{escape_json_for_script, render_html, CONTENT_SECURITY_POLICY};
 pub use options::ViewOptions;

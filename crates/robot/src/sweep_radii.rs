@@ -1,0 +1,109 @@
+//! How far the points of an arm can move when its joints turn: per joint and shape group, an
+//! upper bound on the distance from the joint's axis (for edge-validation resolution and the
+//! swept checks). Built from the link shapes ([`crate::links`]) and the gripper's shapes at
+//! every opening ([`crate::gripper`]).
+
+use crate::gripper::Gripper2F85;
+use crate::links::{arm_geometry, SHAPE_GROUPS};
+use crate::model::{Joints, UrModel};
+
+/// For edge-validation resolution: for each joint i, an upper bound on the distance from
+/// joint axis i to any point of the arm links beyond it plus the gripper (m), open or
+/// closed. Moving joint i by Δ rad moves any point by at most `radius_i·|Δ|`, so
+/// `Σ radius_i·|Δq_i|` bounds any point's displacement.
+///
+/// The largest of [`group_sweep_radii`] over the shape groups.
+pub fn joint_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> Joints {
+    let groups = group_sweep_radii(model, gripper);
+    std::array::from_fn(|i| groups[i].iter().copied().fold(0.0, f64::max))
+}
+
+/// Per joint i and shape group g (the link shapes of DH frame g, or g = 7 the gripper at any
+/// opening with its precision and power points), an upper bound `R[i][g]` on the distance
+/// from joint axis i to any point of the group (m). Under any joint motion a point of group g
+/// moves at most `Σ_i R[i][g]·|Δq_i|`: the proximal links' bounds are much smaller than the
+/// whole arm's ([`joint_sweep_radii`]).
+///
+/// Bound: joint i's axis passes through the origin of DH frame i−1; a point of a shape in
+/// frame f ≥ i is within `Σ_{j=i..f} √(a_j² + d_j²)` (origin-to-origin link offsets) plus
+/// the shape's largest distance from its own frame origin (its exact pieces' slack included).
+/// Frames a joint does not move get 0.
+pub fn group_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> [[f64; SHAPE_GROUPS]; 6] {
+    // Computed once per model and gripper (every opening's shapes are posed): cached.
+    type Key = (&'static str, u64, u64);
+    static CACHE: std::sync::OnceLock<std::sync::Mutex<Vec<(Key, GroupRadii)>>> =
+        std::sync::OnceLock::new();
+    let key = (
+        model.name(),
+        gripper.precision_point_z.to_bits(),
+        gripper.power_point_z.to_bits(),
+    );
+    let cache = CACHE.get_or_init(Default::default);
+    if let Some((_, r)) = cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .iter()
+        .find(|(k, _)| *k == key)
+    {
+        return *r;
+    }
+    let radii = compute_group_sweep_radii(model, gripper);
+    cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push((key, radii));
+    radii
+}
+
+/// Per joint and shape group, the bound of [`group_sweep_radii`].
+type GroupRadii = [[f64; SHAPE_GROUPS]; 6];
+
+fn compute_group_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> GroupRadii {
+    let offsets = flange_offsets(model);
+    let geometry = arm_geometry(model);
+    let mut reach_in_group = [0.0f64; SHAPE_GROUPS];
+    for shape in &geometry.links {
+        let r = shape.primitive.max_origin_distance() + shape.pieces.map_or(0.0, |p| p.slack);
+        reach_in_group[shape.frame] = reach_in_group[shape.frame].max(r);
+    }
+    // Every finger pose (the fingers move on arcs: an intermediate one may reach farthest).
+    let states = gripper.sample_states();
+    let mut reach_gripper = gripper
+        .precision_point_z
+        .abs()
+        .max(gripper.power_point_z.abs());
+    for state in states {
+        for shape in gripper.shapes(state) {
+            let r = shape.primitive.max_origin_distance() + shape.pieces.map_or(0.0, |p| p.slack);
+            reach_gripper = reach_gripper.max(r);
+        }
+    }
+    reach_in_group[7] = reach_gripper;
+    std::array::from_fn(|i| {
+        // Joint i (0-based) moves frames i+1..=6; its axis passes through frame i's origin.
+        std::array::from_fn(|g| {
+            let f = g.min(6);
+            if f <= i {
+                0.0
+            } else {
+                offsets[i..f].iter().sum::<f64>() + reach_in_group[g]
+            }
+        })
+    })
+}
+
+/// Per joint i, an upper bound on the distance from joint axis i to the flange origin (m): a
+/// part rigid with the flange within `r` of its origin moves at most `Σ_i (F[i] + r)·|Δq_i|`.
+pub fn flange_sweep_radii(model: UrModel) -> Joints {
+    let offsets = flange_offsets(model);
+    std::array::from_fn(|i| offsets[i..6].iter().sum::<f64>())
+}
+
+/// The origin-to-origin distances of consecutive DH frames, `√(a_j² + d_j²)`.
+fn flange_offsets(model: UrModel) -> [f64; 6] {
+    let dh = model.dh();
+    std::array::from_fn(|j| {
+        let (d, a, _) = dh.row(j);
+        a.hypot(d)
+    })
+}
