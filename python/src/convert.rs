@@ -74,6 +74,22 @@ fn as_matrix4(value: &Bound<'_, PyAny>) -> Option<[[f64; 4]; 4]> {
     Some(std::array::from_fn(|i| std::array::from_fn(|j| rows[i][j])))
 }
 
+/// A numpy 4×4 array as an isometry ([`isometry_from_matrix`]); refuses another shape.
+pub fn isometry_from_array(
+    pose: &numpy::PyReadonlyArray2<'_, f64>,
+    key: &str,
+) -> PyResult<Isometry3<f64>> {
+    let p = pose.as_array();
+    if p.shape() != [4, 4] {
+        return Err(PyValueError::new_err(format!(
+            "{key} must be a 4×4 matrix, found shape {:?}",
+            p.shape()
+        )));
+    }
+    let m: [[f64; 4]; 4] = std::array::from_fn(|i| std::array::from_fn(|j| p[[i, j]]));
+    isometry_from_matrix(&m, key)
+}
+
 /// A homogeneous 4×4 matrix as an isometry; refuses a matrix that is not a rigid transform.
 pub fn isometry_from_matrix(m: &[[f64; 4]; 4], key: &str) -> PyResult<Isometry3<f64>> {
     if m.iter().flatten().any(|x| !x.is_finite()) {

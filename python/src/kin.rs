@@ -6,7 +6,7 @@ use pregrasp_robot::{Joints, UrKinematics, UrModel};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::convert::{isometry_from_matrix, matrix_array, rows_array};
+use crate::convert::{isometry_from_array, matrix_array, rows_array};
 
 fn model_of(name: &str) -> PyResult<UrModel> {
     UrModel::from_name(name).ok_or_else(|| {
@@ -45,15 +45,7 @@ pub fn ik<'py>(
     seed: Option<Vec<f64>>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let kin = UrKinematics::new(model_of(model)?);
-    let p = pose.as_array();
-    if p.shape() != [4, 4] {
-        return Err(PyValueError::new_err(format!(
-            "pose must be a 4×4 matrix, found shape {:?}",
-            p.shape()
-        )));
-    }
-    let m: [[f64; 4]; 4] = std::array::from_fn(|i| std::array::from_fn(|j| p[[i, j]]));
-    let flange = isometry_from_matrix(&m, "pose")?;
+    let flange = isometry_from_array(&pose, "pose")?;
     let seed = match seed {
         Some(s) => joints(&s, "seed")?,
         None => [0.0; 6],

@@ -7,17 +7,17 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::PyReadonlyArray2;
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene as SceneSpec;
 use pregrasp_planner::context::PartKnowledge;
 use pregrasp_planner::pipeline::PlanOptions;
 use pregrasp_planner::settle::{settle, SettleTolerance};
-use pyo3::exceptions::{PyIndexError, PyValueError};
+use pyo3::exceptions::PyIndexError;
 use pyo3::prelude::*;
 
-use crate::convert::isometry_from_matrix;
+use crate::convert::isometry_from_array;
 use crate::plan::{thread_pool, Plan};
 use crate::scene::Scene;
 use crate::SceneError;
@@ -75,15 +75,7 @@ impl Replanner {
         as_measured: bool,
         threads: Option<usize>,
     ) -> PyResult<Plan> {
-        if pose.shape() != [4, 4] {
-            return Err(PyValueError::new_err(format!(
-                "pose must be a 4×4 matrix, found shape {:?}",
-                pose.shape()
-            )));
-        }
-        let p = pose.as_array();
-        let m: [[f64; 4]; 4] = std::array::from_fn(|i| std::array::from_fn(|j| p[[i, j]]));
-        let measured = isometry_from_matrix(&m, "pose")?;
+        let measured = isometry_from_array(&pose, "pose")?;
         if plan_index >= self.nominal.plans.len() {
             return Err(PyIndexError::new_err(format!(
                 "plan_index {plan_index}: the plan file has {} plan(s)",

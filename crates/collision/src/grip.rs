@@ -106,34 +106,33 @@ impl Grip {
 
     /// Lowest world `z` the fingers reach while closing, the flange at `flange_world`.
     pub fn lowest(&self, flange_world: &Isometry3<f64>) -> f64 {
-        let r = flange_world.rotation.to_rotation_matrix();
-        let d = r.matrix().row(2).transpose();
-        let planar = d.x.hypot(d.z);
-        let value = |l: &Level| d.y * l.y + d.x * l.center[0] + d.z * l.center[1];
+        let up = Heights::of(flange_world);
         let points = &*self.points;
         let scan = |l: &Level, mut best: f64| {
-            let base = d.y * l.y;
+            let base = up.base(l);
             for pose in points.of(l) {
                 for p in pose {
-                    best = best.min(base + d.x * p[0] + d.z * p[1]);
+                    best = best.min(up.point(base, p));
                 }
             }
             best
         };
         // A first answer from the level whose circle reaches lowest, then only the links (a
         // sphere each) and their levels (a circle each) that can reach below it are read.
-        let Some(seed) = self.swept.iter().min_by(|a, b| {
-            (value(a) - planar * a.radius).total_cmp(&(value(b) - planar * b.radius))
-        }) else {
+        let Some(seed) = self
+            .swept
+            .iter()
+            .min_by(|a, b| up.level_bound(a).total_cmp(&up.level_bound(b)))
+        else {
             return f64::INFINITY;
         };
         let mut best = scan(seed, f64::INFINITY);
         for g in self.links.iter() {
-            if d.dot(&g.center.coords) - g.radius >= best {
+            if up.link_bound(g) >= best {
                 continue;
             }
             for l in &self.swept[g.levels.clone()] {
-                if value(l) - planar * l.radius < best {
+                if up.level_bound(l) < best {
                     best = scan(l, best);
                 }
             }
@@ -146,9 +145,7 @@ impl Grip {
     /// without the minimum (a link or level whose bound clears is not read; the first point
     /// below ends it).
     pub fn clears(&self, flange_world: &Isometry3<f64>, height: f64) -> bool {
-        let r = flange_world.rotation.to_rotation_matrix();
-        let d = r.matrix().row(2).transpose();
-        let planar = d.x.hypot(d.z);
+        let up = Heights::of(flange_world);
         let z = flange_world.translation.vector.z;
         // As `lowest` rounds: the lowest value `v` passes iff `v + z − SWEEP_SAG > height`, and
         // that is monotone in `v`. Bounds are pushed down by BOUND_SLACK against their own
@@ -156,20 +153,15 @@ impl Grip {
         let above = |v: f64| v + z - SWEEP_SAG > height;
         let points = &*self.points;
         for g in self.links.iter() {
-            if above(d.dot(&g.center.coords) - g.radius - BOUND_SLACK) {
+            if above(up.link_bound(g) - BOUND_SLACK) {
                 continue;
             }
             for l in &self.swept[g.levels.clone()] {
-                let base = d.y * l.y;
-                let bound = base + d.x * l.center[0] + d.z * l.center[1] - planar * l.radius;
-                if above(bound - BOUND_SLACK) {
+                if above(up.level_bound(l) - BOUND_SLACK) {
                     continue;
                 }
-                if points
-                    .of(l)
-                    .flatten()
-                    .any(|p| !above(base + d.x * p[0] + d.z * p[1]))
-                {
+                let base = up.base(l);
+                if points.of(l).flatten().any(|p| !above(up.point(base, p))) {
                     return false;
                 }
             }
@@ -392,6 +384,51 @@ struct Level {
     radius: f64,
     /// Its points' place in every pose of [`SweptPoints`].
     pts: std::ops::Range<usize>,
+}
+
+/// Heights above the flange (world `z` minus the flange's) of swept points and lower bounds
+/// of them, the flange at one world pose: `d` is the world `z` axis in G, so a point `p` of G
+/// is `d · p` above the flange. [`Grip::lowest`] and [`Grip::clears`] compute every height here,
+/// in the same order, so they agree to the last bit.
+struct Heights {
+    d: nalgebra::Vector3<f64>,
+    /// `|(d.x, d.z)|`: how far a level's circle of radius 1 can reach down.
+    planar: f64,
+}
+
+impl Heights {
+    fn of(flange_world: &Isometry3<f64>) -> Heights {
+        let d = flange_world
+            .rotation
+            .to_rotation_matrix()
+            .matrix()
+            .row(2)
+            .transpose();
+        Heights {
+            planar: d.x.hypot(d.z),
+            d,
+        }
+    }
+
+    /// The part of a level's points' heights its `y` gives.
+    fn base(&self, l: &Level) -> f64 {
+        self.d.y * l.y
+    }
+
+    /// The height of point `p` (`(x, z)`) of a level whose [`Heights::base`] is `base`.
+    fn point(&self, base: f64, p: &[f64; 2]) -> f64 {
+        base + self.d.x * p[0] + self.d.z * p[1]
+    }
+
+    /// No point of level `l` is lower than this.
+    fn level_bound(&self, l: &Level) -> f64 {
+        self.point(self.base(l), &l.center) - self.planar * l.radius
+    }
+
+    /// No point of link `g`'s levels is lower than this.
+    fn link_bound(&self, g: &LinkSweep) -> f64 {
+        self.d.dot(&g.center.coords) - g.radius
+    }
 }
 
 /// The ROS name of finger link `link` ([`FINGER_LINKS`] order).

@@ -198,10 +198,8 @@ impl<'a> PlanningContext<'a> {
             let point = world.arms()[arm].gripper.precision_point();
             pad_contact(world.object()?, &scene.grasps.support, &point, grip)
         };
-        // Equal grippers hold G_s alike (see `grips`): the patches are the same.
         let first = support_pad(0);
-        let same =
-            world.arms()[1].gripper.precision_point() == world.arms()[0].gripper.precision_point();
+        let same = holds_support_alike(world.arms());
         let support_pads = [first, if same { first } else { support_pad(1) }];
         PlanningContext {
             scene,
@@ -374,6 +372,12 @@ pub fn arm_models(scene: &Scene) -> [ArmModel; 2] {
     })
 }
 
+/// Whether both arms hold G_s alike: they hold it by their precision points, so with the same
+/// precision point the closing on the part there, and its pad patches, are one.
+fn holds_support_alike(arms: &[ArmModel; 2]) -> bool {
+    arms[0].gripper.precision_point() == arms[1].gripper.precision_point()
+}
+
 /// How both grippers close on the part at G_s (`support`, by the precision point) and at their
 /// power grasps (`power`, by the power point), from the part's mesh in `world`.
 pub fn grips(
@@ -386,10 +390,9 @@ pub fn grips(
     let close = |grasp: &Isometry3<f64>, point: Isometry3<f64>| {
         close_on_part(object, &(grasp * point.inverse()))
     };
-    // Both arms hold G_s by their precision points: with equal grippers the closing is one.
     let support_at = |arm: usize| gripper(arm).precision_point();
     let first = close(support, support_at(0));
-    let second = if support_at(1) == support_at(0) {
+    let second = if holds_support_alike(world.arms()) {
         first.clone()
     } else {
         close(support, support_at(1))

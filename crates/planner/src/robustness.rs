@@ -123,6 +123,20 @@ pub struct RobustnessReport {
     pub axis_tolerance: Option<PlacementError>,
 }
 
+/// The centre of the part's bounding box (object frame) in the world, the part at `pose`: the
+/// point placement errors turn the part about.
+pub fn part_centre(mesh: &Mesh, pose: &Isometry3<f64>) -> Point3<f64> {
+    let (mut lo, mut hi) = (
+        Vector3::repeat(f64::INFINITY),
+        Vector3::repeat(f64::NEG_INFINITY),
+    );
+    for v in &mesh.vertices {
+        lo = lo.inf(&v.coords);
+        hi = hi.sup(&v.coords);
+    }
+    pose * Point3::from((lo + hi) / 2.0)
+}
+
 /// The pose of the part displaced by (dx, dy) and turned by `dyaw` about the vertical through
 /// `centre` (world).
 pub fn displaced(
@@ -153,18 +167,7 @@ pub fn robustness(
     seed: u64,
     progress: &(dyn Fn() + Sync),
 ) -> RobustnessReport {
-    let centre_obj = {
-        let (mut lo, mut hi) = (
-            Vector3::repeat(f64::INFINITY),
-            Vector3::repeat(f64::NEG_INFINITY),
-        );
-        for v in &mesh.vertices {
-            lo = lo.inf(&v.coords);
-            hi = hi.sup(&v.coords);
-        }
-        Point3::from((lo + hi) / 2.0)
-    };
-    let centre = scene.object.pose * centre_obj;
+    let centre = part_centre(mesh, &scene.object.pose);
     let plan_candidates: Vec<Option<&CandidateJson>> = nominal
         .plans
         .iter()

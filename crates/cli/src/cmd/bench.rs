@@ -189,8 +189,7 @@ fn plan_one(
     }
     let stat = |v: &mut Vec<f64>| -> (f64, f64) {
         v.sort_by(f64::total_cmp);
-        let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
-        (at(0.5), at(0.95))
+        (quantile(v, 0.5), quantile(v, 0.95))
     };
     let summary = PLAN_STAGES
         .iter()
@@ -206,7 +205,7 @@ fn plan_one(
 fn replan(args: ReplanArgs) -> anyhow::Result<ExitCode> {
     use pregrasp_planner::pipeline::PlanOptions;
     use pregrasp_planner::replan::{replan, ReplanRoute};
-    use pregrasp_planner::robustness::displaced;
+    use pregrasp_planner::robustness::{displaced, part_centre};
     if !(args.pos_mm >= 0.0 && args.pos_mm.is_finite() && args.pos_mm <= 100.0) {
         anyhow::bail!("--pos-mm must be in [0, 100], got {}", args.pos_mm);
     }
@@ -242,14 +241,7 @@ fn replan(args: ReplanArgs) -> anyhow::Result<ExitCode> {
         }
         // An auto scene's placements keep the grasps its search chose.
         let scene = scene.with_grasps_of(&nominal.file.grasps);
-        let (lo, hi) = mesh.vertices.iter().fold(
-            (
-                nalgebra::Point3::from([f64::INFINITY; 3]),
-                nalgebra::Point3::from([f64::NEG_INFINITY; 3]),
-            ),
-            |(lo, hi), v| (lo.inf(v), hi.sup(v)),
-        );
-        let centre = scene.object.pose * nalgebra::center(&lo, &hi);
+        let centre = part_centre(&mesh, &scene.object.pose);
         // What the cell keeps between measurements: the part's geometry and the closings at
         // its grasps (object frame), built once.
         let options = PlanOptions {
@@ -278,7 +270,6 @@ fn replan(args: ReplanArgs) -> anyhow::Result<ExitCode> {
             kept += usize::from(result.route == ReplanRoute::KeptCandidate);
         }
         times.sort_by(f64::total_cmp);
-        let at = |q: f64| times[((times.len().max(1) - 1) as f64 * q).round() as usize];
         if times.is_empty() {
             println!("{}: no samples", path.display());
             continue;
@@ -292,12 +283,17 @@ fn replan(args: ReplanArgs) -> anyhow::Result<ExitCode> {
             args.yaw_deg,
             args.seed,
             pool.current_num_threads(),
-            at(0.5),
-            at(0.95),
+            quantile(&times, 0.5),
+            quantile(&times, 0.95),
             times[times.len() - 1]
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The `q` quantile of sorted, non-empty `values`: the nearest rank.
+fn quantile(values: &[f64], q: f64) -> f64 {
+    values[((values.len() - 1) as f64 * q).round() as usize]
 }
 
 fn reach(args: ReachArgs) -> anyhow::Result<ExitCode> {
