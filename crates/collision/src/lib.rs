@@ -45,5 +45,5 @@ pub use grip::{close_on_part, pad_patches, Grip, GripFailure, PadPatch};
 pub use object::ObjectGeometry;
 pub use shape::Placed;
 pub use sweep::{StatesCheck, Sweep, BOX_LIMIT, SWEEP_LIMIT};
-pub use validity::{attached_reach, joint_space, joint_space_with_payload, ArmValidity};
-pub use world::{CollisionWorld, Contact, ObjectPlacement, Obstacle, WorldState};
+pub use validity::{joint_space, joint_space_with_payload, ArmValidity};
+pub use world::{attached_reach, CollisionWorld, Contact, ObjectPlacement, Obstacle, WorldState};

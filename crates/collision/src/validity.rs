@@ -25,7 +25,7 @@ use pregrasp_motion::{Doubts, JointSpace, State, StateValidator};
 use pregrasp_robot::joint_sweep_radii;
 
 use crate::arm::ArmModel;
-use crate::world::{CollisionWorld, ObjectPlacement, WorldState};
+use crate::world::{CollisionWorld, WorldState};
 
 /// State validity for arm `arm` moving while the other arm, its gripper and the part stay
 /// as in `base_state` (a part attached to `arm` moves with it). A state is valid when it is
@@ -120,22 +120,5 @@ pub fn joint_space_with_payload(arm: &ArmModel, payload_reach: f64) -> JointSpac
         lower,
         upper,
         weights,
-    }
-}
-
-/// Reach of the part attached to `arm` in `state` from its flange origin (m), or 0.
-pub fn attached_reach(world: &CollisionWorld, arm: usize, state: &WorldState) -> f64 {
-    match (state.object, world.object()) {
-        (
-            ObjectPlacement::Attached {
-                arm: a,
-                flange_to_object,
-            },
-            Some(obj),
-        ) if a == arm => {
-            let (c, r) = obj.world_sphere(&flange_to_object);
-            c.coords.norm() + r
-        }
-        _ => 0.0,
     }
 }

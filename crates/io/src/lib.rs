@@ -6,6 +6,7 @@ pub mod mesh_io;
 pub mod output;
 pub mod plan_file;
 pub mod plan_format;
+pub mod plan_read;
 pub mod plan_terms;
 pub mod ranges;
 pub mod scene;

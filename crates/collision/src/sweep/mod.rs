@@ -36,21 +36,11 @@
 use pregrasp_motion::Doubts;
 use pregrasp_robot::{Joints, SHAPE_GROUPS};
 
-use crate::world::{shapes_among, CollisionWorld, FirstContact, ObjectPlacement, WorldState};
-
-/// How far each body may move from a checked state: per arm, how far each joint may turn
-/// (rad); a part at a fixed pose, how far any of its points may move (m). A part attached to a
-/// flange moves with its arm's joints.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Sweep {
-    pub reach: [Joints; 2],
-    pub object: f64,
-}
-
-mod grows;
-
-use grows::first_tilting_joint;
-pub(crate) use grows::Grows;
+pub use crate::world::Sweep;
+use crate::world::{
+    first_tilting_joint, shapes_among, CollisionWorld, FirstContact, Grows, ObjectPlacement,
+    WorldState,
+};
 
 impl CollisionWorld {
     /// Whether every state whose bodies lie within `sweep` of theirs in `state` is free — in

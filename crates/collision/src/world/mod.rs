@@ -26,13 +26,16 @@ use crate::error::CollisionError;
 use crate::object::ObjectGeometry;
 use crate::shape::{Bounded, Placed};
 
+mod grows;
 mod pairs;
 mod sink;
 mod state;
 
+pub use grows::attached_reach;
+pub(crate) use grows::{first_tilting_joint, Grows};
 use sink::MinDistance;
 pub(crate) use sink::{shapes_among, FirstContact, Sink};
-pub use state::{Contact, ObjectPlacement, Obstacle, WorldState};
+pub use state::{Contact, ObjectPlacement, Obstacle, Sweep, WorldState};
 
 /// Identifies one side of a pair, resolved to a name only when reported.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

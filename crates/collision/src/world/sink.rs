@@ -7,11 +7,11 @@ use std::ops::ControlFlow;
 use nalgebra::{Isometry3, Vector3};
 use pregrasp_motion::Doubts;
 
+use super::Grows;
 use crate::object::ObjectGeometry;
 use crate::shape::{
     pair_distance, pair_intersects, pair_may_intersect, plane_distance, Bounded, Placed,
 };
-use crate::sweep::Grows;
 use crate::tight::{self, Part};
 
 use super::Id;

@@ -77,3 +77,12 @@ impl Obstacle {
         }
     }
 }
+
+/// How far each body may move from a checked state: per arm, how far each joint may turn
+/// (rad); a part at a fixed pose, how far any of its points may move (m). A part attached to a
+/// flange moves with its arm's joints.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Sweep {
+    pub reach: [Joints; 2],
+    pub object: f64,
+}

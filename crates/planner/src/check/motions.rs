@@ -7,10 +7,10 @@ use pregrasp_robot::{joint_sweep_radii, GripperState, Joints};
 
 use crate::timeline::{lerp_joints, lerp_pose, CONTACT_ZONE};
 
-use super::walk::{at, edge, pose_error, PlanCheck, Queued};
+use super::walk::{at, edge, grasp_error, pose_error, PlanCheck, Queued};
 use super::{
     Rule, AXIS_MOTION_TOLERANCE, BELOW_SUPPORT_TOLERANCE, CHECK_RESOLUTION, FINE_CHECK_RESOLUTION,
-    GRASP_ANGLE_TOLERANCE, GRASP_POSITION_TOLERANCE, LINE_ANGLE_TOLERANCE, LINE_POSITION_TOLERANCE,
+    GRASP_POSITION_TOLERANCE, LINE_ANGLE_TOLERANCE, LINE_POSITION_TOLERANCE,
 };
 
 /// Which straight line a point of a reach/regrasp segment lies on, if any.
@@ -18,14 +18,6 @@ use super::{
 struct Line {
     /// The tool pose at the end that touches the part (the grasp end).
     grasp_end: Isometry3<f64>,
-}
-
-/// Rule 4: a tool pose vs the grasp pose it should meet.
-pub(super) fn grasp_error(rule: &mut Rule, dp: f64, da: f64, at: impl Fn() -> String) {
-    let worst = (dp / GRASP_POSITION_TOLERANCE).max(da / GRASP_ANGLE_TOLERANCE);
-    rule.value(worst, 1.0, || {
-        format!("{}: {:.3} mm, {:.4} rad", at(), dp * 1e3, da)
-    });
 }
 
 /// Rule 4: a tool pose vs the straight line ending at `line.grasp_end`.

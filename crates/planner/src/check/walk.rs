@@ -11,8 +11,17 @@ use pregrasp_robot::{GripperState, Joints};
 
 use crate::timeline::substeps;
 
-use super::motions::grasp_error;
-use super::{HeldGrips, Rule, ROUNDING_Q, ROUNDING_T};
+use super::{
+    HeldGrips, Rule, GRASP_ANGLE_TOLERANCE, GRASP_POSITION_TOLERANCE, ROUNDING_Q, ROUNDING_T,
+};
+
+/// Rule 4: a tool pose vs the grasp pose it should meet.
+pub(super) fn grasp_error(rule: &mut Rule, dp: f64, da: f64, at: impl Fn() -> String) {
+    let worst = (dp / GRASP_POSITION_TOLERANCE).max(da / GRASP_ANGLE_TOLERANCE);
+    rule.value(worst, 1.0, || {
+        format!("{}: {:.3} mm, {:.4} rad", at(), dp * 1e3, da)
+    });
+}
 
 /// Pose error: (position error in m, rotation angle in rad).
 pub(super) fn pose_error(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {

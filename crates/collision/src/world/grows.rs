@@ -5,12 +5,9 @@
 use nalgebra::{Point3, Vector3};
 use pregrasp_robot::{Joints, SHAPE_GROUPS};
 
+use super::{CollisionWorld, Id, ObjectPlacement, Sweep, WorldState};
 use crate::arm::{ArmModel, PosedArm};
 use crate::shape::Bounded;
-use crate::validity::attached_reach;
-use crate::world::{CollisionWorld, Id, ObjectPlacement, WorldState};
-
-use super::Sweep;
 
 /// A [`Sweep`] as the pair tests look it up: how much each pair's clearance grows.
 ///
@@ -48,7 +45,7 @@ impl<'w> Grows<'w> {
     /// The growths of `sweep` about `state`, the levers worked out at the posed configuration
     /// for the shape groups in `groups[i]` (bit `g`) of each arm `i` — the others keep their
     /// configuration-free bounds (a query about a few pairs needs few groups).
-    pub(super) fn new(
+    pub(crate) fn new(
         world: &'w CollisionWorld,
         state: &WorldState,
         sweep: &Sweep,
@@ -269,7 +266,24 @@ fn sphere_levers(
 /// The first joint whose motion can move a point of the arm up or down: 1 when the base
 /// joint's axis is the world's vertical (turning about it moves every point horizontally),
 /// else 0.
-pub(super) fn first_tilting_joint(model: &ArmModel) -> usize {
+pub(crate) fn first_tilting_joint(model: &ArmModel) -> usize {
     let upright = (model.base.rotation * nalgebra::Vector3::z()).z >= 1.0 - 1e-12;
     usize::from(upright)
+}
+
+/// Reach of the part attached to `arm` in `state` from its flange origin (m), or 0.
+pub fn attached_reach(world: &CollisionWorld, arm: usize, state: &WorldState) -> f64 {
+    match (state.object, world.object()) {
+        (
+            ObjectPlacement::Attached {
+                arm: a,
+                flange_to_object,
+            },
+            Some(obj),
+        ) if a == arm => {
+            let (c, r) = obj.world_sphere(&flange_to_object);
+            c.coords.norm() + r
+        }
+        _ => 0.0,
+    }
 }
