@@ -13,7 +13,7 @@ use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene as SceneSpec;
 use pregrasp_planner::context::PartKnowledge;
 use pregrasp_planner::pipeline::PlanOptions;
-use pregrasp_planner::settle::{settle, SettleTolerance};
+use pregrasp_planner::settle::{settle, settle_on_hull, SettleTolerance};
 use pyo3::exceptions::PyIndexError;
 use pyo3::prelude::*;
 
@@ -85,12 +85,12 @@ impl Replanner {
         let pose = if as_measured {
             measured
         } else {
-            settle(
-                &self.mesh,
-                &measured,
-                self.spec.support_height,
-                &SettleTolerance::default(),
-            )
+            let tolerance = SettleTolerance::default();
+            let height = self.spec.support_height;
+            match self.known.hull() {
+                Some(hull) => settle_on_hull(hull, &measured, height, &tolerance),
+                None => settle(&self.mesh, &measured, height, &tolerance),
+            }
             .map_err(|e| SceneError::new_err(e.to_string()))?
             .pose
         };

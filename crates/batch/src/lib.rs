@@ -348,7 +348,12 @@ fn plan_scene(
             file.timing_ms
                 .insert("process".into(), started.elapsed().as_secs_f64() * 1e3);
             file.locate_inputs(&plan_path);
-            let page = pregrasp_viewer::render_html(&file, &mesh, &Default::default());
+            let page = pregrasp_viewer::render_html_with_hull(
+                &file,
+                &mesh,
+                report.hull.as_ref(),
+                &Default::default(),
+            );
             let files = [
                 (plan_path.clone(), file.to_json().into_bytes()),
                 (view_path.clone(), page.into_bytes()),

@@ -11,20 +11,23 @@
 //! is slow), the line contact with the support modelled by its two endpoints, both pads
 //! squeezing with the same normal force. See `docs/physics.md`.
 
+mod error;
 mod grip_force;
 pub mod mass;
+pub mod part_mass;
 mod pivot;
 pub mod plan;
+pub mod plan_report;
 mod polish;
 pub mod settings;
 pub mod statics;
 
+pub use error::PhysicsError;
 pub use grip_force::{min_grip_force, min_grip_force_from, WarmStart};
 pub use mass::{MassError, MassProperties};
-pub use plan::{
-    analyse_plan, screen_plan, PartMass, PhysicsError, PlanPhysics, StateReport, StateStatus,
-    Verdict, SUPPORT_CONTACT_TOLERANCE,
-};
+pub use part_mass::PartMass;
+pub use plan::{analyse_one, analyse_plan, screen_one, screen_plan, SUPPORT_CONTACT_TOLERANCE};
+pub use plan_report::{PlanPhysics, StateReport, StateStatus, Verdict};
 pub use settings::{
     PhysicsSettings, SettingsError, DEFAULT_DENSITY, DEFAULT_MU_PAD, DEFAULT_MU_SUPPORT,
     DEFAULT_SAFETY_FACTOR, GRAVITY, GRIP_FORCE_RANGE, PAD_PATCH_TORSION_RADIUS,

@@ -2,248 +2,18 @@
 //! problem ([`crate::statics`]), the worst state, and the grip force to set.
 
 use nalgebra::{Isometry3, Point3, Vector3};
-use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::{PhysicsJson, PlanFile, SegmentJson, SegmentName};
+use pregrasp_io::plan_file::{PlanFile, PlanJson, SegmentJson, SegmentName};
 
+use crate::error::PhysicsError;
 use crate::grip_force::{min_grip_force_from, WarmStart};
-use crate::mass::{MassError, MassProperties};
+use crate::part_mass::PartMass;
+use crate::plan_report::{PlanPhysics, StateReport, StateStatus, Verdict};
 use crate::settings::{PhysicsSettings, GRAVITY, GRIP_FORCE_RANGE};
-use crate::statics::{Equilibrium, Pads, SolverError, StaticOutcome, StaticProblem};
+use crate::statics::{Pads, StaticOutcome, StaticProblem};
 
 /// Support contacts are the rotation axis' endpoints (at each state's pose) that lie at most
 /// this far (m) from the support plane, beyond the plan's `lift` (P_init hovers `lift` above it).
 pub const SUPPORT_CONTACT_TOLERANCE: f64 = 0.001;
-
-/// Errors of the analysis: the plan file lacks what it needs.
-#[derive(Debug, thiserror::Error)]
-pub enum PhysicsError {
-    #[error("plan {index} does not exist (the file has {count} plan(s))")]
-    NoSuchPlan { index: usize, count: usize },
-    #[error("plans[{plan}]: no `rot` segment")]
-    NoRotation { plan: usize },
-    #[error("plans[{plan}].segments[rot].points[{point}]: no object_pose")]
-    NoObjectPose { plan: usize, point: usize },
-    #[error("plans[{plan}].candidate: no candidate with id {id}")]
-    NoCandidate { plan: usize, id: usize },
-    #[error("the part's mass must be in (0, {max}] kg, found {0}", max = pregrasp_io::scene::MAX_MASS)]
-    BadMass(f64),
-    #[error("object mesh: {0}")]
-    Mass(#[from] MassError),
-    #[error("plans[{plan}], state at t = {t:.3} s: {error}")]
-    Solver {
-        plan: usize,
-        t: f64,
-        error: SolverError,
-    },
-}
-
-/// The part's mass and centre of mass.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct PartMass {
-    /// kg.
-    pub mass: f64,
-    /// Where the mass comes from, for reports: `"--mass"`, `"plan object.mass"` or
-    /// `"700 kg/m³ × mesh volume 0.00459 m³"`.
-    pub source: String,
-    /// Volume enclosed by the mesh (m³).
-    pub volume: f64,
-    /// Centre of mass in the object frame (uniform density), m.
-    pub centroid: Point3<f64>,
-    /// The points of the part that can touch a plane (its convex hull's vertices), object frame.
-    #[serde(skip)]
-    pub hull: Vec<Point3<f64>>,
-}
-
-impl PartMass {
-    /// Mass from `given` (e.g. `--mass`, labelled `given_label`), else the plan's `object.mass`,
-    /// else `settings.density` × the mesh's volume; centre of mass from the mesh.
-    pub fn resolve(
-        file: &PlanFile,
-        mesh: &Mesh,
-        given: Option<(f64, &str)>,
-        density: f64,
-    ) -> Result<PartMass, PhysicsError> {
-        PartMass::resolve_with_hull(file, mesh, None, given, density)
-    }
-
-    /// [`PartMass::resolve`] with the vertices of the mesh's convex hull given by a caller
-    /// that has them (the planner computed the hull for Algorithm 1); computed when `None`.
-    pub fn resolve_with_hull(
-        file: &PlanFile,
-        mesh: &Mesh,
-        hull: Option<&[Point3<f64>]>,
-        given: Option<(f64, &str)>,
-        density: f64,
-    ) -> Result<PartMass, PhysicsError> {
-        let props = MassProperties::from_mesh(mesh)?;
-        let (mass, source) = match (given, file.object.mass) {
-            (Some((m, label)), _) => (m, label.to_string()),
-            (None, Some(m)) => (m, "plan object.mass".to_string()),
-            (None, None) => (
-                density * props.volume,
-                format!(
-                    "{density} kg/m³ × mesh volume {:.6} m³ (no mass given)",
-                    props.volume
-                ),
-            ),
-        };
-        if !(mass.is_finite() && mass > 0.0 && mass <= pregrasp_io::scene::MAX_MASS) {
-            return Err(PhysicsError::BadMass(mass));
-        }
-        let hull = match hull {
-            Some(vertices) => vertices.to_vec(),
-            None => pregrasp_geometry::ConvexHull::of_mesh(mesh)
-                .map(|h| h.vertices)
-                .unwrap_or_else(|_| mesh.vertices.clone()),
-        };
-        Ok(PartMass {
-            mass,
-            source,
-            volume: props.volume,
-            centroid: props.centroid,
-            hull,
-        })
-    }
-}
-
-/// How one state ends.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum StateStatus {
-    Held,
-    /// Only with more support friction: the part slides on the support.
-    Slides,
-    /// Not with any grip force.
-    CannotHold,
-}
-
-/// One checked state of `rot`.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct StateReport {
-    /// Index of the `rot` point, or `None` for a state interpolated between two points.
-    pub point: Option<usize>,
-    /// Time since `rot` began (s).
-    pub t: f64,
-    /// Rotation of the part from P_init (degrees).
-    pub theta_deg: f64,
-    /// How many axis endpoints touch the support (0, 1 or 2).
-    pub support_contacts: usize,
-    pub status: StateStatus,
-    /// N_min (N) when held.
-    pub n_min: Option<f64>,
-    /// Σ normal force at the support (N).
-    pub support_normal: Option<f64>,
-    /// |Σ tangential force| at the support (N).
-    pub support_tangential: Option<f64>,
-    /// Largest |t|/(μ n) at the support contacts.
-    pub support_friction_use: Option<f64>,
-    /// Largest |t|/(μ N) at the pads when they squeeze with the recommended force (with the
-    /// largest safe force, 235 N, when the part cannot be held).
-    pub pad_friction_use: Option<f64>,
-    #[serde(skip)]
-    pub equilibrium: Option<Equilibrium>,
-}
-
-/// The verdict on one plan (the plan file's vocabulary).
-pub use pregrasp_io::plan_terms::GripVerdict as Verdict;
-
-/// The check of one plan.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct PlanPhysics {
-    /// Index into the plan file's `plans`.
-    pub plan: usize,
-    pub candidate: usize,
-    pub part: PartMass,
-    pub settings: PhysicsSettings,
-    /// The supportive arm, which holds `G_s` during `rot`.
-    pub robot: String,
-    /// Pad gap used (m): `rot.grip_width`, or 0 when the plan has none.
-    pub grip_width: f64,
-    pub states: Vec<StateReport>,
-    /// Index into `states` of the worst one (not held, else the largest N_min).
-    pub worst: usize,
-    /// Largest N_min (N) over the states, when all are held.
-    pub n_max: Option<f64>,
-    /// `safety_factor × n_max` (N).
-    pub required: Option<f64>,
-    /// The grip force to set: `clamp(required, 20, 235)` N, when it holds.
-    pub recommended: Option<f64>,
-    pub verdict: Verdict,
-    /// Things the verdict alone does not say (axis off the support, ...).
-    pub warnings: Vec<String>,
-    /// The analysis stopped at the first state that cannot be held ([`screen_plan`]): `worst`
-    /// is where the failure begins, and the states after it were not checked.
-    #[serde(skip)]
-    pub stopped_at_failure: bool,
-}
-
-impl PlanPhysics {
-    /// The verdict is not "holds", or a warning was raised.
-    pub fn flagged(&self) -> bool {
-        self.verdict != Verdict::Holds || !self.warnings.is_empty()
-    }
-
-    /// The plan file's `physics` object of this plan: the worst state's numbers and the
-    /// largest friction use over all states.
-    pub fn to_json(&self) -> PhysicsJson {
-        let max =
-            |f: fn(&StateReport) -> Option<f64>| self.states.iter().filter_map(f).reduce(f64::max);
-        let worst = self.states.get(self.worst);
-        PhysicsJson {
-            verdict: self.verdict,
-            mass: self.part.mass,
-            mass_source: self.part.source.clone(),
-            mu_pad: self.settings.mu_pad,
-            mu_support: self.settings.mu_support,
-            safety_factor: self.settings.safety_factor,
-            grip_force_min: self.n_max,
-            grip_force_required: self.required,
-            grip_force_recommended: self.recommended,
-            pad_friction_use: max(|s| s.pad_friction_use),
-            support_friction_use: max(|s| s.support_friction_use),
-            support_normal_max: max(|s| s.support_normal),
-            worst_t: worst.map_or(0.0, |s| s.t),
-            worst_theta_deg: worst.map_or(0.0, |s| s.theta_deg),
-            states: self.states.len(),
-            warnings: self.warnings.clone(),
-        }
-    }
-
-    /// Why the planner drops this plan's candidate (`[physics] reject`), or `None` if it holds.
-    pub fn rejection(&self) -> Option<String> {
-        let worst = self.states.get(self.worst)?;
-        let at = format!(
-            "{} θ = {:.1}° (t = {:.2} s)",
-            if self.stopped_at_failure {
-                "from"
-            } else {
-                "at"
-            },
-            worst.theta_deg,
-            worst.t
-        );
-        match self.verdict {
-            Verdict::Holds => None,
-            Verdict::SlidesAtSupport => Some(match self.warnings.first() {
-                Some(w) if w.contains("slides") => format!("physics: slides at the support: {w}"),
-                _ => format!(
-                    "physics: slides at the support {at} (μ_support = {})",
-                    self.settings.mu_support
-                ),
-            }),
-            Verdict::CannotHold => Some(match self.required {
-                Some(r) => format!(
-                    "physics: cannot hold: the pinch needs {r:.0} N (safety factor {} × {:.0} N {at}), \
-                     more than the gripper's {:.0} N",
-                    self.settings.safety_factor,
-                    self.n_max.unwrap_or(0.0),
-                    GRIP_FORCE_RANGE.1
-                ),
-                None => format!("physics: cannot hold the part with any grip force {at}"),
-            }),
-        }
-    }
-}
 
 /// How far (m) a point of the part that rests on the support slides along it while it stays
 /// there during `rot`, if more than [`SLIDE_TOLERANCE`]: kinematics alone, whatever the forces.
@@ -355,6 +125,41 @@ fn analyse(
         index: plan_index,
         count: file.plans.len(),
     })?;
+    run(file, plan, plan_index, part, settings, stop_at_failure)
+}
+
+/// [`screen_plan`] of `plan` as the plan numbered `plan_index` of a file with header `file`
+/// (whose own `plans` are not read): the planner asks about one rotation at a time without
+/// building a file around it.
+pub fn screen_one(
+    file: &PlanFile,
+    plan: &PlanJson,
+    plan_index: usize,
+    part: &PartMass,
+    settings: &PhysicsSettings,
+) -> Result<PlanPhysics, PhysicsError> {
+    run(file, plan, plan_index, part, settings, true)
+}
+
+/// [`analyse_plan`] of `plan`, as [`screen_one`] reads it.
+pub fn analyse_one(
+    file: &PlanFile,
+    plan: &PlanJson,
+    plan_index: usize,
+    part: &PartMass,
+    settings: &PhysicsSettings,
+) -> Result<PlanPhysics, PhysicsError> {
+    run(file, plan, plan_index, part, settings, false)
+}
+
+fn run(
+    file: &PlanFile,
+    plan: &PlanJson,
+    plan_index: usize,
+    part: &PartMass,
+    settings: &PhysicsSettings,
+    stop_at_failure: bool,
+) -> Result<PlanPhysics, PhysicsError> {
     let rot = plan
         .segments
         .iter()

@@ -103,8 +103,21 @@ pub fn rotation_axis_candidates(
     support_height: f64,
     params: &PlannerParams,
 ) -> AxesResult {
+    rotation_axis_candidates_with_hull(mesh, None, object_pose, support_height, params)
+}
+
+/// [`rotation_axis_candidates`] with the hull of `mesh` given when the caller has it
+/// (object frame; [`PartKnowledge::hull`](crate::context::PartKnowledge::hull)): computed
+/// otherwise.
+pub fn rotation_axis_candidates_with_hull(
+    mesh: &Mesh,
+    hull: Option<&ConvexHull>,
+    object_pose: &Isometry3<f64>,
+    support_height: f64,
+    params: &PlannerParams,
+) -> AxesResult {
     let p_init = initial_pose(object_pose, params.lift);
-    let hull = match ConvexHull::of_mesh(mesh) {
+    let hull = match hull.map_or_else(|| ConvexHull::of_mesh(mesh), |h| Ok(h.clone())) {
         Ok(h) => h,
         Err(e) => {
             return AxesResult {

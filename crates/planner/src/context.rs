@@ -9,7 +9,7 @@ use pregrasp_collision::{
     close_on_part, pad_patches, ArmModel, CollisionWorld, Contact, Grip, GripFailure,
     ObjectPlacement, WorldState,
 };
-use pregrasp_geometry::Mesh;
+use pregrasp_geometry::{ConvexHull, Mesh};
 use pregrasp_io::plan_file::PadContactJson;
 use pregrasp_io::scene::Scene;
 use pregrasp_motion::{JointSpace, MotionValidator};
@@ -75,15 +75,19 @@ pub struct PlanningContext<'a> {
 pub const FIXED_START_TOLERANCE: f64 = 1e-6;
 
 /// What a planning context can take from an earlier one of the same part: the part's geometry
-/// (its BVH) and how the grippers close on it at the scene's grasps. Both live in the object
-/// frame, so they hold for any pose of the part: `replan` in a cell, the part measured again
-/// and again, builds them once ([`PlanOptions::known`](crate::pipeline::PlanOptions::known)).
+/// (its BVH and convex hull) and how the grippers close on it at the scene's grasps. All live
+/// in the object frame, so they hold for any pose of the part: `replan` in a cell, the part
+/// measured again and again, builds them once
+/// ([`PlanOptions::known`](crate::pipeline::PlanOptions::known)).
 #[derive(Clone)]
 pub struct PartKnowledge {
     /// The mesh they were built from, by content ([`mesh_fingerprint`]): only that mesh may
     /// use them.
     mesh: u64,
     part: Arc<pregrasp_collision::ObjectGeometry>,
+    /// The mesh's convex hull (object frame), `None` when it has none (Algorithm 1 then finds
+    /// no candidate and says why).
+    hull: Option<Arc<ConvexHull>>,
     support: Isometry3<f64>,
     power: [Isometry3<f64>; 2],
     /// Per arm: precision and power point distance from the flange.
@@ -104,14 +108,16 @@ impl PartKnowledge {
     /// The part's geometry and closings for `scene` on `mesh` (as a planning context builds
     /// them).
     pub fn new(scene: &Scene, mesh: &Mesh) -> PartKnowledge {
-        PartKnowledge::of(&PlanningContext::new(scene, mesh))
+        let hull = ConvexHull::of_mesh(mesh).ok().map(Arc::new);
+        PartKnowledge::of(&PlanningContext::new(scene, mesh), hull)
     }
 
-    /// What `ctx` built.
-    pub fn of(ctx: &PlanningContext) -> PartKnowledge {
+    /// What `ctx` built, and `hull`, the convex hull of its mesh.
+    fn of(ctx: &PlanningContext, hull: Option<Arc<ConvexHull>>) -> PartKnowledge {
         PartKnowledge {
             mesh: mesh_fingerprint(ctx.mesh),
             part: ctx.world.part().expect("a planning world has the part"),
+            hull,
             support: ctx.scene.grasps.support,
             power: ctx.scene.grasps.power,
             points: tool_points(ctx.scene),
@@ -124,7 +130,17 @@ impl PartKnowledge {
         self.support == scene.grasps.support
             && self.power == scene.grasps.power
             && self.points == tool_points(scene)
-            && self.mesh == mesh_fingerprint(mesh)
+            && self.fits_mesh(mesh)
+    }
+
+    /// Whether it was built for this mesh (its hull is then the mesh's, whatever the grasps).
+    pub fn fits_mesh(&self, mesh: &Mesh) -> bool {
+        self.mesh == mesh_fingerprint(mesh)
+    }
+
+    /// The convex hull of the mesh it was built for (object frame), if the mesh has one.
+    pub fn hull(&self) -> Option<&Arc<ConvexHull>> {
+        self.hull.as_ref()
     }
 }
 

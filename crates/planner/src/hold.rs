@@ -11,9 +11,9 @@
 //! report says so, rather than being judged on made-up numbers.
 
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::{PhysicsJson, PlanFile};
+use pregrasp_io::plan_file::{PhysicsJson, PlanFile, PlanJson};
 use pregrasp_io::scene::Scene;
-use pregrasp_physics::{analyse_plan, screen_plan, PartMass, PhysicsSettings};
+use pregrasp_physics::{analyse_one, screen_one, PartMass, PhysicsSettings};
 
 /// The settings and the part's mass properties, computed once per scene.
 pub struct HoldCheck {
@@ -54,17 +54,14 @@ impl HoldCheck {
         self.part.as_ref().err().map(String::as_str)
     }
 
-    /// Checks the only plan of `single`. `None` when the part's mass is unknown, or when the
-    /// analysis cannot run on the plan (which the plan checker would have refused).
-    pub fn check(&self, single: &PlanFile) -> Option<HoldResult> {
+    /// Checks `plan` as a plan of a file with header `header`. `None` when the part's mass is
+    /// unknown, or when the analysis cannot run on the plan (which the plan checker would have
+    /// refused).
+    pub fn check(&self, header: &PlanFile, plan: &PlanJson) -> Option<HoldResult> {
         let part = self.part.as_ref().ok()?;
         // A rotation that will be refused needs no more than its first failing state.
-        let analyse = if self.reject {
-            screen_plan
-        } else {
-            analyse_plan
-        };
-        let report = analyse(single, 0, part, &self.settings).ok()?;
+        let analyse = if self.reject { screen_one } else { analyse_one };
+        let report = analyse(header, plan, 0, part, &self.settings).ok()?;
         Some(HoldResult {
             json: report.to_json(),
             rejection: if self.reject {

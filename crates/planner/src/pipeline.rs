@@ -6,15 +6,15 @@
 
 use std::time::Instant;
 
-use pregrasp_geometry::Mesh;
+use pregrasp_geometry::{ConvexHull, Mesh};
 use pregrasp_io::plan_file::{Outcome, PlanFile, PlanJson, PlanStatus};
 use pregrasp_io::scene::Scene;
 use rayon::prelude::*;
 
-use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
+use crate::axes::{rotation_axis_candidates_with_hull, AxesResult, RotationAxisCandidate};
 use crate::check::PlanChecker;
 use crate::clock::Stage;
-use crate::context::PlanningContext;
+use crate::context::{PartKnowledge, PlanningContext};
 use crate::hold::{HoldCheck, HoldResult};
 use crate::output::{plan_file_header, plan_json, rot_only_plan_json};
 use crate::paths::{integrated_path, IntegratedPath, NoPath};
@@ -123,6 +123,9 @@ pub struct PlanReport {
     pub physics_note: Option<String>,
     pub candidates: Vec<RotationAxisCandidate>,
     pub outcomes: Vec<CandidateOutcome>,
+    /// Algorithm 1's convex hull of the part (object frame), for a viewer of the plan; `None`
+    /// when the mesh has none.
+    pub hull: Option<ConvexHull>,
 }
 
 /// Runs the pipeline on a loaded scene and mesh. `on_candidates` is told how many candidates
@@ -139,12 +142,7 @@ pub fn plan(
     progress: &(dyn Fn() + Sync),
 ) -> PlanReport {
     let t0 = Instant::now();
-    let axes = rotation_axis_candidates(
-        mesh,
-        &scene.object.pose,
-        scene.support_height,
-        &scene.planner,
-    );
+    let axes = axes_of(scene, mesh, options.known.as_deref());
     let t_axes = t0.elapsed();
 
     let t_ctx = Instant::now();
@@ -199,15 +197,11 @@ pub fn plan(
         // The grip check reads μ_rot alone: Algorithm 3 asks it once a candidate's straight
         // lines hold, and a rotation the pinch cannot hold gets no transits.
         let hold = |rot: &RotationPath| {
-            let mut single = header.clone();
-            single.plans = vec![rot_only_plan_json(
-                &ctx,
-                candidate.id,
-                candidate.score,
-                &pose,
-                rot,
-            )];
-            match ctx.clock.time(Stage::Hold, || hold_check.check(&single)) {
+            let plan = rot_only_plan_json(&ctx, candidate.id, candidate.score, &pose, rot);
+            match ctx
+                .clock
+                .time(Stage::Hold, || hold_check.check(&header, &plan))
+            {
                 Some(HoldResult {
                     rejection: Some(reason),
                     ..
@@ -217,13 +211,13 @@ pub fn plan(
         };
         let outcome = match integrated_path(&ctx, candidate, &pose, hold) {
             Ok((path, physics)) => {
-                let mut single = header.clone();
-                single.plans = vec![plan_json(&ctx, candidate.id, candidate.score, &pose, &path)];
+                let mut plan = plan_json(&ctx, candidate.id, candidate.score, &pose, &path);
                 let (check, closest_grasp_to_support) = match &checker {
-                    Ok(checker) => ctx.clock.time(Stage::Recheck, || verify(checker, &single)),
+                    Ok(checker) => ctx
+                        .clock
+                        .time(Stage::Recheck, || verify(checker, &header, &plan)),
                     Err(e) => (Some(format!("rule 0 ({e})")), None),
                 };
-                let mut plan = single.plans.swap_remove(0);
                 plan.physics = physics;
                 CandidateOutcome::Planned {
                     pose,
@@ -361,7 +355,20 @@ pub fn plan(
         physics_note: hold_check.unavailable().map(str::to_string),
         candidates,
         outcomes,
+        hull: (!axes.hull.vertices.is_empty()).then_some(axes.hull),
     }
+}
+
+/// Algorithm 1 for `scene` on `mesh`, on the hull `known` has of this mesh when it has one.
+pub(crate) fn axes_of(scene: &Scene, mesh: &Mesh, known: Option<&PartKnowledge>) -> AxesResult {
+    let hull = known.filter(|k| k.fits_mesh(mesh)).and_then(|k| k.hull());
+    rotation_axis_candidates_with_hull(
+        mesh,
+        hull.map(|h| &**h),
+        &scene.object.pose,
+        scene.support_height,
+        &scene.planner,
+    )
 }
 
 /// Whether `max_plans` plans are kept among the evaluated `outcomes` (ranked as the plan file
@@ -416,12 +423,14 @@ fn required_force(outcome: &CandidateOutcome) -> f64 {
     }
 }
 
-/// Checks the one plan of `single` (with the candidates known so far); the first failed rule,
-/// if any.
-/// The first rule `single`'s plan fails, if any, and how close a grasping gripper comes to the
-/// support along it (from the same check).
-fn verify(checker: &PlanChecker, single: &PlanFile) -> (Option<String>, Option<f64>) {
-    let report = checker.check(single);
+/// The first rule `plan` (checked as a plan of `header`) fails, if any, and how close a
+/// grasping gripper comes to the support along it (from the same check).
+fn verify(
+    checker: &PlanChecker,
+    header: &PlanFile,
+    plan: &PlanJson,
+) -> (Option<String>, Option<f64>) {
+    let report = checker.check_plans(header, std::slice::from_ref(plan));
     let failed = report
         .rules
         .into_iter()

@@ -19,10 +19,10 @@ use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{CandidateJson, PlanFile, PlanStatus, RotationDirection, SegmentName};
 use pregrasp_io::scene::Scene;
 
-use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
+use crate::axes::RotationAxisCandidate;
 use crate::check::check_plan;
-use crate::context::arm_models;
-use crate::pipeline::{plan, PlanOptions, PlanReport};
+use crate::context::{arm_models, PartKnowledge};
+use crate::pipeline::{axes_of, plan, PlanOptions, PlanReport};
 
 /// Two axis endpoints, in the object frame, closer than this (m) are the same hull vertex.
 pub const SAME_VERTEX: f64 = 0.002;
@@ -101,15 +101,11 @@ fn candidate_at(
     mesh: &Mesh,
     nominal: &PlanFile,
     plan_index: usize,
+    known: Option<&PartKnowledge>,
 ) -> Option<usize> {
     let plan = nominal.plans.get(plan_index)?;
     let candidate = nominal.candidates.iter().find(|c| c.id == plan.candidate)?;
-    let axes = rotation_axis_candidates(
-        mesh,
-        &moved.object.pose,
-        moved.support_height,
-        &moved.planner,
-    );
+    let axes = axes_of(moved, mesh, known);
     matching_candidate(
         candidate,
         &nominal.object.initial_pose.to_isometry(),
@@ -130,7 +126,7 @@ pub fn replan(
 ) -> Replanned {
     let mut moved = scene.clone();
     moved.object.pose = object_pose;
-    let matched = candidate_at(&moved, mesh, nominal, plan_index);
+    let matched = candidate_at(&moved, mesh, nominal, plan_index, options.known.as_deref());
     let full = |route| -> Replanned {
         let report = plan(&moved, mesh, options, &|_| {}, &|| {});
         Replanned { report, route }
@@ -225,7 +221,7 @@ pub fn replan_from_rot(
         moved.grasps.support = held;
     }
 
-    let matched = candidate_at(&moved, mesh, nominal, plan_index);
+    let matched = candidate_at(&moved, mesh, nominal, plan_index, None);
     let options = PlanOptions {
         max_plans: 1,
         only: Some(matched.into_iter().collect()),

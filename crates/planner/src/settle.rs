@@ -72,6 +72,17 @@ pub fn settle(
     tolerance: &SettleTolerance,
 ) -> Result<Settled, SettleError> {
     let hull = ConvexHull::of_mesh(mesh)?;
+    settle_on_hull(&hull, measured, support_height, tolerance)
+}
+
+/// [`settle`] on the part's convex hull (object frame) when the caller has it
+/// ([`PartKnowledge::hull`](crate::context::PartKnowledge::hull)).
+pub fn settle_on_hull(
+    hull: &ConvexHull,
+    measured: &Isometry3<f64>,
+    support_height: f64,
+    tolerance: &SettleTolerance,
+) -> Result<Settled, SettleError> {
     let down = -Vector3::z();
     let down_in_object = measured.rotation.inverse() * down;
     let face = hull

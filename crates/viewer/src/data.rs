@@ -149,9 +149,15 @@ impl From<&LinkShape> for ShapeJson {
 }
 
 impl<'a> ViewData<'a> {
-    /// Collects everything the page draws. The hull is recomputed from `mesh` (object frame);
-    /// a degenerate mesh simply has no feature edges.
-    pub fn new(plan: &'a PlanFile, mesh: &Mesh, options: &ViewOptions) -> ViewData<'a> {
+    /// Collects everything the page draws. The hull is `hull` when the caller has it (the
+    /// planner's, in the object frame), else recomputed from `mesh`; a degenerate mesh simply
+    /// has no feature edges.
+    pub fn new(
+        plan: &'a PlanFile,
+        mesh: &Mesh,
+        hull: Option<&ConvexHull>,
+        options: &ViewOptions,
+    ) -> ViewData<'a> {
         ViewData {
             format: VIEW_FORMAT,
             title: page_title(plan, options),
@@ -163,7 +169,10 @@ impl<'a> ViewData<'a> {
             },
             plan,
             mesh: mesh_json(mesh),
-            hull_edges: hull_edges(mesh),
+            hull_edges: match hull {
+                Some(hull) => feature_edges(hull),
+                None => hull_edges(mesh),
+            },
             robots: plan.robots.iter().map(|r| robot_model(r, plan)).collect(),
         }
     }
@@ -191,9 +200,14 @@ fn mesh_json(mesh: &Mesh) -> MeshJson {
 
 /// The hull's feature edges (merged coplanar faces, so no flat-face diagonals).
 pub fn hull_edges(mesh: &Mesh) -> Vec<[f32; 6]> {
-    let Ok(hull) = ConvexHull::of_mesh(mesh) else {
-        return Vec::new();
-    };
+    match ConvexHull::of_mesh(mesh) {
+        Ok(hull) => feature_edges(&hull),
+        Err(_) => Vec::new(),
+    }
+}
+
+/// `hull`'s feature edges as `[ax, ay, az, bx, by, bz]`.
+fn feature_edges(hull: &ConvexHull) -> Vec<[f32; 6]> {
     hull.feature_edges
         .iter()
         .map(|&[i, j]| {

@@ -17,5 +17,7 @@ pub mod html;
 pub mod options;
 
 pub use data::THREE_VERSION;
-pub use html::{escape_json_for_script, render_html, CONTENT_SECURITY_POLICY};
+pub use html::{
+    escape_json_for_script, render_html, render_html_with_hull, CONTENT_SECURITY_POLICY,
+};
 pub use options::ViewOptions;

@@ -117,7 +117,12 @@ pub fn plan_scene_file(
     file.locate_inputs(output);
     outputs.write(plan_out, file.to_json().as_bytes())?;
     if let Some(id) = html_out {
-        let page = pregrasp_viewer::render_html(&file, &loaded.mesh, &Default::default());
+        let page = pregrasp_viewer::render_html_with_hull(
+            &file,
+            &loaded.mesh,
+            report.hull.as_ref(),
+            &Default::default(),
+        );
         outputs.write(id, page.as_bytes())?;
     }
     outputs.commit()?;

@@ -5,6 +5,7 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::Context;
@@ -13,9 +14,10 @@ use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::output::Outputs;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
+use pregrasp_planner::context::PartKnowledge;
 use pregrasp_planner::pipeline::PlanOptions;
 use pregrasp_planner::replan::{replan, replan_from_rot};
-use pregrasp_planner::settle::{settle, SettleTolerance};
+use pregrasp_planner::settle::{settle, settle_on_hull, SettleTolerance};
 
 use super::{EXIT_NO_PLAN, EXIT_OK};
 
@@ -122,15 +124,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mesh = load_mesh(&scene.object.mesh_path, scene.object.scale)
         .with_context(|| format!("{}: object.mesh", scene_path.display()))?
         .mesh;
+    // The part's BVH, hull and closings, built once for settling and every plan below.
+    let known = Arc::new(PartKnowledge::new(&scene, &mesh));
     let pose = if args.as_measured {
         pose
     } else {
-        let settled = settle(
-            &mesh,
-            &pose,
-            scene.support_height,
-            &SettleTolerance::default(),
-        )
+        let tolerance = SettleTolerance::default();
+        let settled = match known.hull() {
+            Some(hull) => settle_on_hull(hull, &pose, scene.support_height, &tolerance),
+            None => settle(&mesh, &pose, scene.support_height, &tolerance),
+        }
         .context("--object-pose")?;
         println!(
             "measured pose brought onto the support: moved {:.2} mm, turned {:.2}°",
@@ -151,7 +154,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 &nominal,
                 args.plan_index,
                 pose,
-                &PlanOptions::default(),
+                &PlanOptions {
+                    known: Some(known),
+                    ..PlanOptions::default()
+                },
             ),
             From::Rot => replan_from_rot(&scene, &mesh, &nominal, args.plan_index, pose)?,
         })

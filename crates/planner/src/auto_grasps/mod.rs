@@ -280,6 +280,7 @@ pub fn plan_auto(
             physics_note: None,
             candidates: axes.candidates,
             outcomes: Vec::new(),
+            hull: (!axes.hull.vertices.is_empty()).then_some(axes.hull),
         };
     }
     // Batches of SETS_PLANNED sets, in rank order, until a batch has a plan.

@@ -16,7 +16,7 @@ use std::sync::Arc;
 use nalgebra::Point3;
 use pregrasp_collision::{ArmModel, CollisionWorld, Grip, GripFailure, ObjectGeometry};
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::{PlanFile, PlanStatus, PoseJson};
+use pregrasp_io::plan_file::{PlanFile, PlanJson, PlanStatus, PoseJson};
 use pregrasp_io::scene::{DEFAULT_FINGER_SUPPORT_CLEARANCE, DEFAULT_LINK_CLEARANCE};
 use pregrasp_robot::Gripper2F85;
 
@@ -238,6 +238,12 @@ impl PlanChecker {
 
     /// Checks every plan in `file` (whose header must be the one the checker was built for).
     pub fn check(&self, file: &PlanFile) -> CheckReport {
+        self.check_plans(file, &file.plans)
+    }
+
+    /// Checks `plans` as the plans of a file with header `file` (its own `plans` are not
+    /// read): the planner asks about one plan at a time without building a file around it.
+    pub fn check_plans(&self, file: &PlanFile, plans: &[PlanJson]) -> CheckReport {
         let mut structure = Rule::new();
         let mut limits = Rule::new();
         let mut collisions = Rule::new();
@@ -245,13 +251,13 @@ impl PlanChecker {
         let mut rotation = Rule::new();
         let mut grasps = Rule::new();
         let planned = file.status == PlanStatus::Planned;
-        if planned && file.plans.is_empty() {
+        if planned && plans.is_empty() {
             structure.fail(format!(
                 "status is \"{}\" but there is no plan",
                 file.status
             ));
         }
-        if !planned && !file.plans.is_empty() {
+        if !planned && !plans.is_empty() {
             structure.fail(format!(
                 "status is \"{}\" but plans are present",
                 file.status
@@ -267,7 +273,7 @@ impl PlanChecker {
             }
         };
         let mut finger_support = f64::INFINITY;
-        for (index, plan) in file.plans.iter().enumerate() {
+        for (index, plan) in plans.iter().enumerate() {
             let mut cx = PlanCheck {
                 file,
                 plan,
@@ -302,7 +308,7 @@ impl PlanChecker {
                         rule: 0,
                         title: STRUCTURE,
                         ok: Some(true),
-                        detail: format!("{} plan(s): {STRUCTURE_OK}", file.plans.len()),
+                        detail: format!("{} plan(s): {STRUCTURE_OK}", plans.len()),
                     },
                 },
                 limits.result(1, "joint limits and joint speeds", |x| {
