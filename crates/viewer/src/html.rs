@@ -1,10 +1,10 @@
 //! Assembling the single HTML page: template + style + embedded JSON + viewer script.
 //!
 //! The page is one file that needs no network: the viewer draws with its own WebGL code
-//! (`web/viewer.js`), and its Content-Security-Policy ([`CONTENT_SECURITY_POLICY`]) lets the
+//! (`web/*.js`), and its Content-Security-Policy ([`CONTENT_SECURITY_POLICY`]) lets the
 //! browser load nothing from anywhere, so a page that tried would fail loudly, not quietly.
 
-use pregrasp_geometry::Mesh;
+use pregrasp_geometry::{ConvexHull, Mesh};
 use pregrasp_io::plan_file::PlanFile;
 
 use crate::data::ViewData;
@@ -17,14 +17,35 @@ pub const CONTENT_SECURITY_POLICY: &str = "default-src 'none'; script-src 'unsaf
 
 const TEMPLATE: &str = include_str!("web/template.html");
 const STYLE: &str = include_str!("web/viewer.css");
-const SCRIPT: &str = include_str!("web/viewer.js");
+/// The viewer's script: its four files joined in order (each one's top-level names are seen by
+/// the ones after it).
+const SCRIPT: &str = concat!(
+    include_str!("web/math.js"),
+    "\n",
+    include_str!("web/renderer.js"),
+    "\n",
+    include_str!("web/timeline.js"),
+    "\n",
+    include_str!("web/viewer.js"),
+);
 
 /// One self-contained HTML page showing `plan` with the part `mesh` (object frame, metres).
 ///
 /// Every robot of a plan file has a known model (the file's reader refuses others); the data's
 /// `known` flag stays for robots the page cannot draw.
 pub fn render_html(plan: &PlanFile, mesh: &Mesh, options: &ViewOptions) -> String {
-    let data = ViewData::new(plan, mesh, options);
+    render_html_with_hull(plan, mesh, None, options)
+}
+
+/// [`render_html`] with the part's convex hull given (object frame) when the caller has it —
+/// the planner's, so that planning and drawing one plan compute one hull.
+pub fn render_html_with_hull(
+    plan: &PlanFile,
+    mesh: &Mesh,
+    hull: Option<&ConvexHull>,
+    options: &ViewOptions,
+) -> String {
+    let data = ViewData::new(plan, mesh, hull, options);
     let json = serde_json::to_string(&data).expect("view data serialises");
     fill_template(TEMPLATE, |key| match key {
         "TITLE" => Some(escape_html(&data.title)),
