@@ -1,11 +1,8 @@
-//! Collision and reach benchmarks.
+//! Collision benchmarks (the reach planner's are in `pregrasp-reach`).
 //!
 //! - `check_arm/*`: one arm-vs-world check (UR5e + 2F-85 vs the support, a 10k-triangle
 //!   part on it and the other arm), over seeded random configurations, and at a stand-off
 //!   just above the part (the BVH is descended).
-//! - `reach_query`: RRT-Connect + simplification from a start configuration to a stand-off
-//!   above a part on a table (table cuboid and part mesh as obstacles).
-//! - `reach_problem_set`: the queries of `data/reach-ur5-table-boxes.json`, one per iteration.
 //! - `edge/boxes`, `edge/state_by_state`: one long free edge of the arm over the part (the pan
 //!   turned by 1.5 rad, checked every 5 mm of arm travel), accepted by joint boxes
 //!   (`ArmValidity`, `pregrasp_collision::sweep`) or checked one state after another.
@@ -18,12 +15,10 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::hint::black_box;
-use std::path::PathBuf;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
-use pregrasp_collision::fixtures::plate_10k;
-use pregrasp_collision::reach::{ReachPlanner, ReachProblemSet, ReachQuery, ReachSettings};
+use pregrasp_collision::fixtures::{plate_10k, stand_off, UP};
 use pregrasp_collision::{
     joint_space, ArmModel, ArmValidity, CollisionWorld, ObjectPlacement, WorldState,
 };
@@ -32,23 +27,9 @@ use pregrasp_robot::{Gripper2F85, Joints, UrModel};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-const UP: Joints = [0.0, -FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, -FRAC_PI_2, 0.0];
 /// Pose of the 10k-triangle plate: on the table, in front of arm 0 (+x).
 fn plate_pose() -> Isometry3<f64> {
     Isometry3::translation(0.5, 0.0, 0.0)
-}
-
-/// Flange pose (arm base frame) with the tool pointing down, precision point `height` above
-/// the plate top at `(x, y)`, turned by `yaw` about the vertical.
-fn stand_off(x: f64, y: f64, height: f64, yaw: f64) -> Isometry3<f64> {
-    let top = 0.02;
-    let g = Gripper2F85::default();
-    let rot = UnitQuaternion::from_euler_angles(0.0, 0.0, yaw)
-        * UnitQuaternion::from_euler_angles(PI, 0.0, 0.0);
-    Isometry3::from_parts(
-        Translation3::new(x, y, top + height + g.precision_point_z),
-        rot,
-    )
 }
 
 fn check_arm(c: &mut Criterion) {
@@ -113,74 +94,6 @@ fn check_arm(c: &mut Criterion) {
     });
 }
 
-fn reach_query(c: &mut Criterion) {
-    let set = ReachProblemSet {
-        model: UrModel::Ur5e,
-        obstacles: vec![pregrasp_collision::reach::table_boxes_obstacles()[0].clone()],
-        queries: Vec::new(),
-    };
-    let plate = plate_10k();
-    let arm = set.arm();
-    let world = CollisionWorld::single_arm(None, Some(&plate), arm)
-        .unwrap()
-        .with_obstacle_cuboid(
-            "table",
-            set.obstacles[0].pose(),
-            set.obstacles[0].half_extents,
-        );
-    let planner = ReachPlanner::for_world(world, ReachSettings::default());
-    let mut base = WorldState::new([UP, UP]);
-    base.object = ObjectPlacement::Fixed(Isometry3::translation(0.5, 0.0, -0.005));
-    let kin = planner.world.arms()[0].kin;
-    let validity = ArmValidity::new(&planner.world, 0, base);
-    let mut queries = Vec::new();
-    for (i, pan) in [FRAC_PI_2, -FRAC_PI_2, 0.0, PI * 0.75].iter().enumerate() {
-        let start = [*pan, UP[1], UP[2], UP[3], UP[4], UP[5]];
-        for (j, (x, y)) in [(0.4, -0.1), (0.6, 0.12)].iter().enumerate() {
-            let goal_pose = stand_off(*x, *y, 0.05, 0.4 * (i + j) as f64);
-            // The IK solution nearest to the start that is collision-free at the stand-off.
-            let goal = kin
-                .ik(&goal_pose, &start)
-                .into_iter()
-                .find(|q| validity.is_valid(q))
-                .expect("stand-off reachable");
-            queries.push(ReachQuery { start, goal });
-        }
-    }
-    for (k, q) in queries.iter().enumerate() {
-        let r = planner.plan_in(base, q, k as u64);
-        eprintln!(
-            "reach_query {k}: {:?}, {:.3} ms, {} iterations, {} states checked, {} waypoints",
-            r.status,
-            r.stats.time.as_secs_f64() * 1e3,
-            r.stats.iterations,
-            r.stats.states_checked,
-            r.path.len()
-        );
-    }
-    let mut k = 0;
-    c.bench_function("reach_query", |b| {
-        b.iter(|| {
-            k = (k + 1) % queries.len();
-            black_box(planner.plan_in(base, &queries[k], k as u64))
-        })
-    });
-}
-
-fn reach_problem_set(c: &mut Criterion) {
-    let path =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/reach-ur5-table-boxes.json");
-    let set = ReachProblemSet::load(&path).expect("shipped problem set");
-    let planner = ReachPlanner::new(&set, ReachSettings::default());
-    let mut k = 0;
-    c.bench_function("reach_problem_set", |b| {
-        b.iter(|| {
-            k = (k + 1) % set.queries.len();
-            black_box(planner.plan(&set.queries[k], k as u64))
-        })
-    });
-}
-
 fn edge(c: &mut Criterion) {
     let plate = plate_10k();
     let arm = ArmModel::new(
@@ -237,12 +150,5 @@ fn closing(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(
-    benches,
-    check_arm,
-    reach_query,
-    reach_problem_set,
-    edge,
-    closing
-);
+criterion_group!(benches, check_arm, edge, closing);
 criterion_main!(benches);

@@ -1,9 +1,29 @@
-//! Small mesh builders for tests, benchmarks and the reach-problem generator.
+//! Small mesh builders and poses for tests, benchmarks and the reach-problem generator.
 //!
 //! All meshes are closed, triangles counter-clockwise seen from outside, metres.
 
-use nalgebra::{Point3, Vector3};
+use std::f64::consts::{FRAC_PI_2, PI};
+
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use pregrasp_geometry::Mesh;
+use pregrasp_robot::{Gripper2F85, Joints};
+
+/// A UR arm upright: shoulder lifted, elbow bent, the wrist's tool pointing down.
+pub const UP: Joints = [0.0, -FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, -FRAC_PI_2, 0.0];
+
+/// Flange pose (arm base frame) with the tool pointing down, the 2F-85's precision point
+/// `height` above the top (z = 0.02) of [`plate_10k`] at `(x, y)`, turned by `yaw` about the
+/// vertical.
+pub fn stand_off(x: f64, y: f64, height: f64, yaw: f64) -> Isometry3<f64> {
+    let top = 0.02;
+    let g = Gripper2F85::default();
+    let rot = UnitQuaternion::from_euler_angles(0.0, 0.0, yaw)
+        * UnitQuaternion::from_euler_angles(PI, 0.0, 0.0);
+    Isometry3::from_parts(
+        Translation3::new(x, y, top + height + g.precision_point_z),
+        rot,
+    )
+}
 
 /// An axis-aligned box `center ± half` subdivided into `n × n` quads per face
 /// (`12 n²` triangles; `n = 1` is the plain 12-triangle box).

@@ -1,6 +1,6 @@
 //! Collision world of pregrasp: the support, the part's real mesh, static cuboids and two UR
 //! arms with Robotiq 2F-85 grippers, plus the glue that lets `pregrasp_motion` plan one arm
-//! in it and a rerunnable reach benchmark.
+//! in it (the reach benchmark over it is the crate `pregrasp-reach`).
 //!
 //! - [`distance`]: closed-form segment/triangle/box distances (the narrow phase).
 //! - [`gjk`]: GJK as a yes/no question (within a distance?), stopping once it knows.
@@ -17,7 +17,6 @@
 //!   and [`CollisionWorld::first_contact_in`], a motion's states checked by ranges.
 //! - [`validity`]: [`ArmValidity`] (a `StateValidator<6>`) and [`joint_space`] (limits and
 //!   sweep-radius weights; the resolution bound is stated there).
-//! - [`reach`]: the `pregrasp bench reach` problem format, runner and generator.
 //! - [`fixtures`]: meshes for tests and benchmarks (boxes, a frame, a tessellated plate).
 //!
 //! Frames: world `z` up, metres; each arm's base pose maps its controller base frame into
@@ -31,7 +30,6 @@ pub mod fixtures;
 pub mod gjk;
 pub mod grip;
 pub mod object;
-pub mod reach;
 pub mod shape;
 pub mod sweep;
 pub mod tight;

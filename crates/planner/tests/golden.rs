@@ -6,10 +6,10 @@
 
 use std::path::{Path, PathBuf};
 
-use pregrasp_collision::reach::{run_reach, ReachProblemSet, ReachSettings};
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::pipeline::PlanOptions;
+use pregrasp_reach::{run_reach, ReachProblemSet, ReachSettings};
 
 fn golden(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

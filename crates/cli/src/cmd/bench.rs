@@ -1,7 +1,7 @@
 //! `pregrasp bench`: benchmarks anyone can rerun.
 //!
 //! `pregrasp bench reach PROBLEMS.json [--json]` plans every start/goal query of a reach
-//! problem set (one arm among cuboids, see `pregrasp_collision::reach::problem`) with
+//! problem set (one arm among cuboids, see `pregrasp_reach::problem`) with
 //! RRT-Connect and simplification, and prints the success rate and the median / p95
 //! in-process planning time.
 //!
@@ -19,7 +19,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use anyhow::Context;
-use pregrasp_collision::reach::{
+use pregrasp_reach::{
     run_reach, ReachProblemSet, ReachSettings, DEFAULT_MARGIN, DEFAULT_RESOLUTION,
 };
 use serde_json::json;

@@ -11,8 +11,8 @@ use pregrasp_robot::UrModel;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::reach::problem::{CuboidSpec, ReachProblemSet, ReachQuery};
-use crate::reach::run::{ReachPlanner, ReachSettings};
+use crate::problem::{CuboidSpec, ReachProblemSet, ReachQuery};
+use crate::run::{ReachPlanner, ReachSettings};
 
 /// Seed of the shipped problem set.
 pub const GENERATOR_SEED: u64 = 20_261_123;

@@ -1,12 +1,12 @@
 //! One UR5e among a table and boxes: seeded random start/goal pairs are planned with
 //! RRT-Connect + simplification; every path is re-checked at 4× finer resolution.
 
-use pregrasp_collision::reach::{
-    table_boxes_obstacles, ReachPlanner, ReachProblemSet, ReachQuery, ReachSettings,
-};
 use pregrasp_collision::ArmValidity;
 use pregrasp_collision::WorldState;
 use pregrasp_motion::{MotionValidator, PlanStatus};
+use pregrasp_reach::{
+    table_boxes_obstacles, ReachPlanner, ReachProblemSet, ReachQuery, ReachSettings,
+};
 use pregrasp_robot::UrModel;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

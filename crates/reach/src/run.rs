@@ -7,9 +7,8 @@ use pregrasp_motion::{
 };
 use pregrasp_robot::Joints;
 
-use crate::reach::problem::{ReachProblemSet, ReachQuery};
-use crate::validity::{joint_space, ArmValidity};
-use crate::world::{CollisionWorld, WorldState};
+use crate::problem::{ReachProblemSet, ReachQuery};
+use pregrasp_collision::{joint_space, ArmValidity, CollisionWorld, WorldState};
 
 /// Edge resolution (m of arm-point travel between checked states) used by the benchmark.
 pub const DEFAULT_RESOLUTION: f64 = 0.01;

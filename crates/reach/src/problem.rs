@@ -17,8 +17,8 @@ use pregrasp_robot::{Gripper2F85, Joints, UrModel, JOINT_NAMES};
 use serde_json::{json, Map, Value};
 use thiserror::Error;
 
-use crate::arm::ArmModel;
-use crate::world::CollisionWorld;
+use pregrasp_collision::ArmModel;
+use pregrasp_collision::CollisionWorld;
 
 /// Why a problem file could not be used. Every message names the file and the element.
 #[derive(Debug, Error)]

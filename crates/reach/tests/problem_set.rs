@@ -7,7 +7,7 @@
 
 use std::path::PathBuf;
 
-use pregrasp_collision::reach::{
+use pregrasp_reach::{
     generate_table_boxes, run_reach, ReachPlanner, ReachProblemSet, ReachSettings, GENERATOR_SEED,
 };
 use pregrasp_robot::UrModel;
