@@ -1,0 +1,43 @@
+//! Serial arms from URDF for pregrasp: load a robot description, extract the serial chain
+//! between a base link and a tool link, and compute its forward and inverse kinematics.
+//!
+//! * [`UrdfModel`] parses a URDF (with `urdf-rs`) and indexes its kinematic tree;
+//!   [`UrdfModel::chain`] extracts a [`SerialChain`]: the moving joints (revolute,
+//!   continuous, prismatic) from the base link down to the tool link, fixed joints folded into
+//!   the transforms, mimic joints driven by their master. Errors ([`UrdfError`]) name the
+//!   file and the element.
+//! * [`SerialChain::fk`], [`SerialChain::link_frames`], [`SerialChain::jacobian`]: forward
+//!   kinematics in the base link frame ([`chain`] documents the frames,
+//!   [`kinematics`] the Jacobian).
+//! * [`SerialChain::ik`]: every solution found by damped least squares from the seed and from
+//!   deterministic random starts, within the joint limits, sorted by distance to the seed;
+//!   [`SerialChain::ik_nearest`]: the solution reached by tracking the target from the seed
+//!   (for following a path) ([`ik`] documents the method).
+//! * Redundant arms: [`SerialChain::ik_redundant`] samples a redundancy joint over a grid to
+//!   find every branch; [`SerialChain::ik_follow`] keeps it fixed to stay on a branch
+//!   ([`redundancy`]).
+//! * [`recognise_ur`]: whether a chain is a Universal Robots arm (standard DH up to fixed base
+//!   and tool transforms), so the analytic solver of `pregrasp-robot` can be used
+//!   ([`ur`]).
+//!
+//! Units: metres, radians. A joint vector `q` lists the chain's actuated joints base to tip
+//! ([`SerialChain::joint_names`]), `q.len() == dof()`.
+
+pub mod chain;
+mod error;
+pub mod ik;
+pub mod kinematics;
+mod model;
+pub mod redundancy;
+mod rng;
+pub mod ur;
+
+pub use chain::{
+    origin_isometry, ChainJoint, ChainLink, Drive, JointKind, JointLimits, SerialChain,
+};
+pub use error::UrdfError;
+pub use ik::{joint_distance, IkOptions, NearestOptions};
+pub use kinematics::{pose_distance, pose_error, rotation_vector};
+pub use model::{Mimic, UrdfModel};
+pub use redundancy::RedundancyOptions;
+pub use ur::{recognise_ur, recognise_ur_with_tolerance, UrMatch, UR_MATCH_TOLERANCE};
