@@ -22,6 +22,7 @@ import numpy as np  # noqa: E402
 
 import derive_ur  # noqa: E402
 import ur_pieces  # noqa: E402
+import ur_polytopes  # noqa: E402
 import ur_vis  # noqa: E402
 from common import r6  # noqa: E402
 from derive import DATA, dump  # noqa: E402
@@ -70,13 +71,13 @@ def main():
                 s["slack"] = round(max([sl for _, sl in L] or [0.0]) + 2e-6, 6) if L else 0.0
                 polys += [np.asarray(P) for P in s["pieces"]]
                 names += [s["name"]] * len(L)
-            e, at, who = ur_pieces.measure(polys, surf, names)
+            e, at, who = ur_polytopes.measure(polys, surf, names)
             Vc, Sc = ur_vis._cover_points(name, V), ur_vis._cover_points(name, surf.S)
-            unc_v = ur_pieces.uncovered(polys, Vc)
-            unc_s = ur_pieces.uncovered(polys, Sc)
+            unc_v = ur_polytopes.uncovered(polys, Vc)
+            unc_s = ur_polytopes.uncovered(polys, Sc)
             if unc_v > 1e-6:
                 raise SystemExit(f"COVERAGE FAILURE {model} {name}: a visual vertex is {unc_v:.2e} m outside")
-            near, _ = ur_pieces.nearest_boundary(polys, Vc)
+            near, _ = ur_polytopes.nearest_boundary(polys, Vc)
             vlinks[name]["piece_vertices"] = r6(near)
             links[name]["pieces_excess_mm"] = round(e * 1e3, 1)
             links[name]["pieces_excess_at"] = r6(np.round(at, 6))
