@@ -171,6 +171,35 @@ fn unknown_keys_are_warnings() {
 }
 
 #[test]
+fn unknown_keys_are_reported_in_key_order() {
+    // Each table's keys alphabetically, depth first, whatever the file's order; an unknown
+    // key's value (here a date and a table) is not looked into.
+    let text = format!("zeta = 1\nalpha = {{ beta = 2 }}\n{EXAMPLE}")
+        .replace("[support]", "[support]\nwhen = 1979-05-27")
+        .replace(
+            "base = { xyz = [0.0, 0.45, 0.0] }",
+            "base = { xyz = [0.0, 0.45, 0.0], frame = \"tool\" }\ncolour = 1",
+        );
+    let s = load(&text).unwrap();
+    let keys: Vec<&str> = s
+        .warnings
+        .iter()
+        .map(|w| w.strip_prefix("scenes/x.toml: ").unwrap())
+        .map(|w| w.strip_suffix(": unknown key (ignored)").unwrap())
+        .collect();
+    assert_eq!(
+        keys,
+        [
+            "alpha",
+            "robot[0].base.frame",
+            "robot[0].colour",
+            "support.when",
+            "zeta"
+        ]
+    );
+}
+
+#[test]
 fn mesh_path_is_relative_to_the_scene_file() {
     let s = Scene::from_str(EXAMPLE, Path::new("x.toml")).unwrap();
     assert_eq!(s.object.mesh_path, Path::new("meshes/chair_side.stl"));
@@ -237,6 +266,14 @@ const BAD: &[(&str, &str, &str, &str)] = &[
     ("seed = 7", "seed = -1", "planner.seed", "must be >= 0"),
     ("name = \"chair side\"", "name = 5", "name", "expected a string, found an integer"),
     ("[support]\nheight = 0.0", "support = 1.0", "support", "expected a table, found a float"),
+    ("height = 0.0", "height = 1979-05-27", "support.height", "expected a number, found a date"),
+    ("[support]\nheight = 0.0", "support = 1979-05-27", "support", "expected a table, found a date"),
+    ("[grasps]", "[grasps]\nmode = 1979-05-27", "grasps.mode", "expected \"manual\" or \"auto\", found 1979-05-27"),
+    ("[grasps]", "[grasps]\nmode = \"semi\"", "grasps.mode", "expected \"manual\" or \"auto\", found \"semi\""),
+    ("xyz = [0.55, 0.0, 0.0], rpy_deg = [0, 0, 90]", "xyz = [\"a\", 0.0], rpy_deg = [0, 0, 90]", "object.pose.xyz", "expected 3 numbers, found 2"),
+    ("  { xyz = [0.02, 0.70, 0.40], rpy_deg = [180, 0, 90] },\n", "  5,\n", "grasps.power[1]", "expected a table, found an integer"),
+    ("power = [", "power = true\nunused = [", "grasps.power", "expected an array of 2 poses, found a boolean"),
+    ("seed = 7", "seed = 7\n[physics]\nreject = \"yes\"", "physics.reject", "expected true or false, found a string"),
 ];
 
 #[test]
