@@ -15,7 +15,7 @@ pub const DEFAULT_RESOLUTION: f64 = 0.01;
 
 /// Safety margin (m) used by the benchmark: half the resolution, so every returned edge is
 /// collision-free in continuous motion against the support, obstacles, the part and the
-/// other arm (see [`crate::validity`]). Not the full resolution: the UR5e model keeps its
+/// other arm (see [`pregrasp_collision::ArmValidity`]). Not the full resolution: the UR5e model keeps its
 /// base box and upper-arm tube only ≈ 9 mm apart at some pan angles whatever the other
 /// joints do, so a 10 mm margin would cut the pan joint's range into pieces.
 pub const DEFAULT_MARGIN: f64 = 0.5 * DEFAULT_RESOLUTION;
@@ -23,7 +23,7 @@ pub const DEFAULT_MARGIN: f64 = 0.5 * DEFAULT_RESOLUTION;
 /// How each query is planned.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReachSettings {
-    /// Edge-check resolution (m), see [`crate::validity`].
+    /// Edge-check resolution (m), see [`pregrasp_collision::ArmValidity`].
     pub resolution: f64,
     /// Safety margin of every collision check (m).
     pub margin: f64,
