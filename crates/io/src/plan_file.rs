@@ -138,6 +138,18 @@ pub struct RobotJson {
     pub precision_point: PoseJson,
     /// In the flange frame.
     pub power_point: PoseJson,
+    /// The robot description the arm was read from, when the scene names one (extension).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub urdf: Option<UrdfJson>,
+}
+
+/// `robots[].urdf`: the scene's robot description of the arm (paths as the scene wrote them,
+/// relative to the scene file), and the links the arm runs between.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UrdfJson {
+    pub file: String,
+    pub base_link: String,
+    pub tool_link: String,
 }
 
 /// Grasp poses in the object frame.

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use nalgebra::Isometry3;
 use pregrasp_io::plan_file::{
     FingersJson, GraspsJson, ObjectJson, PlanFile, PlanJson, PlanStatus, PointJson, PoseJson,
-    RobotJson, SceneRef, SegmentJson, SegmentName, PLAN_FORMAT,
+    RobotJson, SceneRef, SegmentJson, SegmentName, UrdfJson, PLAN_FORMAT,
 };
 use pregrasp_io::scene::Scene;
 use pregrasp_robot::{Gripper2F85, GripperState, Joints, JOINT_NAMES};
@@ -28,10 +28,18 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
             name: r.name.clone(),
             model: r.model,
             base: PoseJson::from(&r.base),
-            joint_names: JOINT_NAMES.iter().map(|s| s.to_string()).collect(),
+            joint_names: match &r.urdf {
+                Some(u) => u.joint_names.clone(),
+                None => JOINT_NAMES.iter().map(|s| s.to_string()).collect(),
+            },
             start: r.start,
             precision_point: PoseJson::from(&gripper.precision_point()),
             power_point: PoseJson::from(&gripper.power_point()),
+            urdf: r.urdf.as_ref().map(|u| UrdfJson {
+                file: u.entry.clone(),
+                base_link: u.base_link.clone(),
+                tool_link: u.tool_link.clone(),
+            }),
         }
     });
     PlanFile {

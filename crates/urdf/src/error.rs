@@ -165,4 +165,29 @@ pub enum UrdfError {
         /// The tool link.
         tip: String,
     },
+    /// No link name was given and the file offers several (or none) for the role.
+    #[error(
+        "{file}: which {role}? give it by name; the file has {}",
+        candidates_text(candidates)
+    )]
+    AmbiguousLink {
+        /// The source.
+        file: String,
+        /// `"base link"` or `"tool link"`.
+        role: &'static str,
+        /// The links that could serve.
+        candidates: Vec<String>,
+    },
+}
+
+/// `a`, `b` and `c` as "`a`, `b`, `c`" (or "none").
+fn candidates_text(candidates: &[String]) -> String {
+    if candidates.is_empty() {
+        return "none".to_string();
+    }
+    candidates
+        .iter()
+        .map(|c| format!("`{c}`"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }

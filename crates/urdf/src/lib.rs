@@ -16,6 +16,8 @@
 //! * Redundant arms: [`SerialChain::ik_redundant`] samples a redundancy joint over a grid to
 //!   find every branch; [`SerialChain::ik_follow`] keeps it fixed to stay on a branch
 //!   ([`redundancy`]).
+//! * [`UrdfArm`]: an arm as a scene names it (file, base link, tool link, with defaults),
+//!   resolved into its chain and, for a UR arm, its analytic model.
 //! * [`recognise_ur`]: whether a chain is a Universal Robots arm (standard DH up to fixed base
 //!   and tool transforms), so the analytic solver of `pregrasp-robot` can be used
 //!   ([`ur`]).
@@ -23,6 +25,7 @@
 //! Units: metres, radians. A joint vector `q` lists the chain's actuated joints base to tip
 //! ([`SerialChain::joint_names`]), `q.len() == dof()`.
 
+mod arm;
 pub mod chain;
 mod error;
 pub mod ik;
@@ -32,6 +35,7 @@ pub mod redundancy;
 mod rng;
 pub mod ur;
 
+pub use arm::{UrdfArm, DEFAULT_TOOL_LINKS};
 pub use chain::{
     origin_isometry, ChainJoint, ChainLink, Drive, JointKind, JointLimits, SerialChain,
 };

@@ -108,6 +108,7 @@ fn robot(name: &str, x: f64, start: Joints) -> RobotJson {
         start,
         precision_point: PoseJson::from(&g.precision_point()),
         power_point: PoseJson::from(&g.power_point()),
+        urdf: None,
     }
 }
 

@@ -109,8 +109,12 @@ pub struct AutoGrasps {
 pub struct RobotSpec {
     pub name: String,
     pub model: UrModel,
-    /// The arm base frame in world.
+    /// The arm base frame in world: the controller's Base frame (DH frame 0). For an arm from
+    /// a URDF, the scene's `base` (the base link's pose) composed with the base link → DH
+    /// Base transform the URDF has.
     pub base: Isometry3<f64>,
+    /// The robot description the arm was read from, when the scene names one (`urdf`).
+    pub urdf: Option<UrdfRef>,
     /// Start joint angles (rad).
     pub start: [f64; 6],
     /// One of [`GRIPPERS`].
@@ -119,6 +123,22 @@ pub struct RobotSpec {
     pub precision_point_z: f64,
     /// Flange-to-power-point distance along flange `z` (m).
     pub power_point_z: f64,
+}
+
+/// A `[[robot]]`'s robot description: the URDF and the links the arm runs between, resolved
+/// to a built-in model whose kinematics it has (`pregrasp_urdf::recognise_ur`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct UrdfRef {
+    /// The scene file's directory joined with the `urdf` entry.
+    pub path: PathBuf,
+    /// The `urdf` entry exactly as written in the file.
+    pub entry: String,
+    /// The link the arm stands on (given, or the file's root link).
+    pub base_link: String,
+    /// The link the gripper is mounted to (given, or `tool0` / `flange` / the only leaf).
+    pub tool_link: String,
+    /// The chain's joint names, base to tool.
+    pub joint_names: Vec<String>,
 }
 
 /// `[planner]`, SI units (angles in radians). Paper symbols in code spans.

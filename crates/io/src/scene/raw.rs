@@ -58,6 +58,9 @@ pub struct RawGrasps {
 pub struct RawRobot {
     pub name: Option<Str>,
     pub model: Option<Str>,
+    pub urdf: Option<Str>,
+    pub base_link: Option<Str>,
+    pub tool_link: Option<Str>,
     pub base: Option<Table<RawPose>>,
     pub start: Option<Nums<6>>,
     pub start_deg: Option<Nums<6>>,

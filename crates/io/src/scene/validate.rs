@@ -8,10 +8,12 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use pregrasp_robot::{UrModel, JOINT_NAMES};
+use pregrasp_urdf::{UrdfArm, UR_MATCH_TOLERANCE};
 use toml::Value;
 
 use super::raw::{self, Flag, Int, Num, Nums, PosePair, RawError, RawScene, Robots, Str, Table};
 use super::raw::{RawGrasps, RawObject, RawPhysics, RawPlanner, RawPose, RawRobot};
+use super::UrdfRef;
 use super::{AutoGrasps, Grasps, ObjectSpec, PhysicsParams, PlannerParams, RobotSpec, Scene};
 use super::{SceneError, GRIPPERS, GRIPPER_POINT_RANGE, MAX_COORDINATE, ROBOT_MODELS};
 use super::{DEFAULT_POWER_POINT_Z, DEFAULT_PRECISION_POINT_Z};
@@ -98,7 +100,10 @@ impl Cx {
         let Some(Robots([r0, r1])) = raw.robot else {
             return Err(self.err("robot", "missing: exactly two [[robot]] tables are needed"));
         };
-        let robots = [self.robot(r0, "robot[0]")?, self.robot(r1, "robot[1]")?];
+        let robots = [
+            self.robot(r0, "robot[0]", file)?,
+            self.robot(r1, "robot[1]", file)?,
+        ];
         let name = &robots[1].name;
         let message = format!("duplicate robot name {name:?}");
         self.ensure(robots[0].name != *name, "robot[1].name", message)?;
@@ -229,18 +234,47 @@ impl Cx {
         })
     }
 
-    fn robot(&self, raw: RawRobot, key: &str) -> Result<RobotSpec, SceneError> {
+    fn robot(&self, raw: RawRobot, key: &str, file: &Path) -> Result<RobotSpec, SceneError> {
         let at = |name: &str| format!("{key}.{name}");
         let Str(name) = self.need(raw.name, &at("name"))?;
         self.ensure(!name.is_empty(), &at("name"), "empty name")?;
-        let Str(model) = self.need(raw.model, &at("model"))?;
-        let Some(ur) = UrModel::ALL.into_iter().find(|m| m.name() == model) else {
-            let expected = ROBOT_MODELS.join(", ");
-            let message = format!("unknown robot model {model:?} (expected one of {expected})");
-            return Err(self.err(&at("model"), message));
+        let described = match raw.urdf {
+            Some(Str(entry)) => {
+                Some(self.urdf_arm(entry, raw.base_link, raw.tool_link, key, file)?)
+            }
+            None => {
+                for (given, name) in [(&raw.base_link, "base_link"), (&raw.tool_link, "tool_link")]
+                {
+                    let message = "only with `urdf` (the links of the robot description)";
+                    self.ensure(given.is_none(), &at(name), message)?;
+                }
+                None
+            }
+        };
+        let ur = match (raw.model, &described) {
+            (Some(Str(model)), _) => {
+                let Some(ur) = UrModel::ALL.into_iter().find(|m| m.name() == model) else {
+                    let expected = ROBOT_MODELS.join(", ");
+                    let message =
+                        format!("unknown robot model {model:?} (expected one of {expected})");
+                    return Err(self.err(&at("model"), message));
+                };
+                if let Some((_, found, _)) = &described {
+                    let message = format!("{model:?}, but the arm of `urdf` is a {found}");
+                    self.ensure(ur == *found, &at("model"), message)?;
+                }
+                ur
+            }
+            (None, Some((_, found, _))) => *found,
+            (None, None) => return Err(self.err(&at("model"), "missing key")),
         };
         let Table(base) = self.need(raw.base, &at("base"))?;
-        let base = self.pose(base, &at("base"))?;
+        let mut base = self.pose(base, &at("base"))?;
+        let urdf = described.map(|(urdf, _, to_dh_base)| {
+            // `base` places the description's base link; the arm's base is its DH Base.
+            base *= to_dh_base;
+            urdf
+        });
         let (start, in_degrees) = match (raw.start, raw.start_deg) {
             (Some(_), Some(_)) => {
                 let message = "give either start or start_deg, not both";
@@ -288,11 +322,78 @@ impl Cx {
             name,
             model: ur,
             base,
+            urdf,
             start,
             gripper,
             precision_point_z,
             power_point_z,
         })
+    }
+
+    /// The arm of robot description `entry` (relative to the scene's folder) from its base
+    /// link to its tool link: its reference, the UR model whose kinematics it has, and the
+    /// base link → DH Base transform. Only arms the planner has a model of are taken, with the
+    /// gripper mounted at the DH flange.
+    fn urdf_arm(
+        &self,
+        entry: String,
+        base_link: Option<Str>,
+        tool_link: Option<Str>,
+        key: &str,
+        file: &Path,
+    ) -> Result<(UrdfRef, UrModel, Isometry3<f64>), SceneError> {
+        let at = format!("{key}.urdf");
+        let path = match file.parent() {
+            Some(dir) if !dir.as_os_str().is_empty() => dir.join(&entry),
+            _ => PathBuf::from(&entry),
+        };
+        let arm = UrdfArm::load(
+            &path,
+            base_link.as_ref().map(|Str(b)| b.as_str()),
+            tool_link.as_ref().map(|Str(t)| t.as_str()),
+        )
+        .map_err(|e| self.err(&at, e.to_string()))?;
+        let Some(ur) = arm.ur else {
+            let message = format!(
+                "{}: the chain {} → {} is not a Universal Robots arm; the planner plans for \
+                 {} so far",
+                path.display(),
+                arm.base_link,
+                arm.tool_link,
+                ROBOT_MODELS.join(", ")
+            );
+            return Err(self.err(&at, message));
+        };
+        let flange_offset = ur
+            .tool
+            .translation
+            .vector
+            .norm()
+            .max(ur.tool.rotation.angle());
+        if flange_offset > UR_MATCH_TOLERANCE {
+            let message = format!(
+                "{}: the gripper goes on the flange (tool0), but tool link {} is {:.4} m / \
+                 {:.4} rad from it; give tool_link = \"tool0\"",
+                path.display(),
+                arm.tool_link,
+                ur.tool.translation.vector.norm(),
+                ur.tool.rotation.angle()
+            );
+            return Err(self.err(&at, message));
+        }
+        let urdf = UrdfRef {
+            path,
+            entry,
+            joint_names: arm
+                .chain
+                .joint_names()
+                .iter()
+                .map(|n| n.to_string())
+                .collect(),
+            base_link: arm.base_link,
+            tool_link: arm.tool_link,
+        };
+        Ok((urdf, ur.model, ur.base))
     }
 
     /// Refuses a start configuration outside `model`'s joint limits, naming the robot and the

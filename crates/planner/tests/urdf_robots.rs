@@ -1,0 +1,135 @@
+//! Arms read from a robot description (`[[robot]] urdf = …`, issue 36): the UR5e of the
+//! Universal Robots ROS 2 description (`data/robots/ur5e.urdf`) plans the examples as the
+//! built-in UR5e does, and a description the planner has no model of is refused by name.
+
+use std::path::{Path, PathBuf};
+
+use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::scene::Scene;
+use pregrasp_planner::pipeline::PlanOptions;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The example scene with each `model = "ur5e"` line replaced by the ROS 2 description's UR5e.
+/// The scene's `base` then places the description's root link, which is the controller's
+/// Base turned by π about z: the same arm stands at `rotation`, a half turn about z
+/// (`quat_xyzw = [0, 0, 1, 0]` exactly, or `rpy_deg = [0, 0, 180]` give or take 1e-16).
+fn with_urdf_arms(text: &str, rotation: &str) -> String {
+    let urdf = root().join("data/robots/ur5e.urdf");
+    let mut out = String::new();
+    for line in text.lines() {
+        if line.trim() == "model = \"ur5e\"" {
+            out.push_str(&format!("urdf = {:?}\n", urdf.display().to_string()));
+        } else if let Some(xyz) = line
+            .strip_prefix("base = { xyz = ")
+            .and_then(|rest| rest.strip_suffix(" }"))
+        {
+            out.push_str(&format!("base = {{ xyz = {xyz}, {rotation} }}\n"));
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    out
+}
+
+#[test]
+fn the_ros2_ur5e_plans_the_examples_as_the_built_in_one() {
+    for name in ["chair_side", "shelf_side", "stool_side"] {
+        let scene_path = root().join(format!("examples/{name}.toml"));
+        let text = std::fs::read_to_string(&scene_path).unwrap();
+        let built_in = Scene::from_str(&text, &scene_path).unwrap();
+        let described = with_urdf_arms(&text, "quat_xyzw = [0, 0, 1, 0]");
+        let described = Scene::from_str(&described, &scene_path).unwrap();
+        for (a, b) in built_in.robots.iter().zip(&described.robots) {
+            assert_eq!(a.model, b.model);
+            let urdf = b.urdf.as_ref().expect("the arm names its description");
+            // The description's root (`world`, fixed to `base_link`) and its flange frame.
+            assert_eq!(
+                (urdf.base_link.as_str(), urdf.tool_link.as_str()),
+                ("world", "tool0")
+            );
+            // The DH Base lands where the built-in arm's is, up to the turn's round-off.
+            let d = a.base.inverse() * b.base;
+            assert!(
+                d.translation.vector.norm() < 1e-12 && d.rotation.angle() < 1e-12,
+                "{d}"
+            );
+        }
+        let mesh = load_mesh(&built_in.object.mesh_path, built_in.object.scale)
+            .unwrap()
+            .mesh;
+        let options = PlanOptions::default();
+        let plan = |s: &Scene| pregrasp_planner::plan_scene(s, &mesh, &options, &|_| {}, &|| {});
+        let (a, b) = (plan(&built_in).file, plan(&described).file);
+        assert_eq!(a.status, b.status, "{name}");
+        // Bit for bit: the description's arm is the built-in arm.
+        let plans = |f: &pregrasp_io::plan_file::PlanFile| serde_json::to_string(&f.plans).unwrap();
+        assert_eq!(plans(&a), plans(&b), "{name}");
+        assert_eq!(a.candidates, b.candidates, "{name}");
+        // The file says which description each arm came from, and names its joints.
+        let robot = &b.robots[0];
+        assert_eq!(robot.urdf.as_ref().unwrap().tool_link, "tool0");
+        assert_eq!(robot.joint_names[0], "shoulder_pan_joint");
+        let check = pregrasp_planner::check::check_plan(&b, &mesh);
+        assert!(check.is_valid(), "{name}: {:?}", check.rules);
+    }
+}
+
+#[test]
+fn a_description_without_a_planner_model_is_refused_by_name() {
+    let scene_path = root().join("examples/chair_side.toml");
+    let text = std::fs::read_to_string(&scene_path).unwrap();
+    let fr3 = root().join("data/robots/fr3.urdf");
+    let text = text.replacen(
+        "model = \"ur5e\"",
+        &format!(
+            "urdf = {:?}\ntool_link = \"fr3_link8\"",
+            fr3.display().to_string()
+        ),
+        1,
+    );
+    let err = Scene::from_str(&text, &scene_path).unwrap_err().to_string();
+    assert!(err.contains("robot[0].urdf"), "{err}");
+    assert!(err.contains("not a Universal Robots arm"), "{err}");
+    // A model that contradicts the description is refused too.
+    let ur5e = root().join("data/robots/ur5e.urdf");
+    let text = std::fs::read_to_string(&scene_path).unwrap().replacen(
+        "model = \"ur5e\"",
+        &format!("model = \"ur10e\"\nurdf = {:?}", ur5e.display().to_string()),
+        1,
+    );
+    let err = Scene::from_str(&text, &scene_path).unwrap_err().to_string();
+    assert!(
+        err.contains("robot[0].model") && err.contains("is a ur5e"),
+        "{err}"
+    );
+}
+
+/// The same arm placed by `rpy_deg = [0, 0, 180]` (a half turn give or take 1e-16) plans too,
+/// and its plans pass the check; the motions may differ from the built-in arm's where a
+/// random search meets the round-off, the poses not.
+#[test]
+fn the_ros2_ur5e_placed_by_rpy_plans_and_passes_the_check() {
+    let scene_path = root().join("examples/chair_side.toml");
+    let text = std::fs::read_to_string(&scene_path).unwrap();
+    let built_in = Scene::from_str(&text, &scene_path).unwrap();
+    let described = with_urdf_arms(&text, "rpy_deg = [0, 0, 180]");
+    let described = Scene::from_str(&described, &scene_path).unwrap();
+    let mesh = load_mesh(&built_in.object.mesh_path, built_in.object.scale)
+        .unwrap()
+        .mesh;
+    let options = PlanOptions::default();
+    let plan = |s: &Scene| pregrasp_planner::plan_scene(s, &mesh, &options, &|_| {}, &|| {});
+    let (a, b) = (plan(&built_in).file, plan(&described).file);
+    assert_eq!(a.plans.len(), b.plans.len());
+    for (pa, pb) in a.plans.iter().zip(&b.plans) {
+        assert_eq!(pa.candidate, pb.candidate);
+        let d = pa.object_goal_pose.to_isometry().inverse() * pb.object_goal_pose.to_isometry();
+        assert!(d.translation.vector.norm() < 1e-9 && d.rotation.angle() < 1e-9);
+    }
+    let check = pregrasp_planner::check::check_plan(&b, &mesh);
+    assert!(check.is_valid(), "{:?}", check.rules);
+}
