@@ -131,3 +131,36 @@ fn auto_grasps_plan_as_often_as_hand_placed_ones_and_never_on_a_bar_too_wide() {
     assert!(touches.is_empty(), "{touches:#?}");
     assert!(auto_ok >= hand_ok, "auto {auto_ok} < hand-placed {hand_ok}");
 }
+
+/// The replay is not blind: across a 70 mm bar the open fingers' inner knuckles touch it (the
+/// stroke alone, 85 mm, would allow it), across a 40 mm bar nothing does.
+#[test]
+fn the_open_finger_replay_sees_a_bar_too_wide_for_a_power_grasp() {
+    let touch = |width: f64| {
+        let p = nalgebra::Point2::new;
+        let (l, t) = (0.4, 0.025);
+        let bar = pregrasp_examples::extrude(
+            &[p(0.0, 0.0), p(l, 0.0), p(l, width), p(0.0, width)],
+            &[],
+            t,
+        );
+        let part = TriMesh::new(bar.vertices.clone(), bar.triangles.clone()).unwrap();
+        // Fingers closing along object y (across the bar), approach along −z, the power point
+        // (palm + t/2 + 4 mm) at mid-thickness on the bar's centre line.
+        let rotation = nalgebra::UnitQuaternion::from_axis_angle(
+            &nalgebra::Vector3::z_axis(),
+            std::f64::consts::FRAC_PI_2,
+        ) * nalgebra::UnitQuaternion::from_axis_angle(
+            &nalgebra::Vector3::x_axis(),
+            std::f64::consts::PI,
+        );
+        let grasp = Isometry3::from_parts(
+            nalgebra::Translation3::new(l / 2.0, width / 2.0, t / 2.0),
+            rotation,
+        );
+        let point = Isometry3::translation(0.0, 0.0, 0.1008 + t / 2.0 + 0.004);
+        open_finger_touch(&part, &(grasp * point.inverse()))
+    };
+    assert_eq!(touch(0.040), None);
+    assert!(touch(0.070).is_some());
+}

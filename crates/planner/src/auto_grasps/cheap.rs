@@ -130,6 +130,21 @@ impl<'a> GraspTests<'a> {
         barycentric_margin([flat(axis.axis[0]), flat(axis.axis[1]), flat(s)], flat(com))
     }
 
+    /// The estimate of θ_goal (rad): what lifts the nearer power grasp [`FINGER_RISE`], plus
+    /// the `n_ext` steps Algorithm 2 adds, at most θ_max.
+    pub fn goal_angle(&self, axis: &RotationAxisCandidate, power: &[Isometry3<f64>; 2]) -> f64 {
+        let near = power
+            .iter()
+            .map(|g| {
+                let at = self.p_init * Point3::from(g.translation.vector);
+                crate::poses::distance_to_line(&at, &axis.axis[0], &axis.axis[1])
+            })
+            .fold(f64::INFINITY, f64::min);
+        let p = &self.scene.planner;
+        ((FINGER_RISE / near.max(FINGER_RISE)).asin() + (p.extra_steps + 1) as f64 * p.step)
+            .min(axis.theta_max.max(p.step))
+    }
+
     /// The smallest arm–arm (or self) distance at the estimated goal (m), `None` when an arm
     /// has no collision-free IK solution there; `sup` is the arm that holds G_s, `power[arm]`
     /// each arm's grasp, `widths` the bars' widths at G_s, `power[0]`, `power[1]`.
@@ -141,20 +156,7 @@ impl<'a> GraspTests<'a> {
         widths: [f64; 3],
         sup: usize,
     ) -> Option<f64> {
-        let near = power
-            .iter()
-            .map(|g| {
-                crate::poses::distance_to_line(
-                    &(self.p_init * Point3::from(g.translation.vector)),
-                    &axis.axis[0],
-                    &axis.axis[1],
-                )
-            })
-            .fold(f64::INFINITY, f64::min);
-        let p = &self.scene.planner;
-        let theta = ((FINGER_RISE / near.max(FINGER_RISE)).asin()
-            + (p.extra_steps + 1) as f64 * p.step)
-            .min(axis.theta_max.max(self.scene.planner.step));
+        let theta = self.goal_angle(axis, power);
         let goal = axis.rotated_pose(&self.p_init, theta);
         let starts = [0, 1].map(|arm| self.scene.robots[arm].start);
         // The first collision-free IK solution (nearest the start first), the other arm at its

@@ -40,7 +40,7 @@ use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
 use crate::context::{arm_models, distinct_ik};
 use crate::output::plan_file_header;
 use crate::pipeline::{plan, PlanOptions, PlanReport};
-use crate::poses::distance_to_line;
+use crate::poses::{distance_to_line, ROLE_TOLERANCE};
 use bars::{bar_sites, BarSite, Slab};
 use cheap::GraspTests;
 
@@ -178,8 +178,18 @@ pub fn grasp_sets(
     };
     let power_fingers = Memo::new(sites.len(), &power_fn);
     let support_fingers = Memo::new(sites.len(), &support_fn);
-    let power_fingers = |i: usize, arm: usize| power_fingers.get(i, arm);
-    let support_fingers = |i: usize, arm: usize| support_fingers.get(i, arm);
+    // Arms with the same tool point share one test.
+    let same = |p: fn(&pregrasp_robot::Gripper2F85) -> Isometry3<f64>| {
+        p(&arms[0].gripper) == p(&arms[1].gripper)
+    };
+    let (power_same, support_same) = (
+        same(pregrasp_robot::Gripper2F85::power_point),
+        same(pregrasp_robot::Gripper2F85::precision_point),
+    );
+    let power_fingers =
+        |i: usize, arm: usize| power_fingers.get(i, if power_same { 0 } else { arm });
+    let support_fingers =
+        |i: usize, arm: usize| support_fingers.get(i, if support_same { 0 } else { arm });
     let mut sets = Vec::new();
     for axis in axes.iter().take(AXES_CONSIDERED) {
         let dist = |s: &BarSite| distance_to_line(&world(s), &axis.axis[0], &axis.axis[1]);
@@ -192,16 +202,23 @@ pub fn grasp_sets(
         let pairs: Vec<(usize, usize, f64)> = if pins.power_pinned {
             vec![(usize::MAX, usize::MAX, 0.0)]
         } else {
+            // Sites whose approach is clear too first; the others only if too few are.
             let mut reps: Vec<usize> = Vec::new();
-            for &i in order.iter().filter(|&&i| dist(&sites[i]) >= min_axis) {
-                let spaced = reps
-                    .iter()
-                    .all(|&r| apart(i, &sites[r].centre) >= REPRESENTATIVE_SPACING);
-                if spaced && power_fingers(i, 0).0 && power_fingers(i, 1).0 {
-                    reps.push(i);
-                }
-                if reps.len() == MAX_REPRESENTATIVES {
-                    break;
+            for need_clear in [true, false] {
+                for &i in order.iter().filter(|&&i| dist(&sites[i]) >= min_axis) {
+                    if reps.len() >= MAX_REPRESENTATIVES || (!need_clear && reps.len() >= 2) {
+                        break;
+                    }
+                    let spaced = reps
+                        .iter()
+                        .all(|&r| apart(i, &sites[r].centre) >= REPRESENTATIVE_SPACING);
+                    if !spaced || reps.contains(&i) {
+                        continue;
+                    }
+                    let [a, b] = [0, 1].map(|arm| power_fingers(i, arm));
+                    if a.0 && b.0 && (!need_clear || (a.1 && b.1)) {
+                        reps.push(i);
+                    }
                 }
             }
             let mut pairs = Vec::new();
@@ -243,8 +260,13 @@ pub fn grasp_sets(
                     &axis.axis[1],
                 )
             };
-            // Roles as Algorithm 2 will give them: the supportive arm holds the nearer one.
-            let sup = usize::from(power_dist(&power[0]) >= power_dist(&power[1]));
+            // Roles as Algorithm 2 gives them: the master holds the grasp farther from the axis
+            // (arm 1 unless arm 0's is farther by more than ROLE_TOLERANCE), the other supports.
+            let sup = if power_dist(&power[0]) > power_dist(&power[1]) + ROLE_TOLERANCE {
+                1
+            } else {
+                0
+            };
             let master_at = Point3::from(power[1 - sup].translation.vector);
             // G_s: the site farthest from the axis that leaves room for the master's gripper
             // and that the open fingers straddle; one that balances the part on the pinch
@@ -255,9 +277,12 @@ pub fn grasp_sets(
                 let fits =
                     |i: usize| apart(i, &master_at) >= GRIPPER_SPACING && support_fingers(i, sup).0;
                 let balanced = |i: usize| tests.com_margin(axis, &support_pose(i)) >= COM_MARGIN;
+                let clear = |i: usize| support_fingers(i, sup).1;
                 let Some(&i) = order
                     .iter()
-                    .find(|&&i| fits(i) && balanced(i))
+                    .find(|&&i| fits(i) && balanced(i) && clear(i))
+                    .or_else(|| order.iter().find(|&&i| fits(i) && clear(i)))
+                    .or_else(|| order.iter().find(|&&i| fits(i) && balanced(i)))
                     .or_else(|| order.iter().find(|&&i| fits(i)))
                 else {
                     continue;
