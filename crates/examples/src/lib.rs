@@ -29,6 +29,7 @@ pub use design::{GraspSite, PartDesign, GRIPPER_STROKE};
 pub use extrude::{extrude, try_extrude, ExtrudeError};
 pub use parts::bench_end::BenchEndParams;
 pub use parts::chair::{chair_side, ChairSideParams};
+pub use parts::families::{Family, GeneratedPart, FAMILIES};
 pub use parts::ladder::LadderParams;
 pub use parts::shelf::{shelf_side, ShelfSideParams};
 pub use parts::stool::{stool_side, StoolSideParams};
@@ -119,6 +120,13 @@ pub fn with_design(name: &str, design: PartDesign) -> Option<Example> {
         )),
         _ => None,
     }
+}
+
+/// A generated part ([`parts::families`]) as an example: its family's name, the examples'
+/// layout, its hand-placed grasps.
+pub fn generated_example(part: &GeneratedPart) -> Example {
+    let name = part.family.name();
+    build(name, name, part.design.clone(), SceneLayout::default())
 }
 
 /// Errors of [`write_example`].

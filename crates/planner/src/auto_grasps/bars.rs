@@ -23,6 +23,7 @@ use nalgebra::{Isometry3, Point3, Unit, Vector3};
 use parry3d_f64::query::{Ray, RayCast};
 use parry3d_f64::shape::TriMesh;
 use pregrasp_geometry::Mesh;
+use rayon::prelude::*;
 
 /// Narrowest bar a site may have (m).
 pub const MIN_BAR_WIDTH: f64 = 0.010;
@@ -127,66 +128,71 @@ pub fn bar_sites(mesh: &Mesh, object_pose: &Isometry3<f64>) -> (Slab, Vec<BarSit
         let b = hit(p, &-d, MAX_BAR_WIDTH + 1e-3)?;
         Some((b, f))
     };
-    let mut sites: Vec<BarSite> = Vec::new();
     let n1 = ((hi[0] - lo[0]) / spacing).floor() as usize + 1;
     let n2 = ((hi[1] - lo[1]) / spacing).floor() as usize + 1;
-    for i in 0..n1 {
-        for j in 0..n2 {
-            let p = Point3::from(
-                up.into_inner() * mid
-                    + e1 * (lo[0] + (i as f64 + 0.5) * spacing)
-                    + e2 * (lo[1] + (j as f64 + 0.5) * spacing),
-            );
-            if !inside(&p) {
-                continue;
-            }
-            let mut best: Option<BarSite> = None;
-            for d in &directions {
-                let Some((b, f)) = interval(&p, d) else {
-                    continue;
-                };
+    // The narrowest qualifying direction at grid point (i, j): the intervals first, then the
+    // straightness and room tests from the narrowest up, stopping at the first that passes.
+    let site_at = |i: usize, j: usize| -> Option<BarSite> {
+        let p = Point3::from(
+            up.into_inner() * mid
+                + e1 * (lo[0] + (i as f64 + 0.5) * spacing)
+                + e2 * (lo[1] + (j as f64 + 0.5) * spacing),
+        );
+        if !inside(&p) {
+            return None;
+        }
+        let mut widths: Vec<(f64, usize, f64, f64)> = directions
+            .iter()
+            .enumerate()
+            .filter_map(|(k, d)| {
+                let (b, f) = interval(&p, d)?;
                 let width = b + f;
-                if !(MIN_BAR_WIDTH..=MAX_BAR_WIDTH).contains(&width) {
-                    continue;
-                }
-                if best.as_ref().is_some_and(|s| s.width <= width) {
-                    continue;
-                }
-                let centre = p + d.into_inner() * ((f - b) / 2.0);
-                let along = up.cross(d);
-                let straight = [-HALF_PAD, HALF_PAD].iter().all(|&s| {
-                    let q = centre + along * s;
-                    inside(&q)
-                        && interval(&q, d).is_some_and(|(bq, fq)| {
-                            ((bq + fq) - width).abs() <= STRAIGHT_TOLERANCE
-                                && ((fq - bq) / 2.0).abs() <= STRAIGHT_TOLERANCE
-                        })
-                });
-                // Air beyond both faces, for the fingers, across their whole width.
-                let room = [-HALF_PAD, 0.0, HALF_PAD].iter().all(|&s| {
+                (MIN_BAR_WIDTH..=MAX_BAR_WIDTH)
+                    .contains(&width)
+                    .then_some((width, k, b, f))
+            })
+            .collect();
+        widths.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        widths.into_iter().find_map(|(width, k, b, f)| {
+            let d = &directions[k];
+            let centre = p + d.into_inner() * ((f - b) / 2.0);
+            let along = up.cross(d);
+            let straight = [-HALF_PAD, HALF_PAD].iter().all(|&s| {
+                let q = centre + along * s;
+                inside(&q)
+                    && interval(&q, d).is_some_and(|(bq, fq)| {
+                        ((bq + fq) - width).abs() <= STRAIGHT_TOLERANCE
+                            && ((fq - bq) / 2.0).abs() <= STRAIGHT_TOLERANCE
+                    })
+            });
+            // Air beyond both faces, for the fingers, across their whole width.
+            let room = straight
+                && [-HALF_PAD, 0.0, HALF_PAD].iter().all(|&s| {
                     [1.0, -1.0].iter().all(|&sgn| {
                         let face =
                             centre + along * s + d.into_inner() * (sgn * (width / 2.0 + 5e-4));
                         hit(&face, &(d.into_inner() * sgn), finger_room(width)).is_none()
                     })
                 });
-                if straight && room {
-                    best = Some(BarSite {
-                        centre,
-                        across: *d,
-                        width,
-                    });
-                }
-            }
-            if let Some(site) = best {
-                let duplicate = sites.iter().any(|s| {
-                    (s.centre - site.centre).norm() < SITE_MERGE
-                        && s.across.dot(&site.across).abs() > 0.97
-                });
-                if !duplicate {
-                    sites.push(site);
-                }
-            }
+            room.then_some(BarSite {
+                centre,
+                across: *d,
+                width,
+            })
+        })
+    };
+    // Rows in parallel, merged in grid order: the same sites on any number of threads.
+    let rows: Vec<Vec<BarSite>> = (0..n1)
+        .into_par_iter()
+        .map(|i| (0..n2).filter_map(|j| site_at(i, j)).collect())
+        .collect();
+    let mut sites: Vec<BarSite> = Vec::new();
+    for site in rows.into_iter().flatten() {
+        let duplicate = sites.iter().any(|s| {
+            (s.centre - site.centre).norm() < SITE_MERGE && s.across.dot(&site.across).abs() > 0.97
+        });
+        if !duplicate {
+            sites.push(site);
         }
     }
     (slab, sites)

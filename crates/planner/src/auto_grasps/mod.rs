@@ -11,15 +11,26 @@
 //!    the master's power grasp (both are held at once), with the fingertips
 //!    [`SUPPORT_TIP_HEIGHT`] above the support. Power grasps sit at mid-height, fingers across
 //!    the bar, from above.
-//! 3. Cheap ranking: sets whose three grasps all have IK solutions at P_init first, then by the
-//!    axis' S_rot plus the power grasps' distances from the axis.
-//! 4. The sets go through the whole pipeline in batches of [`SETS_PLANNED`] (in parallel,
-//!    results in set order) until a batch has a plan; the plan with the best score wins (ties:
-//!    the earlier set). Deterministic.
+//!    Only sites the fully open fingers straddle (the real finger geometry, [`fingers`]) take
+//!    a grasp.
+//! 3. Cheap ranking ([`cheap`]): sets by how many cheap tests they fail — IK at P_init, the
+//!    open fingers' approach clearance, the pinch's balance (centre of mass inside the
+//!    triangle of the axis' ends and G_s) — then by the axis' S_rot plus the power grasps'
+//!    distances from the axis; then, in that order until the first batches are filled, the
+//!    goal test (collision-free IK of the three grasps at an estimated θ_goal, the arms'
+//!    skeletons [`GOAL_ARM_CLEARANCE`] apart): sets failing it go last.
+//! 4. The sets go through the whole pipeline in batches of 1, 2, 4 ([`FIRST_BATCHES`]), then
+//!    [`SETS_PLANNED`] (in parallel, results in set order) until a batch has a plan; the plan
+//!    with the best score in that batch wins (ties: the earlier set). Deterministic.
 
 pub mod bars;
+pub mod cheap;
+pub mod fingers;
+
+use std::cell::RefCell;
 
 use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, UnitQuaternion};
+use parry3d_f64::shape::TriMesh;
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{AutoGraspsJson, PlanStatus};
 use pregrasp_io::scene::{AutoGrasps, Scene};
@@ -29,8 +40,9 @@ use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
 use crate::context::{arm_models, distinct_ik};
 use crate::output::plan_file_header;
 use crate::pipeline::{plan, PlanOptions, PlanReport};
-use crate::poses::distance_to_line;
+use crate::poses::{distance_to_line, ROLE_TOLERANCE};
 use bars::{bar_sites, BarSite, Slab};
+use cheap::GraspTests;
 
 /// Rotation axes (best S_rot first) around which grasp sets are built.
 pub const AXES_CONSIDERED: usize = 4;
@@ -42,12 +54,22 @@ pub const MAX_REPRESENTATIVES: usize = 14;
 pub const REPRESENTATIVE_SPACING: f64 = 0.05;
 /// Smallest distance (m) between the two power grasps: the part is held at two places.
 pub const POWER_SPREAD: f64 = 0.20;
-/// Grasp sets planned in full at a time (in parallel); the next batch only when none planned.
+/// Grasp sets planned in full at a time (in parallel) once the first batches
+/// ([`FIRST_BATCHES`]) had no plan; the next batch only when none planned.
 pub const SETS_PLANNED: usize = 6;
+/// The first batches' sizes: the best-tested set alone, then the next two, then four.
+pub const FIRST_BATCHES: [usize; 3] = [1, 2, 4];
 /// Smallest distance (m) between the centres of two grasps held at the same time.
 pub const GRIPPER_SPACING: f64 = 0.16;
 /// Height (m) of the pinching fingertips above the support at G_s.
 pub const SUPPORT_TIP_HEIGHT: f64 = 0.003;
+/// Smallest distance (m) between the arms' skeletons (joint origins to fingertips) at the
+/// estimated goal for a set without doubt: two link radii (~5 cm each) and a margin.
+pub const GOAL_ARM_CLEARANCE: f64 = 0.15;
+/// Smallest barycentric margin of the centre of mass in the triangle (axis ends, G_s).
+pub const COM_MARGIN: f64 = 0.05;
+/// Width (m) the goal test closes a pinned grasp's fingers to (its bar is not measured).
+pub const PINNED_WIDTH: f64 = 0.04;
 
 /// One choice of the three grasps (object frame).
 #[derive(Clone, Debug, PartialEq)]
@@ -58,8 +80,14 @@ pub struct GraspSet {
     pub widths: [f64; 3],
     /// The Algorithm 1 candidate the set was built around.
     pub axis: usize,
+    /// The arm that holds G_s (Algorithm 2's supportive arm: its power grasp is nearer the
+    /// axis).
+    pub supportive: usize,
     /// All three grasps have IK solutions at P_init.
     pub reachable: bool,
+    /// How many of the cheap tests the set fails (IK at P_init, the open fingers' approach
+    /// clearance, IK and arm–arm clearance at the goal, the pinch's balance; [`cheap`]).
+    pub doubts: usize,
     /// S_rot of the axis + distances of the power grasps from it (m).
     pub rank: f64,
 }
@@ -79,12 +107,42 @@ fn site_pose(site: &BarSite, slab: &Slab, height: f64) -> Isometry3<f64> {
     )
 }
 
-/// The grasp sets of `scene` (whose grasps may be placeholders) for the sites found.
+/// The open fingers at a site: (straddle the bar, approach clear).
+type FingerTest = (bool, bool);
+
+/// A test of a site per arm, computed once.
+struct Memo<'f> {
+    cache: RefCell<Vec<[Option<FingerTest>; 2]>>,
+    f: &'f dyn Fn(usize, usize) -> (bool, bool),
+}
+
+impl<'f> Memo<'f> {
+    fn new(n: usize, f: &'f dyn Fn(usize, usize) -> (bool, bool)) -> Self {
+        Memo {
+            cache: RefCell::new(vec![[None; 2]; n]),
+            f,
+        }
+    }
+
+    fn get(&self, i: usize, arm: usize) -> (bool, bool) {
+        if let Some(r) = self.cache.borrow()[i][arm] {
+            return r;
+        }
+        let r = (self.f)(i, arm);
+        self.cache.borrow_mut()[i][arm] = Some(r);
+        r
+    }
+}
+
+/// The grasp sets of `scene` (whose grasps may be placeholders) for the sites found, best
+/// first: sets whose grasps the open fingers cannot straddle are left out; the others are
+/// ordered by how many cheap tests ([`cheap`]) they fail, then by rank.
 pub fn grasp_sets(
     scene: &Scene,
     slab: &Slab,
     sites: &[BarSite],
     axes: &[RotationAxisCandidate],
+    tests: &GraspTests,
     p_init: &Isometry3<f64>,
 ) -> Vec<GraspSet> {
     // A scene with hand-placed grasps pins none here: every grasp is searched.
@@ -110,6 +168,28 @@ pub fn grasp_sets(
     };
     let world = |s: &BarSite| p_init * s.centre;
     let base = |arm: usize| Point3::from(arms[arm].base.translation.vector);
+    let power_pose = |i: usize| site_pose(&sites[i], slab, slab.height() / 2.0);
+    let support_pose = |i: usize| site_pose(&sites[i], slab, support_height(sites[i].width));
+    // The open fingers at a site, per arm (its tool point): (straddles, approach clear).
+    let power_fn =
+        |i: usize, arm: usize| tests.fingers(&power_pose(i), &arms[arm].gripper.power_point());
+    let support_fn = |i: usize, arm: usize| {
+        tests.fingers(&support_pose(i), &arms[arm].gripper.precision_point())
+    };
+    let power_fingers = Memo::new(sites.len(), &power_fn);
+    let support_fingers = Memo::new(sites.len(), &support_fn);
+    // Arms with the same tool point share one test.
+    let same = |p: fn(&pregrasp_robot::Gripper2F85) -> Isometry3<f64>| {
+        p(&arms[0].gripper) == p(&arms[1].gripper)
+    };
+    let (power_same, support_same) = (
+        same(pregrasp_robot::Gripper2F85::power_point),
+        same(pregrasp_robot::Gripper2F85::precision_point),
+    );
+    let power_fingers =
+        |i: usize, arm: usize| power_fingers.get(i, if power_same { 0 } else { arm });
+    let support_fingers =
+        |i: usize, arm: usize| support_fingers.get(i, if support_same { 0 } else { arm });
     let mut sets = Vec::new();
     for axis in axes.iter().take(AXES_CONSIDERED) {
         let dist = |s: &BarSite| distance_to_line(&world(s), &axis.axis[0], &axis.axis[1]);
@@ -117,20 +197,28 @@ pub fn grasp_sets(
         order.sort_by(|&a, &b| dist(&sites[b]).total_cmp(&dist(&sites[a])).then(a.cmp(&b)));
         let apart = |a: usize, b: &Point3<f64>| (sites[a].centre - b).norm();
         // Power grasps: pairs of representative sites (far from the axis, on different parts
-        // of the part), scored by their distances from the axis plus their spread.
+        // of the part, straddled by the open fingers), scored by their distances from the
+        // axis plus their spread.
         let pairs: Vec<(usize, usize, f64)> = if pins.power_pinned {
             vec![(usize::MAX, usize::MAX, 0.0)]
         } else {
+            // Sites whose approach is clear too first; the others only if too few are.
             let mut reps: Vec<usize> = Vec::new();
-            for &i in order.iter().filter(|&&i| dist(&sites[i]) >= min_axis) {
-                if reps
-                    .iter()
-                    .all(|&r| apart(i, &sites[r].centre) >= REPRESENTATIVE_SPACING)
-                {
-                    reps.push(i);
-                }
-                if reps.len() == MAX_REPRESENTATIVES {
-                    break;
+            for need_clear in [true, false] {
+                for &i in order.iter().filter(|&&i| dist(&sites[i]) >= min_axis) {
+                    if reps.len() >= MAX_REPRESENTATIVES || (!need_clear && reps.len() >= 2) {
+                        break;
+                    }
+                    let spaced = reps
+                        .iter()
+                        .all(|&r| apart(i, &sites[r].centre) >= REPRESENTATIVE_SPACING);
+                    if !spaced || reps.contains(&i) {
+                        continue;
+                    }
+                    let [a, b] = [0, 1].map(|arm| power_fingers(i, arm));
+                    if a.0 && b.0 && (!need_clear || (a.1 && b.1)) {
+                        reps.push(i);
+                    }
                 }
             }
             let mut pairs = Vec::new();
@@ -148,17 +236,22 @@ pub fn grasp_sets(
             pairs
         };
         for &(a, b, pair_score) in &pairs {
-            let (power, widths_p) = if pins.power_pinned {
-                (scene.grasps.power, [0.0, 0.0])
+            let (power, widths_p, clear_p) = if pins.power_pinned {
+                (scene.grasps.power, [0.0, 0.0], true)
             } else {
-                let pose = |i: usize| site_pose(&sites[i], slab, slab.height() / 2.0);
                 // Each arm takes the grasp nearer its base.
                 let d = |arm: usize, i: usize| (base(arm) - world(&sites[i])).norm();
-                if d(0, a) + d(1, b) <= d(0, b) + d(1, a) {
-                    ([pose(a), pose(b)], [sites[a].width, sites[b].width])
+                let (i0, i1) = if d(0, a) + d(1, b) <= d(0, b) + d(1, a) {
+                    (a, b)
                 } else {
-                    ([pose(b), pose(a)], [sites[b].width, sites[a].width])
-                }
+                    (b, a)
+                };
+                let clear = power_fingers(i0, 0).1 && power_fingers(i1, 1).1;
+                (
+                    [power_pose(i0), power_pose(i1)],
+                    [sites[i0].width, sites[i1].width],
+                    clear,
+                )
             };
             let power_dist = |g: &Isometry3<f64>| {
                 distance_to_line(
@@ -167,33 +260,52 @@ pub fn grasp_sets(
                     &axis.axis[1],
                 )
             };
-            // Roles as Algorithm 2 will give them: the supportive arm holds the nearer one.
-            let sup = usize::from(power_dist(&power[0]) >= power_dist(&power[1]));
-            let master_at = Point3::from(power[1 - sup].translation.vector);
-            // G_s: the site farthest from the axis that leaves room for the master's gripper.
-            let (support, support_w) = if pins.support_pinned {
-                (scene.grasps.support, 0.0)
+            // Roles as Algorithm 2 gives them: the master holds the grasp farther from the axis
+            // (arm 1 unless arm 0's is farther by more than ROLE_TOLERANCE), the other supports.
+            let sup = if power_dist(&power[0]) > power_dist(&power[1]) + ROLE_TOLERANCE {
+                1
             } else {
+                0
+            };
+            let master_at = Point3::from(power[1 - sup].translation.vector);
+            // G_s: the site farthest from the axis that leaves room for the master's gripper
+            // and that the open fingers straddle; one that balances the part on the pinch
+            // ([`COM_MARGIN`]) first.
+            let (support, support_w, clear_s) = if pins.support_pinned {
+                (scene.grasps.support, 0.0, true)
+            } else {
+                let fits =
+                    |i: usize| apart(i, &master_at) >= GRIPPER_SPACING && support_fingers(i, sup).0;
+                let balanced = |i: usize| tests.com_margin(axis, &support_pose(i)) >= COM_MARGIN;
+                let clear = |i: usize| support_fingers(i, sup).1;
                 let Some(&i) = order
                     .iter()
-                    .find(|&&i| apart(i, &master_at) >= GRIPPER_SPACING)
+                    .find(|&&i| fits(i) && balanced(i) && clear(i))
+                    .or_else(|| order.iter().find(|&&i| fits(i) && clear(i)))
+                    .or_else(|| order.iter().find(|&&i| fits(i) && balanced(i)))
+                    .or_else(|| order.iter().find(|&&i| fits(i)))
                 else {
                     continue;
                 };
-                (
-                    site_pose(&sites[i], slab, support_height(sites[i].width)),
-                    sites[i].width,
-                )
+                (support_pose(i), sites[i].width, support_fingers(i, sup).1)
             };
             let ok = (0..2)
                 .all(|arm| reachable(arm, &power[arm], &arms[arm].gripper.power_point()))
                 && reachable(sup, &support, &arms[sup].gripper.precision_point());
+            let widths = [support_w, widths_p[0], widths_p[1]];
+            let doubts = [
+                !ok,
+                !(clear_p && clear_s),
+                tests.com_margin(axis, &support) < COM_MARGIN,
+            ];
             let set = GraspSet {
                 support,
                 power,
-                widths: [support_w, widths_p[0], widths_p[1]],
+                widths,
                 axis: axis.id,
+                supportive: sup,
                 reachable: ok,
+                doubts: doubts.iter().filter(|&&d| d).count(),
                 rank: axis.score + pair_score,
             };
             if !sets
@@ -204,13 +316,33 @@ pub fn grasp_sets(
             }
         }
     }
-    // Reachable first, then by rank; stable for equal keys.
-    sets.sort_by(|a, b| {
-        b.reachable
-            .cmp(&a.reachable)
-            .then(b.rank.total_cmp(&a.rank))
-    });
-    sets
+    // Fewest failed cheap tests first, then by rank; stable for equal keys.
+    sets.sort_by(|a, b| a.doubts.cmp(&b.doubts).then(b.rank.total_cmp(&a.rank)));
+    // The goal test (IK with collisions, arm–arm distance) in that order until the first
+    // batches are filled with sets that pass it; those that fail it go last.
+    let wanted: usize = FIRST_BATCHES.iter().sum();
+    let (mut passed, mut failed) = (Vec::new(), Vec::new());
+    let mut rest = sets.into_iter();
+    while passed.len() < wanted {
+        let Some(mut set) = rest.next() else {
+            break;
+        };
+        let axis = axes
+            .iter()
+            .find(|a| a.id == set.axis)
+            .expect("the set's axis");
+        let widths = set.widths.map(|w| if w > 0.0 { w } else { PINNED_WIDTH });
+        let goal = tests.at_goal(axis, &set.support, &set.power, widths, set.supportive);
+        if goal.is_some_and(|c| c >= GOAL_ARM_CLEARANCE) {
+            passed.push(set);
+        } else {
+            set.doubts += 1;
+            failed.push(set);
+        }
+    }
+    passed.extend(rest);
+    passed.extend(failed);
+    passed
 }
 
 /// The pipeline on an auto scene: grasps found, the best few sets planned, the best plan kept.
@@ -233,11 +365,17 @@ pub fn plan_auto(
         scene.support_height,
         &scene.planner,
     );
+    let t_sites = t0.elapsed().as_secs_f64() * 1e3;
     let sets = if sites.is_empty() && !(pins.power_pinned && pins.support_pinned) {
         Vec::new()
     } else {
-        grasp_sets(scene, &slab, &sites, &axes.candidates, &axes.p_init)
+        let part = TriMesh::new(mesh.vertices.clone(), mesh.triangles.clone())
+            .expect("bar_sites built this mesh");
+        let arms = arm_models(scene);
+        let tests = GraspTests::new(scene, mesh, &part, &arms, axes.p_init);
+        grasp_sets(scene, &slab, &sites, &axes.candidates, &tests, &axes.p_init)
     };
+    let t_sets = t0.elapsed().as_secs_f64() * 1e3 - t_sites;
     let summary =
         |tried: usize, planned: usize, chosen: Option<usize>, widths: [f64; 3]| AutoGraspsJson {
             sites: sites.len(),
@@ -283,10 +421,19 @@ pub fn plan_auto(
             hull: (!axes.hull.vertices.is_empty()).then_some(axes.hull),
         };
     }
-    // Batches of SETS_PLANNED sets, in rank order, until a batch has a plan.
+    // Batches of 1, 2, 4, then SETS_PLANNED sets, in order, until a batch has a plan.
     on_candidates(sets.len());
     let mut reports: Vec<PlanReport> = Vec::new();
-    for batch in sets.chunks(SETS_PLANNED) {
+    let mut from = 0;
+    for size in FIRST_BATCHES
+        .into_iter()
+        .chain(std::iter::repeat(SETS_PLANNED))
+    {
+        if from >= sets.len() {
+            break;
+        }
+        let batch = &sets[from..(from + size).min(sets.len())];
+        from += batch.len();
         let planned: Vec<PlanReport> = batch
             .par_iter()
             .map(|set| {
@@ -322,6 +469,8 @@ pub fn plan_auto(
             file.reason.clone().unwrap_or_default()
         ));
     }
+    file.timing_ms.insert("auto_sites".into(), t_sites);
+    file.timing_ms.insert("auto_sets".into(), t_sets);
     file.timing_ms
         .insert("total".into(), t0.elapsed().as_secs_f64() * 1e3);
     report
