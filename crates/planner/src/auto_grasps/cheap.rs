@@ -8,20 +8,22 @@
 //!   pipeline will build.
 //! - The goal ([`GraspTests::at_goal`]): the part turned about the set's axis by an estimate
 //!   of θ_goal (what lifts the nearer power grasp [`FINGER_RISE`] off the table, at most
-//!   θ_max, plus the `n_ext` steps Algorithm 2 adds); collision-free IK at the nearest solution to the start for the supportive arm at G_s and the
-//!   master at its power grasp, then both at their power grasps; the smallest arm–arm (and
-//!   self) distance of the two states (an arms-only [`CollisionWorld`]).
+//!   θ_max, plus the `n_ext` steps Algorithm 2 adds); collision-free IK, nearest the start,
+//!   for the supportive arm at G_s and the master at its power grasp, then both at their
+//!   power grasps; the smallest arm–arm (and self) distance of the two states (an arms-only
+//!   [`CollisionWorld`]).
 //! - The pinch's balance ([`GraspTests::com_margin`]): the part's centre of mass, seen from
 //!   above at P_init, inside the triangle of the axis' ends and G_s (else the pinch must hold
 //!   a torque about its own normal: hundreds of newtons); the margin is the smallest
 //!   barycentric coordinate.
 
-use nalgebra::{Isometry3, Point2, Point3, Translation3};
+use nalgebra::{Isometry3, Point2, Point3, Translation3, Vector3};
 use parry3d_f64::shape::TriMesh;
 use pregrasp_collision::distance::segment_segment_sq;
 use pregrasp_collision::{ArmModel, CollisionWorld, ObjectPlacement, WorldState};
 use pregrasp_geometry::Mesh;
 use pregrasp_io::scene::Scene;
+use pregrasp_physics::MassProperties;
 use pregrasp_robot::{GripperState, Joints};
 
 use super::fingers::OpenFingers;
@@ -45,27 +47,16 @@ pub struct GraspTests<'a> {
     com: Point3<f64>,
 }
 
-/// Volume centroid of a closed mesh (vertex mean if it has no volume).
+/// The centre of mass of the solid `mesh` bounds ([`MassProperties`]), or its vertex mean
+/// when it bounds none (an open mesh: the pinch's balance is then only a guess).
 fn centre_of_mass(mesh: &Mesh) -> Point3<f64> {
-    let (mut sum, mut vol) = (nalgebra::Vector3::zeros(), 0.0);
-    for t in &mesh.triangles {
-        let [a, b, c] = t.map(|i| mesh.vertices[i as usize].coords);
-        let v = a.dot(&b.cross(&c)) / 6.0;
-        sum += (a + b + c) * (v / 4.0);
-        vol += v;
-    }
-    if vol.abs() > 1e-12 {
-        Point3::from(sum / vol)
-    } else {
-        let n = mesh.vertices.len().max(1) as f64;
-        Point3::from(
-            mesh.vertices
-                .iter()
-                .map(|v| v.coords)
-                .sum::<nalgebra::Vector3<f64>>()
-                / n,
-        )
-    }
+    MassProperties::from_mesh(mesh).map_or_else(
+        |_| {
+            let n = mesh.vertices.len().max(1) as f64;
+            Point3::from(mesh.vertices.iter().map(|v| v.coords).sum::<Vector3<f64>>() / n)
+        },
+        |m| m.centroid,
+    )
 }
 
 /// Smallest barycentric coordinate of `p` in the triangle `t` (negative: outside).
