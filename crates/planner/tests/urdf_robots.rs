@@ -4,7 +4,9 @@
 
 use std::path::{Path, PathBuf};
 
+use pregrasp_geometry::Mesh;
 use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::pipeline::PlanOptions;
 
@@ -35,14 +37,26 @@ fn with_urdf_arms(text: &str, rotation: &str) -> String {
     out
 }
 
+/// Example `name` with the built-in arms and with the described ones placed by `rotation`,
+/// both planned: (built-in scene, described scene, built-in plan, described plan, mesh).
+fn plan_both(name: &str, rotation: &str) -> (Scene, Scene, PlanFile, PlanFile, Mesh) {
+    let scene_path = root().join(format!("examples/{name}.toml"));
+    let text = std::fs::read_to_string(&scene_path).unwrap();
+    let built_in = Scene::from_str(&text, &scene_path).unwrap();
+    let described = Scene::from_str(&with_urdf_arms(&text, rotation), &scene_path).unwrap();
+    let mesh = load_mesh(&built_in.object.mesh_path, built_in.object.scale)
+        .unwrap()
+        .mesh;
+    let options = PlanOptions::default();
+    let plan = |s: &Scene| pregrasp_planner::plan_scene(s, &mesh, &options, &|_| {}, &|| {});
+    let (a, b) = (plan(&built_in).file, plan(&described).file);
+    (built_in, described, a, b, mesh)
+}
+
 #[test]
 fn the_ros2_ur5e_plans_the_examples_as_the_built_in_one() {
     for name in ["chair_side", "shelf_side", "stool_side"] {
-        let scene_path = root().join(format!("examples/{name}.toml"));
-        let text = std::fs::read_to_string(&scene_path).unwrap();
-        let built_in = Scene::from_str(&text, &scene_path).unwrap();
-        let described = with_urdf_arms(&text, "quat_xyzw = [0, 0, 1, 0]");
-        let described = Scene::from_str(&described, &scene_path).unwrap();
+        let (built_in, described, a, b, mesh) = plan_both(name, "quat_xyzw = [0, 0, 1, 0]");
         for (a, b) in built_in.robots.iter().zip(&described.robots) {
             assert_eq!(a.model, b.model);
             let urdf = b.urdf.as_ref().expect("the arm names its description");
@@ -58,15 +72,9 @@ fn the_ros2_ur5e_plans_the_examples_as_the_built_in_one() {
                 "{d}"
             );
         }
-        let mesh = load_mesh(&built_in.object.mesh_path, built_in.object.scale)
-            .unwrap()
-            .mesh;
-        let options = PlanOptions::default();
-        let plan = |s: &Scene| pregrasp_planner::plan_scene(s, &mesh, &options, &|_| {}, &|| {});
-        let (a, b) = (plan(&built_in).file, plan(&described).file);
         assert_eq!(a.status, b.status, "{name}");
         // Bit for bit: the description's arm is the built-in arm.
-        let plans = |f: &pregrasp_io::plan_file::PlanFile| serde_json::to_string(&f.plans).unwrap();
+        let plans = |f: &PlanFile| serde_json::to_string(&f.plans).unwrap();
         assert_eq!(plans(&a), plans(&b), "{name}");
         assert_eq!(a.candidates, b.candidates, "{name}");
         // The file says which description each arm came from, and names its joints.
@@ -113,17 +121,7 @@ fn a_description_without_a_planner_model_is_refused_by_name() {
 /// random search meets the round-off, the poses not.
 #[test]
 fn the_ros2_ur5e_placed_by_rpy_plans_and_passes_the_check() {
-    let scene_path = root().join("examples/chair_side.toml");
-    let text = std::fs::read_to_string(&scene_path).unwrap();
-    let built_in = Scene::from_str(&text, &scene_path).unwrap();
-    let described = with_urdf_arms(&text, "rpy_deg = [0, 0, 180]");
-    let described = Scene::from_str(&described, &scene_path).unwrap();
-    let mesh = load_mesh(&built_in.object.mesh_path, built_in.object.scale)
-        .unwrap()
-        .mesh;
-    let options = PlanOptions::default();
-    let plan = |s: &Scene| pregrasp_planner::plan_scene(s, &mesh, &options, &|_| {}, &|| {});
-    let (a, b) = (plan(&built_in).file, plan(&described).file);
+    let (_, _, a, b, mesh) = plan_both("chair_side", "rpy_deg = [0, 0, 180]");
     assert_eq!(a.plans.len(), b.plans.len());
     for (pa, pb) in a.plans.iter().zip(&b.plans) {
         assert_eq!(pa.candidate, pb.candidate);
