@@ -131,3 +131,45 @@ fn the_ros2_ur5e_placed_by_rpy_plans_and_passes_the_check() {
     let check = pregrasp_planner::check::check_plan(&b, &mesh);
     assert!(check.is_valid(), "{:?}", check.rules);
 }
+
+/// Branch continuity along μ_rot: the numerical solver of `pregrasp-urdf`, tracking each
+/// golden plan's μ_rot tool poses with the ROS 2 description's UR5e from the plan's first
+/// configuration, stays on the plan's own branch — every point within 1e-6 rad of the planned
+/// joints, which the analytic solver chose.
+#[test]
+fn the_numerical_solver_follows_every_golden_rotation_on_its_branch() {
+    let arm =
+        pregrasp_urdf::UrdfArm::load(&root().join("data/robots/ur5e.urdf"), None, None).unwrap();
+    let ur = arm.ur.expect("the UR5e is recognised");
+    let mut followed = 0;
+    for name in ["chair_side", "shelf_side", "stool_side"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("tests/golden/{name}.json"));
+        let file = PlanFile::from_json_str(&std::fs::read_to_string(&path).unwrap(), name).unwrap();
+        for plan in &file.plans {
+            let rot = plan
+                .segments
+                .iter()
+                .find(|s| s.name == pregrasp_io::plan_file::SegmentName::Rot)
+                .unwrap();
+            let mut q = rot.points[0].q.to_vec();
+            for point in &rot.points[1..] {
+                // The description's tool pose where the plan puts the arm: base · fk_dh · tool.
+                let target = ur.fk(&point.q);
+                q = arm
+                    .chain
+                    .ik_nearest(&target, &q)
+                    .unwrap_or_else(|| panic!("{name}: lost the rotation at t = {}", point.t));
+                let off = (0..6)
+                    .map(|j| (q[j] - point.q[j]).abs())
+                    .fold(0.0, f64::max);
+                assert!(
+                    off < 1e-6,
+                    "{name}: {off} rad off the planned branch at t = {}",
+                    point.t
+                );
+            }
+            followed += 1;
+        }
+    }
+    assert!(followed >= 6, "{followed} rotations followed");
+}
