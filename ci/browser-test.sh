@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Real-browser test of the plan viewer (`pregrasp view`): headless Chromium opens the
 # generated pages with every network request refused (the page must need none), checks the
-# canvas is drawn, the candidate table is filled, the timeline moves the arms, the page
+# canvas is drawn, the candidate table is filled, the timeline moves the arms (as the
+# exporter's timeline does: its CSV is compared row by row), the page
 # explains itself in words when WebGL is missing, and there is no console error.
 # A screenshot goes to target/viewer-screenshot.png (plus target/viewer-screenshot-<segment>.png,
 # the 3D view at the end of each segment, and -no-plan.png). Last line: `browser: N passed, M failed`.
@@ -34,6 +35,7 @@ trap 'rm -rf "$work"' EXIT
 plan_json="${PLAN_JSON:-$work/plan.json}"
 "$pregrasp" view "$plan_json" -o "$work/view-plan.html"
 "$pregrasp" view "$work/no-plan.json" -o "$work/view-no-plan.html"
+"$pregrasp" export "$plan_json" --format csv -o "$work/csv" > /dev/null
 
 mkdir -p "$root/target"
-node ci/browser/test.mjs "$work/view-plan.html" "$work/view-no-plan.html" "$root/target/viewer-screenshot.png"
+node ci/browser/test.mjs "$work/view-plan.html" "$work/view-no-plan.html" "$root/target/viewer-screenshot.png" "$work/csv"

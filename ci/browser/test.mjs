@@ -15,7 +15,7 @@ import { join, resolve } from 'node:path';
 import { pathToFileURL } from 'node:url';
 
 const executablePath = process.env.CHROMIUM || execFileSync('sh', ['-c', 'command -v chromium'], { encoding: 'utf8' }).trim();
-const [planHtml, noPlanHtml, screenshot] = process.argv.slice(2).map((p) => resolve(p));
+const [planHtml, noPlanHtml, screenshot, csvDir] = process.argv.slice(2).map((p) => resolve(p));
 if (!planHtml || !noPlanHtml || !screenshot) {
   console.error('usage: node test.mjs PLAN.html NO_PLAN.html SCREENSHOT.png');
   process.exit(2);
@@ -190,6 +190,30 @@ try {
     check('plan page: timeline duration is the sum of the segments', Math.abs(T - t0) < 1e-9, `${T} vs ${t0}`);
     check('plan page: segments play in order sup1, rot, mas1, sup2', order.join(',') === 'sup1,rot,mas1,sup2', order.join(','));
     check('plan page: arms pass through the plan points', worst < 1e-9, `max joint error ${worst.toExponential(2)} rad`);
+
+    // One timeline, two implementations: the page's (timeline.js) against the exporter's
+    // (crates/export/src/timeline.rs, `pregrasp export --format csv`), joints and grippers at
+    // every 10th row of each arm's CSV.
+    if (csvDir) {
+      let rows = 0, jointError = 0, gripMismatch = [];
+      for (const [i, robot] of plan.robots.entries()) {
+        const lines = readFileSync(join(csvDir, `${robot.name}.csv`), 'utf8').trim().split('\n').slice(1);
+        const sample = lines.filter((_, k) => k % 10 === 0 || k === lines.length - 1).map((l) => l.split(',').map(Number));
+        const seen = await page.evaluate(([arm, times]) => times.map((t) => {
+          window.pregraspViewer.setTime(t);
+          return [window.pregraspViewer.armJoints(arm), window.pregraspViewer.gripper(arm)];
+        }), [i, sample.map((r) => r[0])]);
+        sample.forEach((r, k) => {
+          const [q, grip] = seen[k];
+          jointError = Math.max(jointError, ...q.map((x, j) => Math.abs(x - r[j + 1])));
+          if ((grip !== 'open') !== (r[7] === 1)) gripMismatch.push(`${robot.name} t=${r[0]}`);
+          rows++;
+        });
+      }
+      check("plan page: the page's timeline is the exporter's (joints and grippers)",
+        rows > 0 && jointError < 1e-9 && gripMismatch.length === 0,
+        `${rows} rows, max joint difference ${jointError.toExponential(2)} rad, gripper mismatches ${gripMismatch.length} ${gripMismatch.slice(0, 3).join(' ')}`);
+    }
 
     // Move the timeline: the arm that moves first (sup1's robot) and the pixels must change.
     await v(() => window.pregraspViewer.setTime(0));
