@@ -30,6 +30,7 @@ pub use pregrasp_io::plan_format;
 pub mod poses;
 pub mod reach;
 pub mod replan;
+pub mod resume;
 pub mod robustness;
 pub mod rotate;
 pub mod settle;

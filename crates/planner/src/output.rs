@@ -87,7 +87,7 @@ fn points(q: &[Joints], t: &[f64]) -> Vec<PointJson> {
 }
 
 /// The fingers of a grip as the plan file records them.
-fn fingers_json(grip: GripperState) -> FingersJson {
+pub(crate) fn fingers_json(grip: GripperState) -> FingersJson {
     let f = grip.fingers();
     FingersJson {
         driver: f.driver,
@@ -95,7 +95,7 @@ fn fingers_json(grip: GripperState) -> FingersJson {
     }
 }
 
-fn reach_segment(
+pub(crate) fn reach_segment(
     (name, robot): (SegmentName, &str),
     (grip_width, grip): (f64, GripperState),
     m: &ReachMotion,
@@ -152,7 +152,7 @@ pub fn plan_json(
 }
 
 /// A plan-file entry of candidate `candidate_id` with these segments (no `physics` yet).
-fn plan_entry(
+pub(crate) fn plan_entry(
     ctx: &PlanningContext,
     candidate_id: usize,
     score: f64,

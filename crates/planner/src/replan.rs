@@ -162,6 +162,9 @@ pub enum ResumeError {
     NoPlan(usize),
     #[error("plans[{plan}]: {problem}")]
     Plan { plan: usize, problem: String },
+    /// The measured pose cannot be where the executed segments left the part.
+    #[error("--object-pose: {0}")]
+    Measurement(String),
 }
 
 /// Re-plans `rot`, `mas1` and `sup2` of plan `plan_index` of `nominal` after its `sup1` has

@@ -17,13 +17,14 @@ use pregrasp_io::scene::Scene;
 use pregrasp_planner::context::PartKnowledge;
 use pregrasp_planner::pipeline::PlanOptions;
 use pregrasp_planner::replan::{replan, replan_from_rot};
+use pregrasp_planner::resume::{replan_remaining, Resume};
 use pregrasp_planner::settle::{settle, settle_on_hull, SettleTolerance};
 
 use super::{EXIT_NO_PLAN, EXIT_OK};
 
 #[derive(clap::Args)]
 #[command(
-    after_help = "The scene is the one the plan names (scene.file, found as written or beside the plan file) unless --scene is given; only the object's pose changes. The measured pose is the part as it lies on the support, without the lift (a plan's object.initial_pose includes it, and is brought down by it); unless --as-measured, it is brought onto the support first (the hull face nearest to facing down turned to face down, the part lowered or raised onto the support) and refused if that is more than 10 mm or 5° away.\n\nExit status: 0 planned, 2 no plan at the measured pose (the file says why), 1 bad input (nothing written)."
+    after_help = "The scene is the one the plan names (scene.file, found as written or beside the plan file) unless --scene is given; only the object's pose changes. The measured pose is the part as it lies on the support, without the lift (a plan's object.initial_pose includes it, and is brought down by it); unless --as-measured (or --from mas1 / sup2, where the part is held turned), it is brought onto the support first (the hull face nearest to facing down turned to face down, the part lowered or raised onto the support) and refused if that is more than 10 mm or 5° away.\n\nExit status: 0 planned, 2 no plan at the measured pose (the file says why), 1 bad input (nothing written)."
 )]
 pub struct Args {
     /// The nominal plan file.
@@ -48,9 +49,11 @@ pub struct Args {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
-    /// The first segment to plan again: `sup1` (everything) or `rot` (sup1 has run: it is kept
+    /// The first segment to plan again: `sup1` (everything); `rot` (sup1 has run: it is kept
     /// as executed, the gripper holds the part at the measured pose, and rot, mas1 and sup2
-    /// start from the arms' joints now).
+    /// start from the arms' joints now); `mas1` (rot has run too: the part is measured turned,
+    /// in the supportive gripper, as it is: not brought onto the support); `sup2` (mas1 has run
+    /// too: both grippers hold it).
     #[arg(long, value_enum, default_value_t = From::Sup1)]
     pub from: From,
 }
@@ -60,6 +63,8 @@ pub struct Args {
 pub enum From {
     Sup1,
     Rot,
+    Mas1,
+    Sup2,
 }
 
 /// Parses "x y z qx qy qz qw" (spaces or commas) into a pose.
@@ -126,7 +131,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .mesh;
     // The part's BVH, hull and closings, built once for settling and every plan below.
     let known = Arc::new(PartKnowledge::new(&scene, &mesh));
-    let pose = if args.as_measured {
+    // A part held turned (after rot) does not lie on the support: it is taken as measured.
+    let held_turned = matches!(args.from, From::Mas1 | From::Sup2);
+    let pose = if args.as_measured || held_turned {
         pose
     } else {
         let tolerance = SettleTolerance::default();
@@ -160,6 +167,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 },
             ),
             From::Rot => replan_from_rot(&scene, &mesh, &nominal, args.plan_index, pose)?,
+            From::Mas1 | From::Sup2 => {
+                let resume = if args.from == From::Mas1 {
+                    Resume::Mas1
+                } else {
+                    Resume::Sup2
+                };
+                replan_remaining(&scene, &mesh, &nominal, args.plan_index, pose, resume)?
+            }
         })
     })?;
     let ms = started.elapsed().as_secs_f64() * 1e3;
