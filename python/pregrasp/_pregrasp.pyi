@@ -133,6 +133,7 @@ class Replanner:
         plan_index: int = 0,
         as_measured: bool = False,
         threads: Optional[int] = None,
+        start: str = "sup1",
     ) -> Plan: ...
 
 class Report:

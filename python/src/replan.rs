@@ -13,8 +13,10 @@ use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene as SceneSpec;
 use pregrasp_planner::context::PartKnowledge;
 use pregrasp_planner::pipeline::PlanOptions;
+use pregrasp_planner::replan::replan_from_rot;
+use pregrasp_planner::resume::{replan_remaining, Resume};
 use pregrasp_planner::settle::{settle, settle_on_hull, SettleTolerance};
-use pyo3::exceptions::PyIndexError;
+use pyo3::exceptions::{PyIndexError, PyValueError};
 use pyo3::prelude::*;
 
 use crate::convert::isometry_from_array;
@@ -64,9 +66,12 @@ impl Replanner {
 
     /// Replans plan `plan_index` with the part measured at `pose` (4×4). The pose is first
     /// brought onto the support (raises `SceneError`, "check the measurement", when it is more
-    /// than 10 mm or 5° from any resting pose) unless `as_measured`. Returns the new `Plan`;
-    /// its `status` says whether it planned. The GIL is released while it plans.
-    #[pyo3(signature = (pose, plan_index = 0, as_measured = false, threads = None))]
+    /// than 10 mm or 5° from any resting pose) unless `as_measured`. `start`: the first segment
+    /// to plan again, as `pregrasp replan --from`: `"sup1"` (everything), `"rot"` (sup1 has
+    /// run), `"mas1"` (rot has run: the part is held turned and taken as measured) or `"sup2"`.
+    /// Returns the new `Plan`; its `status` says whether it planned. The GIL is released while
+    /// it plans.
+    #[pyo3(signature = (pose, plan_index = 0, as_measured = false, threads = None, start = "sup1"))]
     fn replan(
         &self,
         py: Python<'_>,
@@ -74,6 +79,7 @@ impl Replanner {
         plan_index: usize,
         as_measured: bool,
         threads: Option<usize>,
+        start: &str,
     ) -> PyResult<Plan> {
         let measured = isometry_from_array(&pose, "pose")?;
         if plan_index >= self.nominal.plans.len() {
@@ -82,7 +88,18 @@ impl Replanner {
                 self.nominal.plans.len()
             )));
         }
-        let pose = if as_measured {
+        let resume = match start {
+            "sup1" | "rot" => None,
+            "mas1" => Some(Resume::Mas1),
+            "sup2" => Some(Resume::Sup2),
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "start {other:?}: expected \"sup1\", \"rot\", \"mas1\" or \"sup2\""
+                )))
+            }
+        };
+        let from_rot = start == "rot";
+        let pose = if as_measured || resume.is_some() {
             measured
         } else {
             let tolerance = SettleTolerance::default();
@@ -102,9 +119,15 @@ impl Replanner {
         let started = Instant::now();
         let result: Result<PlanFile, String> = py.detach(move || {
             let pool = thread_pool(threads)?;
-            let again = pool.install(|| {
-                pregrasp_planner::replan::replan(&spec, &mesh, &nominal, plan_index, pose, &options)
-            });
+            let again = pool.install(|| match resume {
+                Some(from) => replan_remaining(&spec, &mesh, &nominal, plan_index, pose, from)
+                    .map_err(|e| e.to_string()),
+                None if from_rot => replan_from_rot(&spec, &mesh, &nominal, plan_index, pose)
+                    .map_err(|e| e.to_string()),
+                None => Ok(pregrasp_planner::replan::replan(
+                    &spec, &mesh, &nominal, plan_index, pose, &options,
+                )),
+            })?;
             Ok(again.report.file)
         });
         let mut file = result.map_err(SceneError::new_err)?;

@@ -226,3 +226,26 @@ def test_replanner_follows_the_measured_part(examples):
         cell.replan(high)
     with pytest.raises(IndexError):
         cell.replan(pose, plan_index=7)
+
+
+def test_replanner_resumes_after_the_rotation(examples):
+    scene = pregrasp.Scene.load(examples[0])
+    plan = pregrasp.plan(scene)
+    cell = pregrasp.Replanner(scene, plan)
+    goal = plan.plans[0].object_goal_pose
+    # The part measured 2 mm off where the rotation left it, held in the pinch: what is left
+    # is planned there, the segments that ran are kept, and the whole plan checks.
+    held = goal.copy()
+    held[0, 3] += 0.002
+    for start in ("mas1", "sup2"):
+        again = cell.replan(held, start=start, threads=1)
+        assert again.status == "planned", again.reason
+        assert np.allclose(again.plans[0].object_goal_pose, held, atol=1e-12)
+        assert np.array_equal(again.plans[0].segment("sup1").q, plan.plans[0].segment("sup1").q)
+        assert pregrasp.check(again).valid
+    floating = goal.copy()
+    floating[2, 3] += 0.03
+    with pytest.raises(pregrasp.SceneError, match="above the support"):
+        cell.replan(floating, start="mas1")
+    with pytest.raises(ValueError, match="start"):
+        cell.replan(held, start="mas2")
