@@ -16,7 +16,9 @@
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::{CandidateJson, PlanFile, PlanStatus, RotationDirection, SegmentName};
+use pregrasp_io::plan_file::{
+    CandidateJson, PlanFile, PlanJson, PlanStatus, RotationDirection, SegmentJson, SegmentName,
+};
 use pregrasp_io::scene::Scene;
 
 use crate::axes::RotationAxisCandidate;
@@ -167,6 +169,57 @@ pub enum ResumeError {
     Measurement(String),
 }
 
+/// A plan of a nominal file part of which has run (`replan --from rot`, `mas1`, `sup2`): its
+/// entry, its segments and its arms, each refused by name when the file lacks it.
+pub(crate) struct RanPlan<'a> {
+    pub plan: &'a PlanJson,
+    index: usize,
+}
+
+impl<'a> RanPlan<'a> {
+    pub fn new(nominal: &'a PlanFile, index: usize) -> Result<RanPlan<'a>, ResumeError> {
+        let plan = nominal.plans.get(index).ok_or(ResumeError::NoPlan(index))?;
+        Ok(RanPlan { plan, index })
+    }
+
+    fn bad(&self, problem: String) -> ResumeError {
+        ResumeError::Plan {
+            plan: self.index,
+            problem,
+        }
+    }
+
+    /// Segment `name`, which has points.
+    pub fn segment(&self, name: SegmentName) -> Result<&'a SegmentJson, ResumeError> {
+        let segment = (self.plan.segments.iter())
+            .find(|s| s.name == name)
+            .ok_or_else(|| self.bad(format!("no {name} segment")))?;
+        if segment.points.is_empty() {
+            return Err(self.bad(format!("{name} has no points")));
+        }
+        Ok(segment)
+    }
+
+    /// The index in `scene` of the arm the plan names `name` (its `role`).
+    pub fn arm(&self, scene: &Scene, role: &str, name: &str) -> Result<usize, ResumeError> {
+        (scene.robots.iter())
+            .position(|r| r.name == name)
+            .ok_or_else(|| self.bad(format!("the {role} arm {name:?} is not in the scene")))
+    }
+}
+
+/// The grasp a gripper holds, `measured` through its arm's joints, or the `planned` one when
+/// they differ by round-off only (FK of the planned joints gives it back within 1e-15), so
+/// that an unchanged pose resumes the nominal plan exactly.
+pub(crate) fn held_grasp(measured: Isometry3<f64>, planned: &Isometry3<f64>) -> Isometry3<f64> {
+    let off = (measured.translation.vector - planned.translation.vector).norm();
+    if off < 1e-9 && measured.rotation.angle_to(&planned.rotation) < 1e-9 {
+        *planned
+    } else {
+        measured
+    }
+}
+
 /// Re-plans `rot`, `mas1` and `sup2` of plan `plan_index` of `nominal` after its `sup1` has
 /// run, with the part measured at `object_pose` (where it lies with the supportive gripper
 /// closed on it). Only the plan's own rotation axis is tried (the gripper holds the part where
@@ -180,49 +233,19 @@ pub fn replan_from_rot(
     plan_index: usize,
     object_pose: Isometry3<f64>,
 ) -> Result<Replanned, ResumeError> {
-    let plan_json = nominal
-        .plans
-        .get(plan_index)
-        .ok_or(ResumeError::NoPlan(plan_index))?;
-    let bad = |problem: String| ResumeError::Plan {
-        plan: plan_index,
-        problem,
-    };
-    let sup1 = plan_json
-        .segments
-        .iter()
-        .find(|s| s.name == SegmentName::Sup1)
-        .ok_or_else(|| bad("no sup1 segment".into()))?;
-    let q_sup = sup1
-        .points
-        .last()
-        .ok_or_else(|| bad("sup1 has no points".into()))?
-        .q;
-    let sup = scene
-        .robots
-        .iter()
-        .position(|r| r.name == plan_json.supportive)
-        .ok_or_else(|| {
-            bad(format!(
-                "the supportive arm {:?} is not in the scene",
-                plan_json.supportive
-            ))
-        })?;
+    let ran = RanPlan::new(nominal, plan_index)?;
+    let sup1 = ran.segment(SegmentName::Sup1)?;
+    let q_sup = sup1.points.last().expect("a segment with points").q;
+    let sup = ran.arm(scene, "supportive", &ran.plan.supportive)?;
     let mut moved = scene.clone();
     moved.object.pose = object_pose;
     let arms = arm_models(&moved);
-    let held = moved.initial_object_pose().inverse()
-        * arms[sup].flange_world(&q_sup)
-        * arms[sup].gripper.precision_point();
-    // The grasp the fingers hold, unless it is the planned one but for round-off (FK of the
-    // planned joints gives it back within 1e-15): then the planned one, so that an unchanged
-    // pose replans the nominal plan exactly.
-    let round_off = (held.translation.vector - moved.grasps.support.translation.vector).norm()
-        < 1e-9
-        && held.rotation.angle_to(&moved.grasps.support.rotation) < 1e-9;
-    if !round_off {
-        moved.grasps.support = held;
-    }
+    moved.grasps.support = held_grasp(
+        moved.initial_object_pose().inverse()
+            * arms[sup].flange_world(&q_sup)
+            * arms[sup].gripper.precision_point(),
+        &moved.grasps.support,
+    );
 
     let matched = candidate_at(&moved, mesh, nominal, plan_index, None);
     let options = PlanOptions {

@@ -30,7 +30,7 @@ use crate::paths::{motion_seed, MAX_IK_TRIES};
 use crate::pipeline::PlanReport;
 use crate::poses::PowerGraspPose;
 use crate::reach::{reach, ReachMotion, ReachQuery};
-use crate::replan::{ReplanRoute, Replanned, ResumeError};
+use crate::replan::{held_grasp, RanPlan, ReplanRoute, Replanned, ResumeError};
 use crate::timeline::Moment;
 
 /// How far (m) the part held as measured may have been from resting on the support when `rot`
@@ -46,17 +46,6 @@ pub enum Resume {
     Sup2,
 }
 
-/// A grasp measured through the arm that holds it, or the planned one when they differ by
-/// round-off only.
-fn held(measured: Isometry3<f64>, planned: &Isometry3<f64>) -> Isometry3<f64> {
-    let off = (measured.translation.vector - planned.translation.vector).norm();
-    if off < 1e-9 && measured.rotation.angle_to(&planned.rotation) < 1e-9 {
-        *planned
-    } else {
-        measured
-    }
-}
-
 /// Re-plans what is left of plan `plan_index` of `nominal` from `from`, the part measured at
 /// `object_pose` (see the module documentation). `route` is [`ReplanRoute::KeptCandidate`]
 /// when it planned, [`ReplanRoute::CandidateFailed`] (no plan, with the reason) when not.
@@ -68,48 +57,30 @@ pub fn replan_remaining(
     object_pose: Isometry3<f64>,
     from: Resume,
 ) -> Result<Replanned, ResumeError> {
-    let plan = nominal
-        .plans
-        .get(plan_index)
-        .ok_or(ResumeError::NoPlan(plan_index))?;
-    let bad = |problem: String| ResumeError::Plan {
-        plan: plan_index,
-        problem,
-    };
-    let segment = |name: SegmentName| {
-        plan.segments
-            .iter()
-            .find(|s| s.name == name && !s.points.is_empty())
-            .ok_or_else(|| bad(format!("no {name} segment with points")))
-    };
+    let ran = RanPlan::new(nominal, plan_index)?;
+    let plan = ran.plan;
     let (sup1, rot, mas1) = (
-        segment(SegmentName::Sup1)?,
-        segment(SegmentName::Rot)?,
-        segment(SegmentName::Mas1)?,
+        ran.segment(SegmentName::Sup1)?,
+        ran.segment(SegmentName::Rot)?,
+        ran.segment(SegmentName::Mas1)?,
     );
-    let arm_of = |name: &str| {
-        scene
-            .robots
-            .iter()
-            .position(|r| r.name == name)
-            .ok_or_else(|| bad(format!("arm {name:?} is not in the scene")))
-    };
-    let (sup, mas) = (arm_of(&plan.supportive)?, arm_of(&plan.master)?);
+    let sup = ran.arm(scene, "supportive", &plan.supportive)?;
+    let mas = ran.arm(scene, "master", &plan.master)?;
     let arms = arm_models(scene);
-    let q_s = rot.points.last().expect("checked above").q;
-    let q_m = mas1.points.last().expect("checked above").q;
+    let q_s = rot.points.last().expect("a segment with points").q;
+    let q_m = mas1.points.last().expect("a segment with points").q;
     let precision = arms[sup].gripper.precision_point();
 
     // The grasps as the grippers hold them, and the part's start as `rot` then had it.
     let mut moved = scene.clone();
     let p_inv = object_pose.inverse();
-    moved.grasps.support = held(
+    moved.grasps.support = held_grasp(
         p_inv * arms[sup].flange_world(&q_s) * precision,
         &scene.grasps.support,
     );
     if from == Resume::Sup2 {
         let power = arms[mas].gripper.power_point();
-        moved.grasps.power[mas] = held(
+        moved.grasps.power[mas] = held_grasp(
             p_inv * arms[mas].flange_world(&q_m) * power,
             &scene.grasps.power[mas],
         );
