@@ -7,6 +7,7 @@
 //! the flange frame. Units: metres, radians, seconds.
 
 mod angle;
+mod arm;
 mod closing;
 mod finger;
 mod fingers;
@@ -19,6 +20,7 @@ mod model;
 mod sweep_radii;
 
 pub use angle::{atan2, wrap_angle};
+pub use arm::ArmKinematics;
 pub use closing::{
     close_fingers, close_fingers_traced, ClosingKind, ClosingWorld, FingerClosing, Touch, COUPLER,
     DRIVER, DRIVER_STEP, DRIVER_TOLERANCE, FOLLOWER, PAD, SPRING_LINK,

@@ -178,6 +178,33 @@ pub enum UrdfError {
         /// The links that could serve.
         candidates: Vec<String>,
     },
+    /// A joint asked to be held still cannot be.
+    #[error("{file}: cannot hold joint `{joint}`: it {problem}")]
+    HeldJoint {
+        /// The source.
+        file: String,
+        /// The joint named.
+        joint: String,
+        /// What is wrong.
+        problem: String,
+    },
+    /// The planner drives six joints; the chain, after holding joints, has another number.
+    #[error(
+        "{file}: the chain {chain} has {dof} actuated joints ({joints}); the planner drives \
+         6{hint}"
+    )]
+    NotSixJoints {
+        /// The source.
+        file: String,
+        /// The chain: "from `base` to `tool`".
+        chain: String,
+        /// How many it has.
+        dof: usize,
+        /// Their names.
+        joints: String,
+        /// What to do about it.
+        hint: &'static str,
+    },
 }
 
 /// `a`, `b` and `c` as "`a`, `b`, `c`" (or "none").

@@ -18,6 +18,9 @@
 //!   ([`redundancy`]).
 //! * [`UrdfArm`]: an arm as a scene names it (file, base link, tool link, with defaults),
 //!   resolved into its chain and, for a UR arm, its analytic model.
+//! * [`SixJointArm`]: the arm as the planner drives it, six actuated joints (a 7-joint arm
+//!   with one held still, [`SerialChain::with_held`]), behind `pregrasp_robot::ArmKinematics`
+//!   ([`six`] documents its frames).
 //! * [`recognise_ur`]: whether a chain is a Universal Robots arm (standard DH up to fixed base
 //!   and tool transforms), so the analytic solver of `pregrasp-robot` can be used
 //!   ([`ur`]).
@@ -30,9 +33,11 @@ pub mod chain;
 mod error;
 pub mod ik;
 pub mod kinematics;
+mod lock;
 mod model;
 pub mod redundancy;
 mod rng;
+pub mod six;
 pub mod ur;
 
 pub use arm::{UrdfArm, DEFAULT_TOOL_LINKS};
@@ -44,4 +49,5 @@ pub use ik::{joint_distance, IkOptions, NearestOptions};
 pub use kinematics::{pose_distance, pose_error, rotation_vector};
 pub use model::{Mimic, UrdfModel};
 pub use redundancy::RedundancyOptions;
+pub use six::SixJointArm;
 pub use ur::{recognise_ur, recognise_ur_with_tolerance, UrMatch, UR_MATCH_TOLERANCE};

@@ -1,0 +1,128 @@
+//! The kinematics the planner drives: any arm with six actuated joints, behind one trait, so
+//! that the stages ask an arm for poses and joint vectors and never what arm it is.
+//!
+//! # Frames
+//!
+//! Every pose is in the arm's base frame. [`ArmKinematics::fk_frames`] returns seven frames,
+//! the standard-DH convention the built-in UR arms use, stated so that any chain can give
+//! them:
+//!
+//! - frame `i` (`0 ≤ i ≤ 5`) is rigid with the link that joints `1..=i` move (frame 0 with the
+//!   base), and its **origin lies on the axis of joint `i + 1`**;
+//! - frame 6 is the flange (tool0: the frame the gripper is mounted to), rigid with the last
+//!   link.
+//!
+//! A link shape given in frame `f` therefore moves only with joints `1..=f`, and the distance
+//! from joint `i + 1`'s axis to frame `i + 1`'s origin never changes: it is at most
+//! [`ArmKinematics::frame_offsets`]`[i]` (the distance between the two origins). Summing
+//! them bounds how far any point of the arm is from any joint axis, which is what the swept
+//! collision checks need ([`crate::group_sweep_radii`]).
+
+use nalgebra::Isometry3;
+
+use crate::fk::UrKinematics;
+use crate::model::Joints;
+
+/// Kinematics and limits of an arm with six actuated joints (see the module documentation
+/// for the frames).
+pub trait ArmKinematics: Send + Sync + std::fmt::Debug {
+    /// Short name for reports (`"ur5e"`, `"fr3"`).
+    fn name(&self) -> &str;
+
+    /// Flange pose in the base frame.
+    fn fk(&self, q: &Joints) -> Isometry3<f64>;
+
+    /// Frames 0..=6 in the base frame (frame 6 the flange).
+    fn fk_frames(&self, q: &Joints) -> [Isometry3<f64>; 7];
+
+    /// Every inverse kinematics solution found for the flange pose `flange`, within the
+    /// joint limits, sorted by joint distance to `seed` (nearest first).
+    fn ik(&self, flange: &Isometry3<f64>, seed: &Joints) -> Vec<Joints>;
+
+    /// The solution on `seed`'s branch (a small motion from `seed` continues it), if any.
+    fn ik_nearest(&self, flange: &Isometry3<f64>, seed: &Joints) -> Option<Joints>;
+
+    /// Position limits `(lower, upper)` (rad).
+    fn joint_limits(&self) -> [(f64, f64); 6];
+
+    /// Speed limits (rad/s).
+    fn max_joint_speed(&self) -> Joints;
+
+    /// Acceleration limits (rad/s²).
+    fn max_joint_accel(&self) -> Joints;
+
+    /// Per joint `i` (0-based), the distance from frame `i`'s origin to frame `i + 1`'s: a
+    /// constant of the arm, since frame `i`'s origin is on the axis joint `i + 1` turns about.
+    fn frame_offsets(&self) -> [f64; 6];
+}
+
+impl ArmKinematics for UrKinematics {
+    fn name(&self) -> &str {
+        self.model().name()
+    }
+
+    fn fk(&self, q: &Joints) -> Isometry3<f64> {
+        UrKinematics::fk(self, q)
+    }
+
+    fn fk_frames(&self, q: &Joints) -> [Isometry3<f64>; 7] {
+        UrKinematics::fk_frames(self, q)
+    }
+
+    fn ik(&self, flange: &Isometry3<f64>, seed: &Joints) -> Vec<Joints> {
+        UrKinematics::ik(self, flange, seed)
+    }
+
+    fn ik_nearest(&self, flange: &Isometry3<f64>, seed: &Joints) -> Option<Joints> {
+        UrKinematics::ik_nearest(self, flange, seed)
+    }
+
+    fn joint_limits(&self) -> [(f64, f64); 6] {
+        self.model().joint_limits()
+    }
+
+    fn max_joint_speed(&self) -> Joints {
+        self.model().max_joint_speed()
+    }
+
+    fn max_joint_accel(&self) -> Joints {
+        self.model().max_joint_accel()
+    }
+
+    fn frame_offsets(&self) -> [f64; 6] {
+        let dh = self.dh();
+        std::array::from_fn(|j| {
+            let (d, a, _) = dh.row(j);
+            a.hypot(d)
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::UrModel;
+
+    /// The DH frame origins are as far apart as the trait says, at any joint vector, and each
+    /// frame's origin stays on the next joint's axis (its z axis for DH).
+    #[test]
+    fn ur_frame_offsets_are_origin_distances() {
+        for model in UrModel::ALL {
+            let kin = UrKinematics::new(model);
+            let offsets = ArmKinematics::frame_offsets(&kin);
+            for q in [
+                [0.0; 6],
+                [0.3, -1.2, 1.9, -0.4, 1.1, 2.5],
+                [-2.0, -0.2, -2.5, 3.0, -1.5, 0.7],
+            ] {
+                let f = ArmKinematics::fk_frames(&kin, &q);
+                for i in 0..6 {
+                    let d = (f[i + 1].translation.vector - f[i].translation.vector).norm();
+                    assert!((d - offsets[i]).abs() < 1e-12, "{model} joint {i}: {d}");
+                }
+                let flange = ArmKinematics::fk(&kin, &q);
+                assert!((flange.translation.vector - f[6].translation.vector).norm() < 1e-12);
+            }
+        }
+    }
+}
