@@ -78,7 +78,7 @@ fn check_arm(c: &mut Criterion) {
             black_box(world.is_arm_free(0, black_box(&s)))
         })
     });
-    let kin = world.arms()[0].kin;
+    let kin = world.arms()[0].kin.clone();
     let near = kin
         .ik_nearest(
             &stand_off(0.5, 0.05, 0.02, 0.3),

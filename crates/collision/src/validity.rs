@@ -22,7 +22,6 @@
 //! not in `w_i`. [`joint_space_with_payload`] adds the attached part's reach to every weight.
 
 use pregrasp_motion::{Doubts, JointSpace, State, StateValidator};
-use pregrasp_robot::joint_sweep_radii;
 
 use crate::arm::ArmModel;
 use crate::world::{CollisionWorld, WorldState};
@@ -49,7 +48,7 @@ impl<'a> ArmValidity<'a> {
     /// Whether `q` is within the arm's joint limits.
     #[inline]
     fn within_limits(&self, q: &State<6>) -> bool {
-        let limits = self.world.arms()[self.arm].model().joint_limits();
+        let limits = self.world.arms()[self.arm].joint_limits();
         q.iter()
             .zip(limits.iter())
             .all(|(x, (lo, hi))| *x >= *lo && *x <= *hi)
@@ -111,8 +110,8 @@ pub fn joint_space(arm: &ArmModel) -> JointSpace<6> {
 /// the flange origin: every weight grows by `payload_reach`, since a rotation about any
 /// axis moves a point at distance `≤ w_i + payload_reach` from that axis.
 pub fn joint_space_with_payload(arm: &ArmModel, payload_reach: f64) -> JointSpace<6> {
-    let limits = arm.model().joint_limits();
-    let radii = joint_sweep_radii(arm.model(), &arm.gripper);
+    let limits = arm.joint_limits();
+    let radii = arm.joint_sweep_radii();
     let lower = limits.map(|l| l.0);
     let upper = limits.map(|l| l.1);
     let weights = radii.map(|r| r + payload_reach.max(0.0));

@@ -13,7 +13,7 @@ use pregrasp_geometry::{ConvexHull, Mesh};
 use pregrasp_io::plan_file::PadContactJson;
 use pregrasp_io::scene::Scene;
 use pregrasp_motion::{JointSpace, MotionValidator};
-use pregrasp_robot::{wrap_angle, Gripper2F85, GripperState, Joints, UrKinematics};
+use pregrasp_robot::{wrap_angle, ArmKinematics, Gripper2F85, GripperState, Joints};
 
 use crate::clock::StageClock;
 use crate::timeline::Moment;
@@ -311,7 +311,7 @@ impl<'a> PlanningContext<'a> {
     ) -> IkSet {
         let model = self.arm(arm);
         let target = model.base.inverse() * flange_world;
-        let solutions = distinct_ik(&model.kin, &target, &self.starts()[arm]);
+        let solutions = distinct_ik(&*model.kin, &target, &self.starts()[arm]);
         IkSet {
             arm,
             object: *object,
@@ -360,7 +360,7 @@ impl IkSet {
 /// One configuration per geometrically distinct IK solution (at most 8): of the ±2π variants
 /// the joint limits allow, the one nearest to `seed`. The variants share one geometry, so
 /// collision-checking one of each is enough. Sorted by distance to `seed`.
-pub fn distinct_ik(kin: &UrKinematics, flange: &Isometry3<f64>, seed: &Joints) -> Vec<Joints> {
+pub fn distinct_ik(kin: &dyn ArmKinematics, flange: &Isometry3<f64>, seed: &Joints) -> Vec<Joints> {
     let mut seen: Vec<Joints> = Vec::new();
     kin.ik(flange, seed)
         .into_iter()

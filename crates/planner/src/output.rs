@@ -178,12 +178,12 @@ pub fn rot_segment(
     pose: &PowerGraspPose,
     rot: &RotationPath,
 ) -> SegmentJson {
-    let model = ctx.arm(pose.supportive).kin.model();
+    let arm = ctx.arm(pose.supportive);
     let t = time_along(
         &rot.q,
         &rot.theta,
-        &scaled(&model.max_joint_speed(), CONTACT_SCALE),
-        &scaled(&model.max_joint_accel(), CONTACT_SCALE),
+        &scaled(&arm.max_joint_speed(), CONTACT_SCALE),
+        &scaled(&arm.max_joint_accel(), CONTACT_SCALE),
     );
     let points = rot
         .q

@@ -156,7 +156,7 @@ impl StateValidator<6> for ArmFree<'_> {
 
 /// The retreat (μ_sup2 only) and the approach of a reach query.
 pub fn reach_lines(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachLines, ReachFailure> {
-    let kin = ctx.arm(query.arm).kin;
+    let kin = &ctx.arm(query.arm).kin;
     // The line stops at the first invalid state: remember what touched there.
     let touched: Mutex<Option<Contact>> = Mutex::new(None);
     let strict = query.validity(ctx, false, Some(&touched));
@@ -210,7 +210,7 @@ pub fn reach_transit(
     let strict_motion = ctx.motion_validator(arm, &strict);
     let transit_from = *lines.retreat.last().expect("non-empty");
     let standoff = lines.approach[0];
-    let model = ctx.arm(arm).kin.model();
+    let model = ctx.arm(arm);
     let (speed, accel) = (model.max_joint_speed(), model.max_joint_accel());
     let transit_limits = RestToRest {
         vmax: scaled(&speed, TRANSIT_SCALE),

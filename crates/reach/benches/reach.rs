@@ -36,7 +36,7 @@ fn reach_query(c: &mut Criterion) {
     let planner = ReachPlanner::for_world(world, ReachSettings::default());
     let mut base = WorldState::new([UP, UP]);
     base.object = ObjectPlacement::Fixed(Isometry3::translation(0.5, 0.0, -0.005));
-    let kin = planner.world.arms()[0].kin;
+    let kin = planner.world.arms()[0].kin.clone();
     let validity = ArmValidity::new(&planner.world, 0, base);
     let mut queries = Vec::new();
     for (i, pan) in [FRAC_PI_2, -FRAC_PI_2, 0.0, PI * 0.75].iter().enumerate() {

@@ -18,10 +18,13 @@
 //! them bounds how far any point of the arm is from any joint axis, which is what the swept
 //! collision checks need ([`crate::group_sweep_radii`]).
 
+use std::sync::Arc;
+
 use nalgebra::Isometry3;
 
 use crate::fk::UrKinematics;
-use crate::model::Joints;
+use crate::links::{arm_geometry, ArmGeometry};
+use crate::model::{Joints, UrModel, JOINT_NAMES};
 
 /// Kinematics and limits of an arm with six actuated joints (see the module documentation
 /// for the frames).
@@ -95,6 +98,37 @@ impl ArmKinematics for UrKinematics {
             let (d, a, _) = dh.row(j);
             a.hypot(d)
         })
+    }
+}
+
+/// An arm as the planner uses it: its kinematics, the collision geometry of its links (in
+/// the frames of [`ArmKinematics::fk_frames`]) and the names of its joints, built once and
+/// shared.
+#[derive(Clone, Debug)]
+pub struct ArmDescription {
+    /// Names the arm in process-wide caches: the model name for a built-in arm, a digest of
+    /// the description for any other (two arms with one key must be the same arm).
+    pub key: String,
+    /// Kinematics and limits.
+    pub kin: Arc<dyn ArmKinematics>,
+    /// Link shapes (frames 0..=6) and self-collision pairs.
+    pub geometry: Arc<ArmGeometry>,
+    /// The built-in model, when the arm is one (URScript export needs it).
+    pub ur: Option<UrModel>,
+    /// The six driven joints' names, base to flange.
+    pub joint_names: [String; 6],
+}
+
+impl ArmDescription {
+    /// A built-in Universal Robots arm: analytic kinematics, the fitted link geometry.
+    pub fn ur(model: UrModel) -> ArmDescription {
+        ArmDescription {
+            key: model.name().to_string(),
+            kin: Arc::new(UrKinematics::new(model)),
+            geometry: Arc::new(arm_geometry(model)),
+            ur: Some(model),
+            joint_names: JOINT_NAMES.map(str::to_string),
+        }
     }
 }
 

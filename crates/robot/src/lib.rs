@@ -20,7 +20,7 @@ mod model;
 mod sweep_radii;
 
 pub use angle::{atan2, wrap_angle};
-pub use arm::ArmKinematics;
+pub use arm::{ArmDescription, ArmKinematics};
 pub use closing::{
     close_fingers, close_fingers_traced, ClosingKind, ClosingWorld, FingerClosing, Touch, COUPLER,
     DRIVER, DRIVER_STEP, DRIVER_TOLERANCE, FOLLOWER, PAD, SPRING_LINK,
@@ -38,4 +38,7 @@ pub use links::{
     Cylinder, FittedLink, LinkShape, Primitive, SHAPE_GROUPS,
 };
 pub use model::{DhParams, Joints, UnknownModel, UrModel, DEFAULT_JOINT_ACCEL, JOINT_NAMES};
-pub use sweep_radii::{flange_sweep_radii, group_sweep_radii, joint_sweep_radii};
+pub use sweep_radii::{
+    flange_sweep_radii, flange_sweep_radii_of, group_sweep_radii, group_sweep_radii_of,
+    joint_sweep_radii, joint_sweep_radii_of,
+};

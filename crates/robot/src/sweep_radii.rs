@@ -3,8 +3,10 @@
 //! swept checks). Built from the link shapes ([`crate::links`]) and the gripper's shapes at
 //! every opening ([`crate::gripper`]).
 
+use crate::arm::{ArmDescription, ArmKinematics};
+use crate::fk::UrKinematics;
 use crate::gripper::Gripper2F85;
-use crate::links::{arm_geometry, SHAPE_GROUPS};
+use crate::links::{arm_geometry, ArmGeometry, SHAPE_GROUPS};
 use crate::model::{Joints, UrModel};
 
 /// For edge-validation resolution: for each joint i, an upper bound on the distance from
@@ -29,12 +31,38 @@ pub fn joint_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> Joints {
 /// the shape's largest distance from its own frame origin (its exact pieces' slack included).
 /// Frames a joint does not move get 0.
 pub fn group_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> [[f64; SHAPE_GROUPS]; 6] {
-    // Computed once per model and gripper (every opening's shapes are posed): cached.
-    type Key = (&'static str, u64, u64);
+    cached(model.name(), gripper, || {
+        let offsets = ArmKinematics::frame_offsets(&UrKinematics::new(model));
+        compute_group_sweep_radii(&offsets, &arm_geometry(model), gripper)
+    })
+}
+
+/// [`group_sweep_radii`] of any arm: joint `i`'s axis passes through the origin of frame `i`
+/// ([`ArmKinematics`]'s frames), so the origin-to-origin distances
+/// [`ArmKinematics::frame_offsets`] take the place of the DH link offsets.
+pub fn group_sweep_radii_of(
+    arm: &ArmDescription,
+    gripper: &Gripper2F85,
+) -> [[f64; SHAPE_GROUPS]; 6] {
+    cached(&arm.key, gripper, || {
+        compute_group_sweep_radii(&arm.kin.frame_offsets(), &arm.geometry, gripper)
+    })
+}
+
+/// [`joint_sweep_radii`] of any arm (see [`group_sweep_radii_of`]).
+pub fn joint_sweep_radii_of(arm: &ArmDescription, gripper: &Gripper2F85) -> Joints {
+    let groups = group_sweep_radii_of(arm, gripper);
+    std::array::from_fn(|i| groups[i].iter().copied().fold(0.0, f64::max))
+}
+
+/// The radii of the arm named `key` with `gripper`, computed by `compute` once per process
+/// (every opening's shapes are posed).
+fn cached(key: &str, gripper: &Gripper2F85, compute: impl FnOnce() -> GroupRadii) -> GroupRadii {
+    type Key = (String, u64, u64);
     static CACHE: std::sync::OnceLock<std::sync::Mutex<Vec<(Key, GroupRadii)>>> =
         std::sync::OnceLock::new();
     let key = (
-        model.name(),
+        key.to_string(),
         gripper.precision_point_z.to_bits(),
         gripper.power_point_z.to_bits(),
     );
@@ -47,7 +75,7 @@ pub fn group_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> [[f64; SHAPE_
     {
         return *r;
     }
-    let radii = compute_group_sweep_radii(model, gripper);
+    let radii = compute();
     cache
         .lock()
         .unwrap_or_else(|e| e.into_inner())
@@ -58,9 +86,11 @@ pub fn group_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> [[f64; SHAPE_
 /// Per joint and shape group, the bound of [`group_sweep_radii`].
 type GroupRadii = [[f64; SHAPE_GROUPS]; 6];
 
-fn compute_group_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> GroupRadii {
-    let offsets = flange_offsets(model);
-    let geometry = arm_geometry(model);
+fn compute_group_sweep_radii(
+    offsets: &[f64; 6],
+    geometry: &ArmGeometry,
+    gripper: &Gripper2F85,
+) -> GroupRadii {
     let mut reach_in_group = [0.0f64; SHAPE_GROUPS];
     for shape in &geometry.links {
         let r = shape.primitive.max_origin_distance() + shape.pieces.map_or(0.0, |p| p.slack);
@@ -95,15 +125,11 @@ fn compute_group_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> GroupRadi
 /// Per joint i, an upper bound on the distance from joint axis i to the flange origin (m): a
 /// part rigid with the flange within `r` of its origin moves at most `Σ_i (F[i] + r)·|Δq_i|`.
 pub fn flange_sweep_radii(model: UrModel) -> Joints {
-    let offsets = flange_offsets(model);
-    std::array::from_fn(|i| offsets[i..6].iter().sum::<f64>())
+    flange_sweep_radii_of(&UrKinematics::new(model))
 }
 
-/// The origin-to-origin distances of consecutive DH frames, `√(a_j² + d_j²)`.
-fn flange_offsets(model: UrModel) -> [f64; 6] {
-    let dh = model.dh();
-    std::array::from_fn(|j| {
-        let (d, a, _) = dh.row(j);
-        a.hypot(d)
-    })
+/// [`flange_sweep_radii`] of any arm (see [`group_sweep_radii_of`]).
+pub fn flange_sweep_radii_of(kin: &dyn ArmKinematics) -> Joints {
+    let offsets = kin.frame_offsets();
+    std::array::from_fn(|i| offsets[i..6].iter().sum::<f64>())
 }

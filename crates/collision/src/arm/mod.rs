@@ -5,8 +5,8 @@ use std::sync::Arc;
 
 use nalgebra::Isometry3;
 use pregrasp_robot::{
-    arm_geometry, flange_sweep_radii, group_sweep_radii, Gripper2F85, GripperState, Joints,
-    LinkShape, Primitive, UrKinematics, UrModel, SHAPE_GROUPS,
+    flange_sweep_radii_of, group_sweep_radii_of, ArmDescription, ArmKinematics, Gripper2F85,
+    GripperState, Joints, LinkShape, Primitive, UrModel, SHAPE_GROUPS,
 };
 
 use crate::error::CollisionError;
@@ -102,16 +102,20 @@ use pieces::{frame_spheres, gripper_sphere, gripper_tight, tight_pieces, TightSe
 use posed::place;
 pub(crate) use posed::{Local, PosedArm};
 
-/// An arm in the world: a UR model at `base` with a Robotiq 2F-85 on its flange.
+/// An arm in the world: an arm ([`ArmDescription`]: a built-in UR model or one from a robot
+/// description) at `base` with a Robotiq 2F-85 on its flange.
 ///
-/// Frames: `base` maps the arm's controller base frame into the world; link primitives live
-/// in the DH frames of [`UrKinematics::fk_frames`] and gripper primitives in the flange frame.
+/// Frames: `base` maps the arm's base frame into the world; link primitives live in the
+/// frames of [`ArmKinematics::fk_frames`] (the DH frames of a UR) and gripper primitives in
+/// the flange frame.
 #[derive(Clone, Debug)]
 pub struct ArmModel {
     /// Name used in contact reports (`"left"` → `"left/forearm"`).
     pub name: String,
     /// Kinematics of the arm (base frame).
-    pub kin: UrKinematics,
+    pub kin: Arc<dyn ArmKinematics>,
+    /// What the arm is built from.
+    description: ArmDescription,
     /// Arm base frame in the world.
     pub base: Isometry3<f64>,
     /// The gripper on the flange.
@@ -139,8 +143,18 @@ impl ArmModel {
         base: Isometry3<f64>,
         gripper: Gripper2F85,
     ) -> Result<Self, CollisionError> {
-        let geometry = arm_geometry(model);
-        let forbidden = Gripper2F85::forbidden_arm_links(&geometry);
+        Self::from_description(name, ArmDescription::ur(model), base, gripper)
+    }
+
+    /// Builds any arm ([`ArmDescription`]) with its link and gripper primitives cached.
+    pub fn from_description(
+        name: &str,
+        description: ArmDescription,
+        base: Isometry3<f64>,
+        gripper: Gripper2F85,
+    ) -> Result<Self, CollisionError> {
+        let geometry = &*description.geometry;
+        let forbidden = Gripper2F85::forbidden_arm_links(geometry);
         let grip: Vec<LinkShape> = gripper.shapes(GripperState::Open);
         let n_links = geometry.links.len();
         let count = n_links + grip.len();
@@ -176,7 +190,7 @@ impl ArmModel {
                 None => link_pair_groups.push((key, vec![(a, b)])),
             }
         }
-        let tight = tight_pieces(model, &geometry.links);
+        let tight = tight_pieces(&description.key, &geometry.links);
         let shapes = ShapeSet {
             parts: geometry
                 .links
@@ -212,12 +226,13 @@ impl ArmModel {
             group_of: (0..count)
                 .map(|k| geometry.links.get(k).map_or(7, |l| l.frame as u8))
                 .collect(),
-            group_radii: group_sweep_radii(model, &gripper),
-            flange_radii: flange_sweep_radii(model),
+            group_radii: group_sweep_radii_of(&description, &gripper),
+            flange_radii: flange_sweep_radii_of(&*description.kin),
         };
         Ok(ArmModel {
             name: name.to_string(),
-            kin: UrKinematics::new(model),
+            kin: description.kin.clone(),
+            description,
             base,
             gripper,
             shapes,
@@ -249,9 +264,36 @@ impl ArmModel {
         set.held_grippers.iter().find(|g| g.key == key)
     }
 
-    /// The arm model.
-    pub fn model(&self) -> UrModel {
-        self.kin.model()
+    /// What the arm is built from.
+    pub fn description(&self) -> &ArmDescription {
+        &self.description
+    }
+
+    /// The built-in UR model, when the arm is one.
+    pub fn ur_model(&self) -> Option<UrModel> {
+        self.description.ur
+    }
+
+    /// Position limits `(lower, upper)` (rad).
+    pub fn joint_limits(&self) -> [(f64, f64); 6] {
+        self.kin.joint_limits()
+    }
+
+    /// Speed limits (rad/s).
+    pub fn max_joint_speed(&self) -> Joints {
+        self.kin.max_joint_speed()
+    }
+
+    /// Acceleration limits (rad/s²).
+    pub fn max_joint_accel(&self) -> Joints {
+        self.kin.max_joint_accel()
+    }
+
+    /// Per joint, an upper bound on the distance from its axis to any point of the arm beyond
+    /// it with the gripper at any opening (m): [`pregrasp_robot::joint_sweep_radii`].
+    pub fn joint_sweep_radii(&self) -> Joints {
+        let groups = &self.shapes.group_radii;
+        std::array::from_fn(|i| groups[i].iter().copied().fold(0.0, f64::max))
     }
 
     /// Flange pose in the world: `base · fk(q)`.

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use nalgebra::Isometry3;
-use pregrasp_robot::{Gripper2F85, LinkShape, UrModel};
+use pregrasp_robot::{Gripper2F85, LinkShape};
 
 use crate::shape::Bounded;
 use crate::tight::Tight;
@@ -87,16 +87,18 @@ pub(super) fn frame_spheres(links: &[LinkShape]) -> [(nalgebra::Point3<f64>, f64
 /// Per link shape of an arm, its exact pieces where it has them.
 pub(super) type TightSet = Arc<Vec<Option<Tight>>>;
 
-/// The exact pieces of `model`'s link shapes, built once per process and model, then shared by
-/// every arm of that model.
-pub(super) fn tight_pieces(model: UrModel, links: &[LinkShape]) -> TightSet {
-    static CACHE: OnceLock<Mutex<BTreeMap<&'static str, TightSet>>> = OnceLock::new();
+/// The exact pieces of the link shapes of the arm named `key` ([`ArmDescription::key`]),
+/// built once per process and arm, then shared by every arm of that kind.
+///
+/// [`ArmDescription::key`]: pregrasp_robot::ArmDescription::key
+pub(super) fn tight_pieces(key: &str, links: &[LinkShape]) -> TightSet {
+    static CACHE: OnceLock<Mutex<BTreeMap<String, TightSet>>> = OnceLock::new();
     let mut cache = CACHE
         .get_or_init(Default::default)
         .lock()
         .unwrap_or_else(|e| e.into_inner());
     cache
-        .entry(model.name())
+        .entry(key.to_string())
         .or_insert_with(|| {
             Arc::new(
                 links

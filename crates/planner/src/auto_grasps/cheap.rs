@@ -155,7 +155,7 @@ impl<'a> GraspTests<'a> {
         let ik = |arm: usize, grasp: &Isometry3<f64>, point: &Isometry3<f64>, width: f64| {
             let a = &self.arms[arm];
             let flange = a.base.inverse() * goal * grasp * point.inverse();
-            distinct_ik(&a.kin, &flange, &starts[arm])
+            distinct_ik(&*a.kin, &flange, &starts[arm])
                 .into_iter()
                 .find(|q| {
                     let mut state = WorldState::new(starts);

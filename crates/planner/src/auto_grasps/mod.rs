@@ -164,7 +164,7 @@ pub fn grasp_sets(
     let min_axis = scene.planner.min_grasp_axis_distance + 0.02;
     let reachable = |arm: usize, grasp: &Isometry3<f64>, point: &Isometry3<f64>| {
         let flange = arms[arm].base.inverse() * p_init * grasp * point.inverse();
-        !distinct_ik(&arms[arm].kin, &flange, &scene.robots[arm].start).is_empty()
+        !distinct_ik(&*arms[arm].kin, &flange, &scene.robots[arm].start).is_empty()
     };
     let world = |s: &BarSite| p_init * s.centre;
     let base = |arm: usize| Point3::from(arms[arm].base.translation.vector);

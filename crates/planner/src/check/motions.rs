@@ -3,7 +3,7 @@
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use pregrasp_io::plan_file::SegmentJson;
-use pregrasp_robot::{joint_sweep_radii, GripperState, Joints};
+use pregrasp_robot::{GripperState, Joints};
 
 use crate::timeline::{lerp_joints, lerp_pose, CONTACT_ZONE};
 
@@ -58,7 +58,7 @@ impl<'a> PlanCheck<'a> {
         let n = pts.len();
         let approach_from = seg.approach_from.unwrap_or(n - 1);
         let retreat_to = seg.retreat_to;
-        let weights = joint_sweep_radii(self.arms[arm].model(), &self.arms[arm].gripper);
+        let weights = self.arms[arm].joint_sweep_radii();
         // The retreat leaves the support grasp (precision point) the arm held at its first point.
         let retreat_line = retreat_to.map(|_| Line {
             grasp_end: self.tool(arm, &pts[0].q, true),
@@ -155,7 +155,7 @@ impl<'a> PlanCheck<'a> {
         let index = self.index;
         let pts = &seg.points;
         let n = pts.len();
-        let weights = joint_sweep_radii(self.arms[arm].model(), &self.arms[arm].gripper);
+        let weights = self.arms[arm].joint_sweep_radii();
         let support = self.file.support_height;
         let axis_band = self.file.planner.support_distance + self.file.planner.lift + 0.001;
         let init_inv = p_init.inverse();

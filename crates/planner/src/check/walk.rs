@@ -274,7 +274,7 @@ impl<'a> PlanCheck<'a> {
     /// the interval grown by twice the time rounding.
     pub(super) fn check_limits(&mut self, arm: usize, seg: &SegmentJson) {
         let index = self.index;
-        let model = self.arms[arm].model();
+        let model = &self.arms[arm];
         let lim = model.joint_limits();
         let vmax = model.max_joint_speed();
         for (k, p) in seg.points.iter().enumerate() {
