@@ -201,7 +201,7 @@ impl Scene {
             .map(|r| {
                 let d = PyDict::new(py);
                 d.set_item("name", &r.name)?;
-                d.set_item("model", r.model.name())?;
+                d.set_item("model", r.arm.ur.map_or("urdf", |m| m.name()))?;
                 d.set_item("base", matrix_array(py, &r.base))?;
                 d.set_item("start", r.start.to_vec())?;
                 d.set_item("gripper", &r.gripper)?;

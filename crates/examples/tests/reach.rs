@@ -18,7 +18,7 @@ fn reachable(
     target: &Isometry3<f64>,
     clearance: f64,
 ) -> Vec<Joints> {
-    let kin = UrKinematics::new(robot.model);
+    let kin = UrKinematics::new(robot.arm.ur.expect("a built-in arm"));
     let flange = robot.base.inverse() * target * Translation3::new(0.0, 0.0, -point_z);
     kin.ik(&flange, &robot.start)
         .into_iter()

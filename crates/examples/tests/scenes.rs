@@ -47,7 +47,7 @@ fn every_scene_parses_and_matches_its_design() {
             scene.robots[0].base.translation.y > 0.0 && scene.robots[1].base.translation.y < 0.0
         );
         for r in &scene.robots {
-            assert_eq!(r.model, UrModel::Ur5e);
+            assert_eq!(r.arm.ur, Some(UrModel::Ur5e));
         }
         assert_eq!(scene.object.scale, 1.0);
         assert!(scene.object.mesh_entry == format!("meshes/{}.stl", example.name));

@@ -88,7 +88,7 @@ fn spec_example_loads_with_its_values() {
     assert_eq!(g.translation.vector, Vector3::new(0.02, 0.70, 0.40));
     let [l, r] = &s.robots;
     assert_eq!((l.name.as_str(), r.name.as_str()), ("left", "right"));
-    assert_eq!(l.model, UrModel::Ur5e);
+    assert_eq!(l.arm.ur, Some(UrModel::Ur5e));
     assert_eq!(l.start[1], "-1.5708".parse::<f64>().unwrap());
     assert_eq!((l.precision_point_z, l.power_point_z), (0.160, 0.120));
     assert_eq!(

@@ -384,7 +384,8 @@ pub fn arm_models(scene: &Scene) -> [ArmModel; 2] {
             precision_point_z: spec.precision_point_z,
             power_point_z: spec.power_point_z,
         };
-        ArmModel::new(&spec.name, spec.model, spec.base, gripper)
+        ArmModel::from_description(&spec.name, spec.arm.clone(), spec.base, gripper)
+            .unwrap_or_else(|e| panic!("{e}"))
     })
 }
 

@@ -26,7 +26,7 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
         };
         RobotJson {
             name: r.name.clone(),
-            model: r.model,
+            model: r.arm.ur.expect("a scene's arms are built-in models"),
             base: PoseJson::from(&r.base),
             joint_names: match &r.urdf {
                 Some(u) => u.joint_names.clone(),

@@ -148,7 +148,7 @@ fn generated_valid_scenes_plan_or_say_why_never_panic() {
         let text = scene_text(k, example);
         let scene = Scene::from_str(&text, Path::new("generated.toml"))
             .unwrap_or_else(|e| panic!("generated scene {k} is not valid: {e}\n{text}"));
-        if scene.robots[0].model != scene.robots[1].model {
+        if scene.robots[0].arm != scene.robots[1].arm {
             models_mixed += 1;
         }
         let run = std::panic::AssertUnwindSafe(|| {

@@ -58,7 +58,7 @@ fn the_ros2_ur5e_plans_the_examples_as_the_built_in_one() {
     for name in ["chair_side", "shelf_side", "stool_side"] {
         let (built_in, described, a, b, mesh) = plan_both(name, "quat_xyzw = [0, 0, 1, 0]");
         for (a, b) in built_in.robots.iter().zip(&described.robots) {
-            assert_eq!(a.model, b.model);
+            assert_eq!(a.arm, b.arm);
             let urdf = b.urdf.as_ref().expect("the arm names its description");
             // The description's root (`world`, fixed to `base_link`) and its flange frame.
             assert_eq!(

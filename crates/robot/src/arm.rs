@@ -18,7 +18,7 @@
 //! them bounds how far any point of the arm is from any joint axis, which is what the swept
 //! collision checks need ([`crate::group_sweep_radii`]).
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use nalgebra::Isometry3;
 
@@ -120,15 +120,35 @@ pub struct ArmDescription {
 }
 
 impl ArmDescription {
-    /// A built-in Universal Robots arm: analytic kinematics, the fitted link geometry.
+    /// A built-in Universal Robots arm: analytic kinematics, the fitted link geometry (built
+    /// once per process and model, then shared).
     pub fn ur(model: UrModel) -> ArmDescription {
-        ArmDescription {
-            key: model.name().to_string(),
-            kin: Arc::new(UrKinematics::new(model)),
-            geometry: Arc::new(arm_geometry(model)),
-            ur: Some(model),
-            joint_names: JOINT_NAMES.map(str::to_string),
-        }
+        static BUILT: [OnceLock<ArmDescription>; 5] = [const { OnceLock::new() }; 5];
+        let i = UrModel::ALL
+            .iter()
+            .position(|m| *m == model)
+            .expect("a model");
+        BUILT[i]
+            .get_or_init(|| ArmDescription {
+                key: model.name().to_string(),
+                kin: Arc::new(UrKinematics::new(model)),
+                geometry: Arc::new(arm_geometry(model)),
+                ur: Some(model),
+                joint_names: JOINT_NAMES.map(str::to_string),
+            })
+            .clone()
+    }
+
+    /// The arm's name for messages: the model for a built-in arm, else the kinematics' name.
+    pub fn name(&self) -> &str {
+        self.kin.name()
+    }
+}
+
+/// Two descriptions are the same arm when their keys are (see [`ArmDescription::key`]).
+impl PartialEq for ArmDescription {
+    fn eq(&self, other: &Self) -> bool {
+        self.key == other.key && self.joint_names == other.joint_names
     }
 }
 

@@ -27,7 +27,7 @@ mod validate;
 use std::path::PathBuf;
 
 use nalgebra::Isometry3;
-use pregrasp_robot::UrModel;
+use pregrasp_robot::ArmDescription;
 
 use crate::plan_file::PlannerJson;
 
@@ -108,7 +108,8 @@ pub struct AutoGrasps {
 #[derive(Clone, Debug, PartialEq)]
 pub struct RobotSpec {
     pub name: String,
-    pub model: UrModel,
+    /// The arm: a built-in model, or one from the robot description `urdf` names.
+    pub arm: ArmDescription,
     /// The arm base frame in world: the controller's Base frame (DH frame 0). For an arm from
     /// a URDF, the scene's `base` (the base link's pose) composed with the base link → DH
     /// Base transform the URDF has.

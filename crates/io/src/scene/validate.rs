@@ -7,7 +7,7 @@ use std::fmt::Display;
 use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
-use pregrasp_robot::{UrModel, JOINT_NAMES};
+use pregrasp_robot::{ArmDescription, UrModel, JOINT_NAMES};
 use pregrasp_urdf::{UrdfArm, UR_MATCH_TOLERANCE};
 use toml::Value;
 
@@ -320,7 +320,7 @@ impl Cx {
         )?;
         Ok(RobotSpec {
             name,
-            model: ur,
+            arm: ArmDescription::ur(ur),
             base,
             urdf,
             start,
