@@ -424,7 +424,7 @@ impl UrdfModel {
         })
     }
 
-    fn axis_of(&self, j: &urdf_rs::Joint) -> Result<Unit<Vector3<f64>>, UrdfError> {
+    pub(crate) fn axis_of(&self, j: &urdf_rs::Joint) -> Result<Unit<Vector3<f64>>, UrdfError> {
         let [x, y, z] = j.axis.xyz.0;
         let v = Vector3::new(x, y, z);
         let n = v.norm();
@@ -438,7 +438,11 @@ impl UrdfModel {
         Ok(Unit::new_normalize(v))
     }
 
-    fn limits_of(&self, j: &urdf_rs::Joint, kind: JointKind) -> Result<JointLimits, UrdfError> {
+    pub(crate) fn limits_of(
+        &self,
+        j: &urdf_rs::Joint,
+        kind: JointKind,
+    ) -> Result<JointLimits, UrdfError> {
         let l = &j.limit;
         let bad = |problem: String| UrdfError::BadLimit {
             file: self.source().to_string(),

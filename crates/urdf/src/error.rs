@@ -165,6 +165,33 @@ pub enum UrdfError {
         /// The tool link.
         tip: String,
     },
+    /// A `<collision>` mesh file found in none of the places its name can resolve to.
+    #[error(
+        "{file}: link `{link}`: collision mesh `{filename}` not found (searched: {})",
+        searched_text(searched)
+    )]
+    MissingMesh {
+        /// The URDF.
+        file: String,
+        /// The link whose `<collision>` names it.
+        link: String,
+        /// The filename as written in the URDF.
+        filename: String,
+        /// The directories looked in, in order.
+        searched: Vec<String>,
+    },
+    /// A collision mesh file that could not be read or parsed, or has no usable vertices.
+    #[error("{file}: link `{link}`: collision mesh {path}: {message}")]
+    Mesh {
+        /// The URDF.
+        file: String,
+        /// The link.
+        link: String,
+        /// The resolved file.
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
     /// No link name was given and the file offers several (or none) for the role.
     #[error(
         "{file}: which {role}? give it by name; the file has {}",
@@ -217,4 +244,12 @@ fn candidates_text(candidates: &[String]) -> String {
         .map(|c| format!("`{c}`"))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// The searched directories, comma-separated (or "no directories").
+fn searched_text(dirs: &[String]) -> String {
+    if dirs.is_empty() {
+        return "no directories".to_string();
+    }
+    dirs.join(", ")
 }

@@ -25,12 +25,17 @@
 //!   and tool transforms), so the analytic solver of `pregrasp-robot` can be used
 //!   ([`ur`]).
 //!
+//! * [`geometry`]: collision geometry from the `<collision>` elements — meshes resolved and
+//!   read, one convex piece per element in the link frame, self-collision pairs from
+//!   deterministic sampling — derived once and cached on disk ([`UrdfGeometry::load`]).
+//!
 //! Units: metres, radians. A joint vector `q` lists the chain's actuated joints base to tip
 //! ([`SerialChain::joint_names`]), `q.len() == dof()`.
 
 mod arm;
 pub mod chain;
 mod error;
+pub mod geometry;
 pub mod ik;
 pub mod kinematics;
 mod lock;
@@ -45,6 +50,9 @@ pub use chain::{
     origin_isometry, ChainJoint, ChainLink, Drive, JointKind, JointLimits, SerialChain,
 };
 pub use error::UrdfError;
+pub use geometry::{
+    CacheDir, CacheOutcome, GeometryOptions, LinkPieces, Loaded, SelfCollisionOptions, UrdfGeometry,
+};
 pub use ik::{joint_distance, IkOptions, NearestOptions};
 pub use kinematics::{pose_distance, pose_error, rotation_vector};
 pub use model::{Mimic, UrdfModel};
