@@ -139,7 +139,8 @@ impl ObjectGeometry {
     }
 
     /// Whether the exact pieces `t` of a link come within `margin` of the part at `pose`: per
-    /// piece, BVH descent with its box grown by the margin, GJK with early exit at the leaves.
+    /// piece, BVH descent with its box grown by the margin, GJK with early exit at the leaves
+    /// (a remembered separating axis tried first against the piece's box).
     pub(crate) fn pieces_intersect(
         &self,
         pose: &Isometry3<f64>,
@@ -147,11 +148,13 @@ impl ObjectGeometry {
         margin: f64,
     ) -> bool {
         let grow = Vector3::repeat(margin);
-        crate::tight::any_piece_in(t, pose, |rel, poly, (lo, hi), key| {
+        crate::tight::any_piece_in(t, pose, |p| {
+            let (lo, hi) = p.aabb;
             self.any_triangle(&(lo - grow), &(hi + grow), |ta, tb, tc| {
                 let tri = parry3d_f64::shape::Triangle::new(*ta, *tb, *tc);
-                let pair = (key, ta as *const P as usize);
-                crate::tight::piece_near_triangle_keyed(pair, rel, poly, &tri, margin)
+                let pair = (p.key, ta as *const P as usize);
+                let bounds = &p.local_box;
+                crate::tight::piece_near_triangle_bounded(pair, p.rel, &p.poly, bounds, &tri, margin)
             })
         })
     }
@@ -163,7 +166,8 @@ impl ObjectGeometry {
         let verts = self.mesh.vertices();
         let idx = self.mesh.indices();
         let mut best = f64::INFINITY;
-        crate::tight::any_piece_in(t, pose, |rel, poly, (lo, hi), _| {
+        crate::tight::any_piece_in(t, pose, |p| {
+            let (lo, hi) = p.aabb;
             self.mesh.bvh().traverse(|node| {
                 if aabb_aabb_sq(&lo, &hi, &node.mins(), &node.maxs()) >= best * best {
                     return TraversalAction::Prune;
@@ -175,7 +179,7 @@ impl ObjectGeometry {
                         verts[j as usize],
                         verts[k as usize],
                     );
-                    best = best.min(crate::tight::piece_triangle_distance(rel, poly, &tri));
+                    best = best.min(crate::tight::piece_triangle_distance(p.rel, &p.poly, &tri));
                 }
                 TraversalAction::Continue
             });

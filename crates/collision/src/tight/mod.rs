@@ -305,6 +305,22 @@ fn near_keyed(
     g2: &dyn SupportMap,
     dist: f64,
 ) -> bool {
+    near_keyed_bounded(key, p1, g1, None, p2, g2, dist)
+}
+
+/// [`near_keyed`] with, if given, a box `(centre, half)` holding `g1` in its own frame. Along
+/// the remembered axis `d` the box reaches `d·c + Σ|d_i| h_i`, no less than `g1`'s support
+/// point does, so a gap it shows beyond `dist + GUARD` is one the support point shows too, and
+/// the answer (apart) is the one the support point gives — without asking `g1` for it.
+fn near_keyed_bounded(
+    key: (usize, usize),
+    p1: &Isometry3<f64>,
+    g1: &dyn SupportMap,
+    g1_box: Option<&(P, Vector3<f64>)>,
+    p2: &Isometry3<f64>,
+    g2: &dyn SupportMap,
+    dist: f64,
+) -> bool {
     let pos12 = p1.inv_mul(p2);
     let slot = separator_slot(key);
     let cached = SEPARATORS.with(|s| {
@@ -313,6 +329,13 @@ fn near_keyed(
     });
     let mut answer = None;
     if let Some(dir) = cached {
+        if let Some((c, h)) = g1_box {
+            let reach1 = dir.dot(&c.coords) + dir.abs().dot(h);
+            let s2 = g2.support_point(&pos12, &-dir);
+            if dir.dot(&s2.coords) - reach1 > dist + gjk::GUARD {
+                return false;
+            }
+        }
         // GJK's own test of an axis: the shapes are farther apart along it than `dist` (the
         // remembered axis stays).
         let cso = CSOPoint::from_shapes(&pos12, g1, g2, &dir);
@@ -380,21 +403,41 @@ pub(crate) fn distance(s1: &Part, s2: &Part) -> f64 {
     best
 }
 
-/// Calls `f(piece pose in the mesh frame, polytope, piece's box in the mesh frame, piece key)`
-/// for each piece of `t`, a mesh being at `mesh_pose`, until it returns `true`. The key names
-/// the piece for as long as it lives (its address), for [`piece_near_triangle_keyed`].
+/// One piece of a link placed in a mesh's frame, as [`any_piece_in`] hands it out.
+pub(crate) struct PieceInMesh<'a> {
+    /// The piece's link frame in the mesh frame.
+    pub rel: &'a Isometry3<f64>,
+    pub poly: Climb<'a>,
+    /// The piece's box (link frame) bounded by a box of the mesh frame: `(lo, hi)`.
+    pub aabb: (P, P),
+    /// Names the piece for as long as it lives (its address), for
+    /// [`piece_near_triangle_keyed`].
+    pub key: usize,
+    /// The piece's box in its link frame: centre and half extents.
+    pub local_box: (P, Vector3<f64>),
+}
+
+/// Calls `f` for each piece of `t` placed in the frame of a mesh at `mesh_pose`
+/// ([`PieceInMesh`]), until it returns `true`.
 pub(crate) fn any_piece_in(
     t: &Posed,
     mesh_pose: &Isometry3<f64>,
-    mut f: impl FnMut(&Isometry3<f64>, &Climb, (P, P), usize) -> bool,
+    mut f: impl FnMut(&PieceInMesh) -> bool,
 ) -> bool {
     let rel = mesh_pose.inv_mul(t.frame);
     let m = rel.rotation.to_rotation_matrix().matrix().abs();
     t.tight.pieces.iter().any(|piece| {
-        let c = rel * nalgebra::center(&piece.lo, &piece.hi);
-        let ext: Vector3<f64> = m * (0.5 * (piece.hi - piece.lo));
-        let key = piece as *const Piece as usize;
-        f(&rel, &Climb::new(&piece.poly), (c - ext, c + ext), key)
+        let local = nalgebra::center(&piece.lo, &piece.hi);
+        let half = 0.5 * (piece.hi - piece.lo);
+        let c = rel * local;
+        let ext: Vector3<f64> = m * half;
+        f(&PieceInMesh {
+            rel: &rel,
+            poly: Climb::new(&piece.poly),
+            aabb: (c - ext, c + ext),
+            key: piece as *const Piece as usize,
+            local_box: (local, half),
+        })
     })
 }
 
@@ -410,6 +453,21 @@ pub(crate) fn piece_near_triangle_keyed(
     margin: f64,
 ) -> bool {
     near_keyed(key, pose, poly, &Isometry3::identity(), tri, margin)
+}
+
+/// [`piece_near_triangle_keyed`] for a piece whose box in its own frame is `bounds` (centre,
+/// half extents): a remembered axis is tried at the price of the triangle's support point
+/// alone ([`near_keyed_bounded`]); the answer is the same.
+#[inline]
+pub(crate) fn piece_near_triangle_bounded(
+    key: (usize, usize),
+    pose: &Isometry3<f64>,
+    poly: &Climb,
+    bounds: &(P, Vector3<f64>),
+    tri: &Triangle,
+    margin: f64,
+) -> bool {
+    near_keyed_bounded(key, pose, poly, Some(bounds), &Isometry3::identity(), tri, margin)
 }
 
 /// Distance from the polytope at `pose` to the triangle (both in one frame; `0` in contact).

@@ -85,16 +85,19 @@ impl<'a> PlanCheck<'a> {
                 )
             });
 
-        let mut queue = Queued::default();
-        for k in 0..n {
-            // The straight lines may bring the gripper within millimetres of the support.
+        // The straight lines may bring the gripper within millimetres of the support.
+        let resolution = |k: usize| {
             let grasping_edge = k >= approach_from || retreat_to.is_some_and(|r| k < r);
-            let resolution = if grasping_edge {
+            if grasping_edge {
                 FINE_CHECK_RESOLUTION
             } else {
                 CHECK_RESOLUTION
-            };
-            let (edge_end, steps) = edge(pts, k, &weights, resolution);
+            }
+        };
+        let total = (0..n).map(|k| edge(pts, k, &weights, resolution(k)).1).sum();
+        let mut queue = Queued::with_capacity(total);
+        for k in 0..n {
+            let (edge_end, steps) = edge(pts, k, &weights, resolution(k));
             for s in 0..steps {
                 let f = s as f64 / steps as f64;
                 let qi = lerp_joints(&pts[k].q, &pts[edge_end].q, f);
@@ -167,7 +170,10 @@ impl<'a> PlanCheck<'a> {
         grasp_error(self.grasps, dp, da, || {
             format!("plan {} rot: first object_pose vs P_init", index)
         });
-        let mut queue = Queued::default();
+        let total = (0..n)
+            .map(|k| edge(pts, k, &weights, FINE_CHECK_RESOLUTION).1)
+            .sum();
+        let mut queue = Queued::with_capacity(total);
         for k in 0..n {
             // Rule 4: precision point on G_s at every point.
             let tool = self.tool(arm, &pts[k].q, true);

@@ -78,6 +78,17 @@ pub(super) struct Queued {
     pub(super) at: Vec<(usize, f64)>,
 }
 
+impl Queued {
+    /// An empty queue with room for `n` states: a segment's states are counted before they
+    /// are queued, so the queue never grows (and copies its states) as they come.
+    pub(super) fn with_capacity(n: usize) -> Self {
+        Queued {
+            states: Vec::with_capacity(n),
+            at: Vec::with_capacity(n),
+        }
+    }
+}
+
 /// "plan I SEG point K", for messages.
 pub(super) fn at(index: usize, seg: &SegmentJson, k: usize) -> String {
     format!("plan {index} {} point {k}", seg.name)
