@@ -154,7 +154,9 @@ impl ObjectGeometry {
                 let tri = parry3d_f64::shape::Triangle::new(*ta, *tb, *tc);
                 let pair = (p.key, ta as *const P as usize);
                 let bounds = &p.local_box;
-                crate::tight::piece_near_triangle_bounded(pair, p.rel, &p.poly, bounds, &tri, margin)
+                crate::tight::piece_near_triangle_bounded(
+                    pair, p.rel, &p.poly, bounds, &tri, margin,
+                )
             })
         })
     }

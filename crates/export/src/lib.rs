@@ -41,6 +41,15 @@ pub enum ExportError {
     Plan(String),
     #[error("the glTF export needs the part's mesh")]
     NoMesh,
+    #[error(
+        "{format}: arm {arm:?} is not a Universal Robots arm (it comes from its robot \
+         description); {why} (csv and ros2 export any arm)"
+    )]
+    NotUr {
+        arm: String,
+        format: &'static str,
+        why: &'static str,
+    },
     #[error(transparent)]
     Write(#[from] pregrasp_io::output::OutputError),
 }

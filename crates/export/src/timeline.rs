@@ -9,7 +9,9 @@
 //! slerp between points, as the checker interpolates) and stays at `object_goal_pose` after.
 
 use nalgebra::Isometry3;
-use pregrasp_io::plan_file::{GraspKind, PlanFile, PlanJson, PlanStatus, SegmentKind, SegmentName};
+use pregrasp_io::plan_file::{
+    GraspKind, PlanFile, PlanJson, PlanStatus, RobotModel, SegmentKind, SegmentName,
+};
 use pregrasp_robot::{GripperState, Joints, UrModel};
 
 use crate::ExportError;
@@ -37,7 +39,7 @@ pub struct GripEvent {
 #[derive(Clone, Debug)]
 pub struct Arm {
     pub name: String,
-    pub model: UrModel,
+    pub model: RobotModel,
     /// Base pose in the world.
     pub base: Isometry3<f64>,
     pub start: Joints,
@@ -124,6 +126,25 @@ pub fn sample_knots(knots: &[(f64, Joints)], t: f64) -> Joints {
 }
 
 impl Timeline {
+    /// Each arm's built-in model, or [`ExportError::NotUr`] for `format` (which needs them,
+    /// for `why`).
+    pub fn ur_models(
+        &self,
+        format: &'static str,
+        why: &'static str,
+    ) -> Result<Vec<UrModel>, ExportError> {
+        self.arms
+            .iter()
+            .map(|a| {
+                a.model.builtin().ok_or_else(|| ExportError::NotUr {
+                    arm: a.name.clone(),
+                    format,
+                    why,
+                })
+            })
+            .collect()
+    }
+
     /// The plan `index` of `file` on one time line. Refuses a plan file without plans, an index
     /// out of range, unknown robots or models, and a plan whose segments are not continuous.
     pub fn new(file: &PlanFile, index: usize) -> Result<Timeline, ExportError> {

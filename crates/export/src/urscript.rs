@@ -433,6 +433,7 @@ pub fn export(timeline: &Timeline, options: &Options) -> Result<Vec<OutFile>, Ex
             timeline.arms.len()
         )));
     }
+    timeline.ur_models("urscript", "URScript runs on UR controllers")?;
     Ok((0..2)
         .map(|a| OutFile {
             name: format!("{}.script", timeline.arms[a].name),

@@ -193,7 +193,9 @@ fn ros2_yaml_round_trips_to_the_plan() {
             .iter()
             .find(|r| r.name == seg.robot)
             .unwrap()
-            .model;
+            .model
+            .builtin()
+            .expect("a built-in arm");
         let vmax = model.max_joint_speed();
         let n = seg.points.len();
         for (k, (p, want)) in msg.points.iter().zip(&seg.points).enumerate() {

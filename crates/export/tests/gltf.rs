@@ -205,7 +205,7 @@ fn animation_is_on_the_plan_time_line_and_nodes_follow_fk() {
     };
     let mut worst: f64 = 0.0;
     for r in &file.robots {
-        let kin = UrKinematics::new(r.model);
+        let kin = UrKinematics::new(r.model.builtin().expect("a built-in arm"));
         let base = r.base.to_isometry();
         let frames: Vec<usize> = (1..=6)
             .map(|i| by_name(&format!("{}_frame{i}", r.name)))

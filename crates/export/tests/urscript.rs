@@ -153,7 +153,7 @@ fn interpreted_servoj_stream_reproduces_the_plan_within_limits() {
             .iter()
             .find(|r| format!("{}.script", r.name) == name)
             .unwrap();
-        let model = robot.model;
+        let model = robot.model.builtin().expect("a built-in arm");
         let vmax = model.max_joint_speed();
         let limits = model.joint_limits();
         // (the force register settings do not move the arm)

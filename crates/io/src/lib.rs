@@ -4,6 +4,7 @@
 pub mod limits;
 pub mod mesh_io;
 pub mod output;
+pub mod plan_arms;
 pub mod plan_file;
 pub mod plan_format;
 pub mod plan_read;

@@ -5,6 +5,7 @@
 //! Field order here is the order in the file; keep it stable, plans must be byte-for-byte
 //! reproducible.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
@@ -12,9 +13,9 @@ use serde::{Deserialize, Serialize};
 
 pub use crate::output::OutputError;
 pub use crate::plan_terms::{
-    GraspKind, GripVerdict, Outcome, PlanStatus, RotationDirection, SegmentKind, SegmentName,
+    GraspKind, GripVerdict, Outcome, PlanStatus, RobotModel, RotationDirection, SegmentKind,
+    SegmentName,
 };
-use pregrasp_robot::UrModel;
 
 /// The `format` value of every plan file this crate writes.
 pub const PLAN_FORMAT: &str = "pregrasp.plan/1";
@@ -129,8 +130,7 @@ pub struct ObjectJson {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RobotJson {
     pub name: String,
-    #[serde(with = "crate::plan_terms::ur_model")]
-    pub model: UrModel,
+    pub model: RobotModel,
     pub base: PoseJson,
     pub joint_names: Vec<String>,
     pub start: [f64; 6],
@@ -150,6 +150,9 @@ pub struct UrdfJson {
     pub file: String,
     pub base_link: String,
     pub tool_link: String,
+    /// Joints held still while the planner drives the other six (rad), by name.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub held: BTreeMap<String, f64>,
 }
 
 /// Grasp poses in the object frame.

@@ -257,9 +257,70 @@ impl RotationDirection {
     }
 }
 
-/// Serde for a UR model by its lower-case name (`robots[].model`): a plan file is
-/// machine-written, so the name must be exact (scene files are lenient, see
+/// `robots[].model`: a built-in arm by its lower-case name, or (extension) `"urdf"`, an arm
+/// known only by its robot description (`robots[].urdf` names it). A plan file is
+/// machine-written, so the word must be exact (scene files are lenient, see
 /// [`UrModel::from_name`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum RobotModel {
+    /// A built-in Universal Robots arm.
+    Builtin(UrModel),
+    /// The arm of the robot description `robots[].urdf` names.
+    Described,
+}
+
+impl RobotModel {
+    /// The word for an arm known only by its description.
+    pub const DESCRIBED: &'static str = "urdf";
+
+    /// The file's word.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RobotModel::Builtin(m) => m.name(),
+            RobotModel::Described => Self::DESCRIBED,
+        }
+    }
+
+    /// The built-in model, if the arm is one.
+    pub fn builtin(self) -> Option<UrModel> {
+        match self {
+            RobotModel::Builtin(m) => Some(m),
+            RobotModel::Described => None,
+        }
+    }
+}
+
+impl fmt::Display for RobotModel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.pad(self.as_str())
+    }
+}
+
+impl Serialize for RobotModel {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.as_str())
+    }
+}
+
+impl<'de> Deserialize<'de> for RobotModel {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<RobotModel, D::Error> {
+        let word = String::deserialize(deserializer)?;
+        if word == Self::DESCRIBED {
+            return Ok(RobotModel::Described);
+        }
+        UrModel::ALL
+            .into_iter()
+            .find(|m| m.name() == word)
+            .map(RobotModel::Builtin)
+            .ok_or_else(|| {
+                let words = UrModel::ALL.iter().map(|m| m.name());
+                serde::de::Error::custom(not_one_of(&word, words.chain([Self::DESCRIBED])))
+            })
+    }
+}
+
+/// Serde for a UR model by its lower-case name: a plan file is machine-written, so the name
+/// must be exact (scene files are lenient, see [`UrModel::from_name`]).
 pub mod ur_model {
     use super::*;
 

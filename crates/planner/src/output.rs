@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use nalgebra::Isometry3;
 use pregrasp_io::plan_file::{
     FingersJson, GraspsJson, ObjectJson, PlanFile, PlanJson, PlanStatus, PointJson, PoseJson,
-    RobotJson, SceneRef, SegmentJson, SegmentName, UrdfJson, PLAN_FORMAT,
+    RobotJson, RobotModel, SceneRef, SegmentJson, SegmentName, UrdfJson, PLAN_FORMAT,
 };
 use pregrasp_io::scene::Scene;
 use pregrasp_robot::{Gripper2F85, GripperState, Joints, JOINT_NAMES};
@@ -26,7 +26,7 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
         };
         RobotJson {
             name: r.name.clone(),
-            model: r.arm.ur.expect("a scene's arms are built-in models"),
+            model: r.arm.ur.map_or(RobotModel::Described, RobotModel::Builtin),
             base: PoseJson::from(&r.base),
             joint_names: match &r.urdf {
                 Some(u) => u.joint_names.clone(),
@@ -39,6 +39,7 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
                 file: u.entry.clone(),
                 base_link: u.base_link.clone(),
                 tool_link: u.tool_link.clone(),
+                held: u.held.iter().cloned().collect(),
             }),
         }
     });

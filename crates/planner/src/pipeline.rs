@@ -190,8 +190,9 @@ pub fn plan(
     // One hull for the whole plan: Algorithm 1's, for the checker's lowest points and the
     // grip check's support contacts (none when the mesh has no hull: each falls back alike).
     let hull = (!axes.hull.vertices.is_empty()).then_some(&axes.hull.vertices[..]);
-    let checker =
-        PlanChecker::sharing_part(&header, mesh, ctx.world.part(), Some(&ctx.grips), hull);
+    let arms = scene.robots.each_ref().map(|r| r.arm.clone());
+    let part = ctx.world.part();
+    let checker = PlanChecker::sharing_part(&header, mesh, &arms, part, Some(&ctx.grips), hull);
     let hold_check = HoldCheck::new(scene, &header, mesh, hull);
     let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose| {
         // The grip check reads μ_rot alone: Algorithm 3 asks it once a candidate's straight

@@ -205,6 +205,17 @@ pub enum UrdfError {
         /// The links that could serve.
         candidates: Vec<String>,
     },
+    /// No link of the arm has collision geometry: the planner cannot keep it clear.
+    #[error(
+        "{file}: no link of the arm {chain} has a <collision> element; the planner needs the \
+         arm's collision geometry"
+    )]
+    NoCollisionGeometry {
+        /// The source.
+        file: String,
+        /// The chain: "from `base` to `tool`".
+        chain: String,
+    },
     /// A joint asked to be held still cannot be.
     #[error("{file}: cannot hold joint `{joint}`: it {problem}")]
     HeldJoint {

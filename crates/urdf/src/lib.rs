@@ -34,6 +34,7 @@
 
 mod arm;
 pub mod chain;
+mod describe;
 mod error;
 pub mod geometry;
 pub mod ik;
@@ -49,6 +50,7 @@ pub use arm::{UrdfArm, DEFAULT_TOOL_LINKS};
 pub use chain::{
     origin_isometry, ChainJoint, ChainLink, Drive, JointKind, JointLimits, SerialChain,
 };
+pub use describe::describe_arm;
 pub use error::UrdfError;
 pub use geometry::{
     CacheDir, CacheOutcome, GeometryOptions, LinkPieces, Loaded, SelfCollisionOptions, UrdfGeometry,

@@ -57,8 +57,8 @@ pub struct MeshJson {
 pub struct RobotModelJson {
     pub name: String,
     pub model: String,
-    /// False for a robot the page cannot draw (none today: every UR model of a plan file is
-    /// known); the page then draws no arm.
+    /// False for a robot the page cannot draw (an arm from a robot description: the page's
+    /// FK is the UR's DH); the page then draws no arm.
     pub known: bool,
     pub dh: DhJson,
     /// Link shapes in their DH frames (`frame` indexes frames 0..=6 of the FK).
@@ -226,7 +226,24 @@ pub fn gripper_of(robot: &RobotJson) -> Gripper2F85 {
 }
 
 fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
-    let model = robot.model;
+    let gripper = gripper_of(robot);
+    let shapes = |state| gripper.shapes(state).iter().map(ShapeJson::from).collect();
+    let Some(model) = robot.model.builtin() else {
+        return RobotModelJson {
+            name: robot.name.clone(),
+            model: robot.model.to_string(),
+            known: false,
+            dh: DhJson::default(),
+            links: Vec::new(),
+            gripper: GripperShapesJson {
+                open: shapes(GripperState::Open),
+                closed: shapes(GripperState::fully_closed()),
+                closed_precision: None,
+                closed_power: None,
+            },
+            fk_check: Vec::new(),
+        };
+    };
     let dh = model.dh();
     let mut dh_json = DhJson::default();
     for i in 0..6 {
@@ -235,8 +252,6 @@ fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
         dh_json.a[i] = a;
         dh_json.alpha[i] = alpha;
     }
-    let gripper = gripper_of(robot);
-    let shapes = |state| gripper.shapes(state).iter().map(ShapeJson::from).collect();
     // The fingers this robot holds the part with, as the plans record them.
     let held = |grasp: GraspKind| {
         plan.plans

@@ -19,8 +19,8 @@ use pregrasp_geometry::shapes::cuboid;
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{
     CandidateJson, GraspsJson, ObjectJson, Outcome, PlanFile, PlanJson, PlanStatus, PlannerJson,
-    PointJson, PoseJson, RobotJson, RotationDirection, SceneRef, SegmentJson, SegmentName,
-    PLAN_FORMAT,
+    PointJson, PoseJson, RobotJson, RobotModel, RotationDirection, SceneRef, SegmentJson,
+    SegmentName, PLAN_FORMAT,
 };
 use pregrasp_robot::{Gripper2F85, Joints, UrKinematics, UrModel, JOINT_NAMES};
 
@@ -102,7 +102,7 @@ fn robot(name: &str, x: f64, start: Joints) -> RobotJson {
     );
     RobotJson {
         name: name.into(),
-        model: UrModel::Ur5e,
+        model: RobotModel::Builtin(UrModel::Ur5e),
         base: PoseJson::from(&base),
         joint_names: JOINT_NAMES.iter().map(|s| s.to_string()).collect(),
         start,

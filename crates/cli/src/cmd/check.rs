@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::plan_file::PlanFile;
-use pregrasp_planner::check::check_plan;
+use pregrasp_planner::check::check_plan_at;
 
 use super::{EXIT_NO_PLAN, EXIT_OK};
 
@@ -33,7 +33,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mesh = load_mesh(&mesh_path, file.object.scale)
         .with_context(|| format!("{}: object.mesh", args.plan.display()))?
         .mesh;
-    let report = check_plan(&file, &mesh);
+    let report = check_plan_at(&file, Some(&args.plan), &mesh);
     if let Some(problem) = &report.malformed {
         anyhow::bail!("{}: not a valid plan file: {problem}", args.plan.display());
     }

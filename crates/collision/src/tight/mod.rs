@@ -467,7 +467,15 @@ pub(crate) fn piece_near_triangle_bounded(
     tri: &Triangle,
     margin: f64,
 ) -> bool {
-    near_keyed_bounded(key, pose, poly, Some(bounds), &Isometry3::identity(), tri, margin)
+    near_keyed_bounded(
+        key,
+        pose,
+        poly,
+        Some(bounds),
+        &Isometry3::identity(),
+        tri,
+        margin,
+    )
 }
 
 /// Distance from the polytope at `pose` to the triangle (both in one frame; `0` in contact).

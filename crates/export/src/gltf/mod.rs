@@ -221,6 +221,7 @@ pub fn key_times(timeline: &Timeline) -> Vec<f64> {
 
 /// The `.glb` bytes of `timeline` with the part `mesh` (object frame, metres).
 pub fn export(timeline: &Timeline, mesh: &Mesh) -> Result<Vec<u8>, ExportError> {
+    let models = timeline.ur_models("gltf", "the animation draws the built-in arms' links")?;
     let mut b = Builder {
         root: json::Root {
             asset: json::Asset {
@@ -320,8 +321,8 @@ pub fn export(timeline: &Timeline, mesh: &Mesh) -> Result<Vec<u8>, ExportError> 
     };
 
     for (ai, arm) in timeline.arms.iter().enumerate() {
-        let geometry = arm_geometry(arm.model);
-        let dh = UrKinematics::new(arm.model).dh();
+        let geometry = arm_geometry(models[ai]);
+        let dh = UrKinematics::new(models[ai]).dh();
         let shapes_of = |frame: usize| {
             let mut t = Tris::default();
             for l in geometry.links.iter().filter(|l| l.frame == frame) {

@@ -138,8 +138,10 @@ pub struct UrdfRef {
     pub base_link: String,
     /// The link the gripper is mounted to (given, or `tool0` / `flange` / the only leaf).
     pub tool_link: String,
-    /// The chain's joint names, base to tool.
+    /// The names of the six joints the planner drives, base to tool.
     pub joint_names: Vec<String>,
+    /// Joints held still (`hold`), with their values (rad), in chain order.
+    pub held: Vec<(String, f64)>,
 }
 
 /// `[planner]`, SI units (angles in radians). Paper symbols in code spans.

@@ -61,6 +61,7 @@ pub struct RawRobot {
     pub urdf: Option<Str>,
     pub base_link: Option<Str>,
     pub tool_link: Option<Str>,
+    pub hold: Option<Table<std::collections::BTreeMap<String, Num>>>,
     pub base: Option<Table<RawPose>>,
     pub start: Option<Nums<6>>,
     pub start_deg: Option<Nums<6>>,

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use pregrasp_robot::{ArmDescription, UrModel, JOINT_NAMES};
-use pregrasp_urdf::{UrdfArm, UR_MATCH_TOLERANCE};
+use pregrasp_urdf::{describe_arm, GeometryOptions, UrdfArm, UrdfError, UR_MATCH_TOLERANCE};
 use toml::Value;
 
 use super::raw::{self, Flag, Int, Num, Nums, PosePair, RawError, RawScene, Robots, Str, Table};
@@ -238,20 +238,27 @@ impl Cx {
         let at = |name: &str| format!("{key}.{name}");
         let Str(name) = self.need(raw.name, &at("name"))?;
         self.ensure(!name.is_empty(), &at("name"), "empty name")?;
+        let held: Vec<(String, f64)> = raw.hold.map_or_else(Vec::new, |Table(h)| {
+            h.into_iter().map(|(joint, Num(v))| (joint, v)).collect()
+        });
         let described = match raw.urdf {
             Some(Str(entry)) => {
-                Some(self.urdf_arm(entry, raw.base_link, raw.tool_link, key, file)?)
+                let links = (raw.base_link, raw.tool_link);
+                Some(self.urdf_arm(entry, links, &held, key, file)?)
             }
             None => {
-                for (given, name) in [(&raw.base_link, "base_link"), (&raw.tool_link, "tool_link")]
-                {
+                for (given, name) in [
+                    (raw.base_link.is_some(), "base_link"),
+                    (raw.tool_link.is_some(), "tool_link"),
+                    (!held.is_empty(), "hold"),
+                ] {
                     let message = "only with `urdf` (the links of the robot description)";
-                    self.ensure(given.is_none(), &at(name), message)?;
+                    self.ensure(!given, &at(name), message)?;
                 }
                 None
             }
         };
-        let ur = match (raw.model, &described) {
+        let arm = match (raw.model, &described) {
             (Some(Str(model)), _) => {
                 let Some(ur) = UrModel::ALL.into_iter().find(|m| m.name() == model) else {
                     let expected = ROBOT_MODELS.join(", ");
@@ -260,12 +267,12 @@ impl Cx {
                     return Err(self.err(&at("model"), message));
                 };
                 if let Some((_, found, _)) = &described {
-                    let message = format!("{model:?}, but the arm of `urdf` is a {found}");
-                    self.ensure(ur == *found, &at("model"), message)?;
+                    let message = format!("{model:?}, but the arm of `urdf` is a {}", found.name());
+                    self.ensure(found.ur == Some(ur), &at("model"), message)?;
                 }
-                ur
+                ArmDescription::ur(ur)
             }
-            (None, Some((_, found, _))) => *found,
+            (None, Some((_, found, _))) => found.clone(),
             (None, None) => return Err(self.err(&at("model"), "missing key")),
         };
         let Table(base) = self.need(raw.base, &at("base"))?;
@@ -284,7 +291,7 @@ impl Cx {
             (None, Some(Nums(start_deg))) => (start_deg.map(f64::to_radians), true),
             (None, None) => return Err(self.err(&at("start"), "missing key")),
         };
-        self.joint_limits(ur, &start, in_degrees, key, &name)?;
+        self.joint_limits(&arm, &start, in_degrees, key, &name)?;
         let gripper = raw
             .gripper
             .map_or_else(|| GRIPPERS[0].to_string(), |Str(g)| g);
@@ -320,7 +327,7 @@ impl Cx {
         )?;
         Ok(RobotSpec {
             name,
-            arm: ArmDescription::ur(ur),
+            arm,
             base,
             urdf,
             start,
@@ -331,17 +338,19 @@ impl Cx {
     }
 
     /// The arm of robot description `entry` (relative to the scene's folder) from its base
-    /// link to its tool link: its reference, the UR model whose kinematics it has, and the
-    /// base link → DH Base transform. Only arms the planner has a model of are taken, with the
-    /// gripper mounted at the DH flange.
+    /// link to its tool link, the joints `held` still: its reference, the arm, and the base
+    /// link → arm base transform. A Universal Robots arm is the built-in model (its base the
+    /// DH Base, the gripper at the DH flange); any other six-joint arm (or seven-joint arm
+    /// with one joint held) is taken from the description, its collision geometry from the
+    /// meshes (`pregrasp_urdf::describe_arm`), the gripper at the tool link.
     fn urdf_arm(
         &self,
         entry: String,
-        base_link: Option<Str>,
-        tool_link: Option<Str>,
+        (base_link, tool_link): (Option<Str>, Option<Str>),
+        held: &[(String, f64)],
         key: &str,
         file: &Path,
-    ) -> Result<(UrdfRef, UrModel, Isometry3<f64>), SceneError> {
+    ) -> Result<(UrdfRef, ArmDescription, Isometry3<f64>), SceneError> {
         let at = format!("{key}.urdf");
         let path = match file.parent() {
             Some(dir) if !dir.as_os_str().is_empty() => dir.join(&entry),
@@ -354,16 +363,34 @@ impl Cx {
         )
         .map_err(|e| self.err(&at, e.to_string()))?;
         let Some(ur) = arm.ur else {
-            let message = format!(
-                "{}: the chain {} → {} is not a Universal Robots arm; the planner plans for \
-                 {} so far",
-                path.display(),
-                arm.base_link,
-                arm.tool_link,
-                ROBOT_MODELS.join(", ")
-            );
-            return Err(self.err(&at, message));
+            let held: Vec<(&str, f64)> = held.iter().map(|(j, v)| (j.as_str(), *v)).collect();
+            let options = GeometryOptions::default();
+            let described = describe_arm(&arm, &held, &options).map_err(|e| {
+                let at = if matches!(e, UrdfError::HeldJoint { .. }) {
+                    format!("{key}.hold")
+                } else {
+                    at.clone()
+                };
+                self.err(&at, e.to_string())
+            })?;
+            let urdf = UrdfRef {
+                path,
+                entry,
+                joint_names: described.joint_names.to_vec(),
+                held: held.iter().map(|(j, v)| (j.to_string(), *v)).collect(),
+                base_link: arm.base_link,
+                tool_link: arm.tool_link,
+            };
+            return Ok((urdf, described, Isometry3::identity()));
         };
+        if let Some((joint, _)) = held.first() {
+            let message = format!(
+                "{}: {joint}: the arm is a {} (six joints, all driven): nothing to hold",
+                path.display(),
+                ur.model
+            );
+            return Err(self.err(&format!("{key}.hold"), message));
+        }
         let flange_offset = ur
             .tool
             .translation
@@ -390,23 +417,25 @@ impl Cx {
                 .iter()
                 .map(|n| n.to_string())
                 .collect(),
+            held: Vec::new(),
             base_link: arm.base_link,
             tool_link: arm.tool_link,
         };
-        Ok((urdf, ur.model, ur.base))
+        Ok((urdf, ArmDescription::ur(ur.model), ur.base))
     }
 
     /// Refuses a start configuration outside `model`'s joint limits, naming the robot and the
     /// joint (`start` in radians; `in_degrees`: the file spelled it `start_deg`).
     fn joint_limits(
         &self,
-        model: UrModel,
+        arm: &ArmDescription,
         start: &[f64; 6],
         in_degrees: bool,
         key: &str,
         name: &str,
     ) -> Result<(), SceneError> {
-        let limits = model.joint_limits();
+        let limits = arm.kin.joint_limits();
+        let model = arm.name();
         for (i, (&q, &(lo, hi))) in start.iter().zip(&limits).enumerate() {
             if q >= lo - JOINT_LIMIT_SLACK && q <= hi + JOINT_LIMIT_SLACK {
                 continue;
@@ -420,7 +449,10 @@ impl Cx {
                     format!("{q} rad is outside the {model} joint limits [{lo:.3}, {hi:.3}]");
                 (what, "start")
             };
-            let joint = JOINT_NAMES[i];
+            let joint = match arm.ur {
+                Some(_) => JOINT_NAMES[i],
+                None => arm.joint_names[i].as_str(),
+            };
             let message = format!("{what} ({joint} of robot {name:?})");
             return Err(self.err(&format!("{key}.{field}[{i}]"), message));
         }

@@ -11,6 +11,7 @@
 //! link and gripper shapes as the planner, each gripper closed on the part at the width it
 //! closes on — measured here again from the mesh, not read from the file.
 
+use std::path::Path;
 use std::sync::Arc;
 
 use nalgebra::Point3;
@@ -18,7 +19,7 @@ use pregrasp_collision::{ArmModel, CollisionWorld, Grip, GripFailure, ObjectGeom
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{PlanFile, PlanJson, PlanStatus, PoseJson};
 use pregrasp_io::scene::{DEFAULT_FINGER_SUPPORT_CLEARANCE, DEFAULT_LINK_CLEARANCE};
-use pregrasp_robot::Gripper2F85;
+use pregrasp_robot::{ArmDescription, Gripper2F85};
 
 use crate::context::{grips as close_grips, Grips};
 
@@ -140,8 +141,16 @@ impl Rule {
     }
 }
 
-/// Checks every plan in `file`; `mesh` is the object mesh in the object frame (scaled).
+/// Checks every plan in `file`; `mesh` is the object mesh in the object frame (scaled). Arms
+/// from a robot description are found from the current directory ([`check_plan_at`] finds
+/// them from the plan file's).
 pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
+    check_plan_at(file, None, mesh)
+}
+
+/// [`check_plan`] of the file read from `plan_path`: a robot description the plan names is
+/// found as its scene is ([`PlanFile::arm_descriptions`]).
+pub fn check_plan_at(file: &PlanFile, plan_path: Option<&Path>, mesh: &Mesh) -> CheckReport {
     if let Err(e) = crate::plan_format::validate(file) {
         let mut structure = Rule::new();
         structure.fail(format!("malformed plan file: {e}"));
@@ -151,7 +160,10 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
             malformed: Some(e),
         };
     }
-    match PlanChecker::new(file, mesh) {
+    let checker = file
+        .arm_descriptions(plan_path)
+        .and_then(|arms| PlanChecker::sharing_part(file, mesh, &arms, None, None, None));
+    match checker {
         Ok(checker) => checker.check(file),
         Err(e) => {
             let mut structure = Rule::new();
@@ -179,7 +191,8 @@ pub struct PlanChecker {
 impl PlanChecker {
     /// The models of `file`'s header; an error when its robots cannot be modelled.
     pub fn new(file: &PlanFile, mesh: &Mesh) -> Result<PlanChecker, String> {
-        Self::sharing_part(file, mesh, None, None, None)
+        let arms = file.arm_descriptions(None)?;
+        Self::sharing_part(file, mesh, &arms, None, None, None)
     }
 
     /// [`PlanChecker::new`] with the part's collision geometry (its mesh `mesh`, with the BVH)
@@ -188,14 +201,17 @@ impl PlanChecker {
     /// `grips`: how the grippers close at the file's grasps, when the caller has closed them
     /// on the same part (the planner verifying its own plans); closed again otherwise. `hull`:
     /// the vertices of the mesh's convex hull, when the caller has them (Algorithm 1's).
+    ///
+    /// `arms`: the file's arms ([`PlanFile::arm_descriptions`], or the scene's).
     pub fn sharing_part(
         file: &PlanFile,
         mesh: &Mesh,
+        arms: &[ArmDescription; 2],
         part: Option<Arc<ObjectGeometry>>,
         grips: Option<&Grips>,
         hull: Option<&[Point3<f64>]>,
     ) -> Result<PlanChecker, String> {
-        let arms = arm_models(file)?;
+        let arms = arm_models(file, arms)?;
         let link_clearance = file
             .planner
             .link_clearance
@@ -410,18 +426,26 @@ fn collision_result(
     }
 }
 
-fn arm_models(file: &PlanFile) -> Result<[ArmModel; 2], String> {
+/// The file's arms, `arms` their models (one per robot, scene order).
+fn arm_models(file: &PlanFile, arms: &[ArmDescription; 2]) -> Result<[ArmModel; 2], String> {
     if file.robots.len() != 2 {
         return Err(format!("expected 2 robots, found {}", file.robots.len()));
     }
     let build = |i: usize| -> Result<ArmModel, String> {
         let r = &file.robots[i];
-        let model = r.model;
+        if r.model.builtin() != arms[i].ur {
+            return Err(format!(
+                "robots[{i}].model is {}, the arm given is {}",
+                r.model,
+                arms[i].name()
+            ));
+        }
         let gripper = Gripper2F85 {
             precision_point_z: r.precision_point.xyz[2],
             power_point_z: r.power_point.xyz[2],
         };
-        Ok(ArmModel::new(&r.name, model, r.base.to_isometry(), gripper))
+        ArmModel::from_description(&r.name, arms[i].clone(), r.base.to_isometry(), gripper)
+            .map_err(|e| e.to_string())
     };
     Ok([build(0)?, build(1)?])
 }

@@ -94,7 +94,9 @@ impl<'a> PlanCheck<'a> {
                 CHECK_RESOLUTION
             }
         };
-        let total = (0..n).map(|k| edge(pts, k, &weights, resolution(k)).1).sum();
+        let total = (0..n)
+            .map(|k| edge(pts, k, &weights, resolution(k)).1)
+            .sum();
         let mut queue = Queued::with_capacity(total);
         for k in 0..n {
             let (edge_end, steps) = edge(pts, k, &weights, resolution(k));

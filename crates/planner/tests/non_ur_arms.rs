@@ -1,0 +1,211 @@
+//! Arms that are not Universal Robots, read from their descriptions (issue 36): two Franka FR3
+//! (elbow joint `fr3_joint3` held at 0, the planner driving the other six) and two UFACTORY
+//! xArm6, each with the 2F-85 on its flange, plan the examples and pass the check; the plan
+//! file names the description, the held joint and the six driven joints; the same scene
+//! plans to the same bytes; μ_rot stays on one IK branch.
+
+use std::path::{Path, PathBuf};
+
+use pregrasp_geometry::Mesh;
+use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::plan_file::{PlanFile, PlanStatus, RobotModel, SegmentName};
+use pregrasp_io::scene::Scene;
+use pregrasp_planner::pipeline::PlanOptions;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// An arm to put in place of the examples' UR5e: its `[[robot]]` keys and its start.
+struct Arm {
+    keys: String,
+    start: &'static str,
+}
+
+fn fr3() -> Arm {
+    let urdf = root().join("data/robots/fr3.urdf");
+    Arm {
+        keys: format!(
+            "urdf = {:?}\ntool_link = \"fr3_link8\"\nhold = {{ fr3_joint3 = 0.0 }}",
+            urdf.display().to_string()
+        ),
+        // Franka's "ready" posture without the held joint.
+        start: "[0.0, -0.7854, -2.3562, 0.0, 1.5708, 0.7854]",
+    }
+}
+
+fn xarm6() -> Arm {
+    let urdf = root().join("data/robots/xarm6.urdf");
+    Arm {
+        keys: format!("urdf = {:?}", urdf.display().to_string()),
+        start: "[0.0, -0.5, -0.8, 0.0, 1.3, 0.0]",
+    }
+}
+
+/// Example `name` with `arm` for each UR5e, the arms' bases at `x` (and y = ±`y`) in the
+/// world, planned: (scene path, scene, plan file, mesh).
+fn plan_with(name: &str, arm: &Arm, x: f64, y: f64) -> (PathBuf, Scene, PlanFile, Mesh) {
+    let scene_path = root().join(format!("examples/{name}.toml"));
+    let text = std::fs::read_to_string(&scene_path).unwrap();
+    let mut out = String::new();
+    let mut lines = text.lines();
+    while let Some(line) = lines.next() {
+        if line.trim() == "model = \"ur5e\"" {
+            let base = lines.next().unwrap();
+            let side = if base.contains("-0.450") { -y } else { y };
+            lines.next().expect("the start line");
+            out.push_str(&format!(
+                "{}\nbase = {{ xyz = [{x}, {side}, 0.0] }}\nstart = {}\n",
+                arm.keys, arm.start
+            ));
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    let scene = Scene::from_str(&out, &scene_path).unwrap();
+    let mesh = load_mesh(&scene.object.mesh_path, scene.object.scale)
+        .unwrap()
+        .mesh;
+    let options = PlanOptions::default();
+    let file = pregrasp_planner::plan_scene(&scene, &mesh, &options, &|_| {}, &|| {}).file;
+    (scene_path, scene, file, mesh)
+}
+
+/// The plan file describes the arms as they were given, and every plan passes the check.
+fn planned_and_valid(name: &str, file: &PlanFile, mesh: &Mesh, joints: &[&str; 6]) {
+    assert_eq!(
+        file.status,
+        PlanStatus::Planned,
+        "{name}: {:?}",
+        file.reason
+    );
+    assert!(!file.plans.is_empty());
+    for r in &file.robots {
+        assert_eq!(r.model, RobotModel::Described);
+        assert_eq!(r.joint_names, joints.map(str::to_string));
+        assert!(r.urdf.is_some());
+    }
+    let check = pregrasp_planner::check::check_plan(file, mesh);
+    assert!(check.is_valid(), "{name}: {:?}", check.rules);
+}
+
+/// Along μ_rot the supportive arm stays on one branch: no joint moves more than 0.1 rad
+/// between two points (the part turns by Δφ = 1° between them; a branch switch moves some
+/// joint by far more).
+fn rotation_on_one_branch(name: &str, file: &PlanFile) {
+    for plan in &file.plans {
+        let rot = plan
+            .segments
+            .iter()
+            .find(|s| s.name == SegmentName::Rot)
+            .unwrap();
+        for w in rot.points.windows(2) {
+            let step = (0..6)
+                .map(|j| (w[1].q[j] - w[0].q[j]).abs())
+                .fold(0.0, f64::max);
+            assert!(step < 0.1, "{name}: μ_rot joint step {step} rad");
+        }
+    }
+}
+
+const FR3_JOINTS: [&str; 6] = [
+    "fr3_joint1",
+    "fr3_joint2",
+    "fr3_joint4",
+    "fr3_joint5",
+    "fr3_joint6",
+    "fr3_joint7",
+];
+
+#[test]
+fn two_fr3_plan_the_three_examples_and_pass_the_check() {
+    // The chair where the UR5e stand; the shelf and the stool, nearer the base, 10 cm closer.
+    for (name, x) in [
+        ("chair_side", 0.0),
+        ("shelf_side", 0.1),
+        ("stool_side", 0.1),
+    ] {
+        let (_, _, file, mesh) = plan_with(name, &fr3(), x, 0.45);
+        planned_and_valid(name, &file, &mesh, &FR3_JOINTS);
+        rotation_on_one_branch(name, &file);
+        let urdf = file.robots[0].urdf.as_ref().unwrap();
+        assert_eq!(urdf.tool_link, "fr3_link8");
+        assert_eq!(urdf.held.get("fr3_joint3"), Some(&0.0));
+        // The check finds the description from the plan file's scene, as `pregrasp check`.
+        let path = std::env::temp_dir().join(format!("pregrasp-fr3-{name}.json"));
+        let check = pregrasp_planner::check::check_plan_at(&file, Some(&path), &mesh);
+        assert!(check.is_valid(), "{name}: {:?}", check.rules);
+    }
+}
+
+#[test]
+fn two_xarm6_plan_the_stool() {
+    let (_, _, file, mesh) = plan_with("stool_side", &xarm6(), 0.1, 0.35);
+    let joints = ["joint1", "joint2", "joint3", "joint4", "joint5", "joint6"];
+    planned_and_valid("stool_side", &file, &mesh, &joints);
+    rotation_on_one_branch("stool_side", &file);
+}
+
+#[test]
+fn an_fr3_scene_plans_to_the_same_bytes_twice() {
+    let (_, _, a, _) = plan_with("chair_side", &fr3(), 0.0, 0.45);
+    let (_, _, b, _) = plan_with("chair_side", &fr3(), 0.0, 0.45);
+    let bytes = |f: &PlanFile| {
+        let mut f = f.clone();
+        f.timing_ms.clear();
+        f.to_json()
+    };
+    assert_eq!(bytes(&a), bytes(&b));
+}
+
+#[test]
+fn a_seven_joint_arm_needs_a_held_joint_and_a_ur_none() {
+    let scene_path = root().join("examples/chair_side.toml");
+    let text = std::fs::read_to_string(&scene_path).unwrap();
+    let fr3 = root().join("data/robots/fr3.urdf");
+    let no_hold = text.replacen(
+        "model = \"ur5e\"",
+        &format!(
+            "urdf = {:?}\ntool_link = \"fr3_link8\"",
+            fr3.display().to_string()
+        ),
+        1,
+    );
+    let err = Scene::from_str(&no_hold, &scene_path)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("robot[0].urdf"), "{err}");
+    assert!(
+        err.contains("7 actuated joints") && err.contains("hold one joint"),
+        "{err}"
+    );
+    let bad_hold = no_hold.replacen(
+        "tool_link = \"fr3_link8\"",
+        "tool_link = \"fr3_link8\"\nhold = { fr3_joint9 = 0.0 }",
+        1,
+    );
+    let err = Scene::from_str(&bad_hold, &scene_path)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("robot[0].hold") && err.contains("fr3_joint9"),
+        "{err}"
+    );
+    let ur5e = root().join("data/robots/ur5e.urdf");
+    let ur_hold = text.replacen(
+        "model = \"ur5e\"",
+        &format!(
+            "urdf = {:?}\nhold = {{ shoulder_pan_joint = 0.0 }}",
+            ur5e.display().to_string()
+        ),
+        1,
+    );
+    let err = Scene::from_str(&ur_hold, &scene_path)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("robot[0].hold") && err.contains("nothing to hold"),
+        "{err}"
+    );
+}

@@ -1,0 +1,86 @@
+//! `describe_arm`: a URDF arm as the planner uses it. The link shapes are the arm's links (not
+//! the hand the description carries), each in the frame that moves with it, and placed by the
+//! planner's frames they are where the description's own kinematics puts the links.
+
+mod common;
+
+use common::{data, dist, random_q, rng};
+use pregrasp_urdf::{describe_arm, CacheDir, GeometryOptions, UrdfArm, UrdfGeometry};
+
+fn options() -> GeometryOptions {
+    GeometryOptions {
+        cache: CacheDir::Off,
+        ..GeometryOptions::default()
+    }
+}
+
+#[test]
+fn fr3_arm_links_sit_in_their_frames() {
+    let arm = UrdfArm::load(data("fr3.urdf").as_ref(), None, Some("fr3_link8")).unwrap();
+    let held = [("fr3_joint3", 0.0)];
+    let d = describe_arm(&arm, &held, &options()).unwrap();
+    assert_eq!(d.ur, None);
+    assert!(d.key.starts_with("urdf:"));
+    let names: Vec<(&str, usize)> = d.geometry.links.iter().map(|l| (l.name, l.frame)).collect();
+    // Link 3 turns with joint 2 once joint 3 is held; the hand and fingers are the gripper's.
+    assert_eq!(
+        names,
+        [
+            ("fr3_link0", 0),
+            ("fr3_link1", 1),
+            ("fr3_link2", 2),
+            ("fr3_link3", 2),
+            ("fr3_link4", 3),
+            ("fr3_link5", 4),
+            ("fr3_link6", 5),
+            ("fr3_link7", 6),
+        ]
+    );
+    // Placed by the planner's frames, every piece vertex is where the description's own
+    // kinematics puts it; and every vertex is inside its shape's primitive box.
+    let geometry = UrdfGeometry::load(&arm.model, &options()).unwrap().geometry;
+    let full = &arm.chain;
+    let mut r = rng(11);
+    for _ in 0..20 {
+        let mut q7 = random_q(full, &mut r, 0.05);
+        q7[2] = 0.0;
+        let q: [f64; 6] = [q7[0], q7[1], q7[3], q7[4], q7[5], q7[6]];
+        let frames = d.kin.fk_frames(&q);
+        let links = full.link_frames(&q7);
+        for shape in &d.geometry.links {
+            let k = full
+                .links()
+                .iter()
+                .position(|l| l.name == shape.name)
+                .unwrap();
+            let g = geometry.index_of(shape.name).unwrap();
+            let pieces = &shape.pieces.unwrap().pieces;
+            for (piece, original) in pieces.iter().zip(&geometry.links[g].pieces) {
+                for (v, o) in piece.iter().zip(original) {
+                    let a = frames[shape.frame] * v;
+                    let b = links[k] * o;
+                    assert!((a - b).norm() < 1e-9, "{}: {}", shape.name, (a - b).norm());
+                }
+            }
+        }
+    }
+    let (dp, _) = dist(&d.kin.fk(&[0.0; 6]), &full.fk(&[0.0; 7]));
+    assert!(dp < 1e-12);
+    // Self-collision pairs are between arm links only, never a link with itself.
+    assert!(!d.geometry.self_collision_pairs.is_empty());
+    assert!(d
+        .geometry
+        .self_collision_pairs
+        .iter()
+        .all(|&(a, b)| a < b && b < d.geometry.links.len()));
+}
+
+#[test]
+fn a_description_is_built_once() {
+    let arm = UrdfArm::load(data("xarm6.urdf").as_ref(), None, None).unwrap();
+    let a = describe_arm(&arm, &[], &options()).unwrap();
+    let b = describe_arm(&arm, &[], &options()).unwrap();
+    assert!(std::sync::Arc::ptr_eq(&a.geometry, &b.geometry));
+    assert_eq!(a.joint_names[0], "joint1");
+    assert_eq!(a.geometry.links.len(), 7);
+}
