@@ -121,6 +121,59 @@ fn run(
     (Err(Vector3::x_axis()), f64::NEG_INFINITY)
 }
 
+/// How far GJK's bounds may stay apart when [`clearance`] stops: it ends once its lower bound
+/// is within this fraction of its upper one (a clearance of 80 % of the distance serves as well
+/// as the distance for skipping tests, and costs fewer steps).
+pub const CLEARANCE_SLACK: f64 = 0.2;
+
+/// Most GJK steps [`clearance`] takes.
+const CLEARANCE_STEPS: usize = 32;
+
+/// A lower bound of the distance between `g1` and `g2` (the second at `pos12` in the first's
+/// frame), the unit axis that gives it (first shape's frame) and an upper bound, by GJK on
+/// `A − B` started along `dir`. Every support plane bounds the distance from below: along a
+/// unit axis `u`, `A − B` lies in the half-space `u · x ≤ u · w` (`w` its support point along
+/// `u`), so no point of it is nearer the origin than `−u · w` — the lower bound returned is the
+/// best such plane GJK met, whatever its tolerances. GJK's simplex bounds the distance from
+/// above, as does `upper` (a bound the caller knows, `∞` if none); the run stops once the
+/// bounds are within [`CLEARANCE_SLACK`] of each other, when the simplex reaches the origin,
+/// or when it makes no progress. The lower bound is `≤ 0` where the shapes touch (or no plane
+/// separating them was found).
+pub fn clearance(
+    pos12: &Isometry3<f64>,
+    g1: &(impl SupportMap + ?Sized),
+    g2: &(impl SupportMap + ?Sized),
+    dir: &Unit<Vector3<f64>>,
+    mut upper: f64,
+) -> (f64, Unit<Vector3<f64>>, f64) {
+    let first = CSOPoint::from_shapes(pos12, g1, g2, dir);
+    let mut best = (-dir.dot(&first.point.coords), *dir);
+    let mut simplex = VoronoiSimplex::new();
+    simplex.reset(first);
+    for _ in 0..CLEARANCE_STEPS {
+        let proj = simplex.project_origin_and_reduce();
+        if simplex.dimension() == 3 {
+            break; // the origin in a tetrahedron of A − B: the shapes intersect
+        }
+        let Some((u, norm)) = Unit::try_new_and_get(-proj.coords, gjk::eps_tol()) else {
+            break; // the origin on the simplex: touching
+        };
+        upper = upper.min(norm);
+        if best.0 >= (1.0 - CLEARANCE_SLACK) * upper {
+            break;
+        }
+        let w = CSOPoint::from_shapes(pos12, g1, g2, &u);
+        let lower = -u.dot(&w.point.coords);
+        if lower > best.0 {
+            best = (lower, u);
+        }
+        if !simplex.add_point(w) {
+            break;
+        }
+    }
+    (best.0, best.1, upper)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

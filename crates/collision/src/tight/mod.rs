@@ -95,6 +95,18 @@ impl Tight {
         })
     }
 
+    /// One piece: the hull with the vertices `points` and the faces `triangles` (indices into
+    /// `points`, as parry's hull gives them), its vertex graph built from the faces (see
+    /// [`Polytope`]); `None` with fewer than four vertices.
+    pub fn hull(points: Vec<P>, triangles: &[[u32; 3]]) -> Option<Tight> {
+        let mut tight = Tight::new(&ConvexPieces {
+            pieces: vec![points.clone()],
+            slack: 0.0,
+        })?;
+        tight.pieces[0].poly = Polytope::with_faces(points, triangles);
+        Some(tight)
+    }
+
     /// How far the pieces reach outside the link shape (m).
     pub fn slack(&self) -> f64 {
         self.slack
@@ -126,6 +138,73 @@ impl Tight {
         })
     }
 
+    /// A lower bound of the distance from the pieces, their frame at `frame` (in the
+    /// triangle's frame), to `tri`: the least of [`gjk::clearance`] over the pieces, each run
+    /// started along the axis that last separated the piece from the triangle (`tri_key` names
+    /// it as for [`Tight::any_piece_touches`]), and the axis it found remembered. A piece whose
+    /// box lies farther from the triangle's box than the least bound so far is not asked (the
+    /// boxes' distance bounds the piece's from below). Stops at the first piece whose bound is
+    /// not above `floor`.
+    pub(crate) fn clearance(
+        &self,
+        frame: &Isometry3<f64>,
+        tri: &Triangle,
+        tri_key: usize,
+        floor: f64,
+    ) -> f64 {
+        let (lo, hi) = tri_box(tri);
+        let m = frame.rotation.to_rotation_matrix().matrix().abs();
+        let to_link = frame.inverse();
+        let centroid = to_link * nalgebra::center(&tri.a, &nalgebra::center(&tri.b, &tri.c));
+        let mut least = f64::INFINITY;
+        for piece in &self.pieces {
+            let c = frame * nalgebra::center(&piece.lo, &piece.hi);
+            let ext: Vector3<f64> = m * (0.5 * (piece.hi - piece.lo));
+            let boxes = Vector3::from_fn(|i, _| {
+                (lo[i] - (c[i] + ext[i]))
+                    .max((c[i] - ext[i]) - hi[i])
+                    .max(0.0)
+            });
+            if boxes.norm() >= least {
+                continue;
+            }
+            let key = (piece as *const Piece as usize, tri_key);
+            let toward = centroid - piece.center;
+            let poly = Climb::new(&piece.poly);
+            least = least.min(clearance_keyed(key, &to_link, &poly, tri, &toward));
+            if least <= floor {
+                break;
+            }
+        }
+        least
+    }
+
+    /// [`Tight::clearance`] of the first piece alone (a link's hull), warm-started from what
+    /// `warm` remembers of the last run on this pair, which it then remembers; `upper` bounds
+    /// the distance from above where the caller knows a bound (`∞` else). The lower bound and
+    /// GJK's upper one.
+    pub(crate) fn hull_clearance(
+        &self,
+        frame: &Isometry3<f64>,
+        tri: &Triangle,
+        warm: &mut Warm,
+        upper: f64,
+    ) -> (f64, f64) {
+        let piece = &self.pieces[0];
+        let to_link = frame.inverse();
+        let dir = warm.axis.unwrap_or_else(|| {
+            let centroid = to_link * nalgebra::center(&tri.a, &nalgebra::center(&tri.b, &tri.c));
+            Unit::try_new(centroid - piece.center, f64::EPSILON).unwrap_or_else(Vector3::x_axis)
+        });
+        let poly = Climb::from(&piece.poly, warm.vertex);
+        let (gap, axis, upper) = gjk::clearance(&to_link, &poly, tri, &dir, upper);
+        warm.vertex = poly.at();
+        if gap > 0.0 {
+            warm.axis = Some(axis);
+        }
+        (gap, upper)
+    }
+
     /// World `z` of the lowest vertex of the pieces with their frame at `frame`.
     pub fn lowest(&self, frame: &Isometry3<f64>) -> f64 {
         let row = frame
@@ -149,6 +228,14 @@ impl Tight {
             .fold(f64::INFINITY, f64::min);
         low + frame.translation.vector.z
     }
+}
+
+/// What [`Tight::hull_clearance`] remembers of a pair between runs: the axis that last
+/// separated it and the vertex where the last climb of support points ended.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Warm {
+    axis: Option<Unit<Vector3<f64>>>,
+    vertex: Option<u32>,
 }
 
 /// The axis-aligned box of a triangle.
@@ -352,6 +439,31 @@ fn near_keyed_bounded(
             false
         }
     }
+}
+
+/// [`gjk::clearance`] of the pair `key` (the second shape at `pos12` in the first's frame),
+/// started along the axis that last separated the pair, else along `toward` (from the first
+/// towards the second); a separating axis found is remembered for the pair.
+fn clearance_keyed(
+    key: (usize, usize),
+    pos12: &Isometry3<f64>,
+    g1: &dyn SupportMap,
+    g2: &dyn SupportMap,
+    toward: &Vector3<f64>,
+) -> f64 {
+    let slot = separator_slot(key);
+    let dir = SEPARATORS
+        .with(|s| {
+            let (k, dir) = s[slot].get();
+            (k == key).then_some(dir)
+        })
+        .or_else(|| Unit::try_new(*toward, f64::EPSILON))
+        .unwrap_or_else(Vector3::x_axis);
+    let (gap, axis, _) = gjk::clearance(pos12, g1, g2, &dir, f64::INFINITY);
+    if gap > 0.0 {
+        SEPARATORS.with(|s| s[slot].set((key, axis)));
+    }
+    gap
 }
 
 /// A pair of convex bodies (their keys) and the axis that last separated them.

@@ -68,6 +68,16 @@ impl Polytope {
         self.graph.get_or_init(|| Graph::new(&self.points)).as_ref()
     }
 
+    /// The polytope whose hull has the vertices `points` and the faces `triangles` (indices
+    /// into `points`, as parry's hull gives them): its vertex graph built now from those faces,
+    /// with no hull to compute.
+    pub(crate) fn with_faces(points: Vec<P>, triangles: &[[u32; 3]]) -> Self {
+        let graph = Graph::from_faces(&points, triangles);
+        let poly = Polytope::new(points);
+        let _ = poly.graph.set(graph);
+        poly
+    }
+
     /// Builds the vertex graph now rather than after [`BUILD_AFTER`] scans.
     pub(super) fn prepare(&self) {
         self.graph.get_or_init(|| Graph::new(&self.points));
@@ -107,10 +117,23 @@ pub(crate) struct Climb<'a> {
 impl<'a> Climb<'a> {
     #[inline]
     pub fn new(poly: &'a Polytope) -> Self {
+        Climb::from(poly, None)
+    }
+
+    /// Climbs starting at vertex `at` (where an earlier run ended, say; the answers do not
+    /// depend on it).
+    #[inline]
+    pub fn from(poly: &'a Polytope, at: Option<u32>) -> Self {
         Climb {
             poly,
-            at: Cell::new(None),
+            at: Cell::new(at),
         }
+    }
+
+    /// The vertex the last climb ended at.
+    #[inline]
+    pub fn at(&self) -> Option<u32> {
+        self.at.get()
     }
 }
 
@@ -173,6 +196,30 @@ impl Graph {
         if index.len() != first.len() {
             join_left_out(points, &verts, &triangles, &index, &first, &mut edges)?;
         }
+        Graph::from_edges(points, edges, &index)
+    }
+
+    /// The graph of a hull whose vertices are all of `points`, its faces `triangles`.
+    fn from_faces(points: &[P], triangles: &[[u32; 3]]) -> Option<Graph> {
+        let n = points.len();
+        if n < 4 || n >= u32::MAX as usize {
+            return None;
+        }
+        let mut edges: Vec<(u32, u32)> = Vec::with_capacity(6 * triangles.len());
+        for &[a, b, c] in triangles {
+            for (u, v) in [(a, b), (b, c), (c, a)] {
+                edges.push((u, v));
+                edges.push((v, u));
+            }
+        }
+        let all: Vec<u32> = (0..n as u32).collect();
+        Graph::from_edges(points, edges, &all)
+    }
+
+    /// The graph of the edges `edges` (both ways) over `points`; `None` unless each of the hull
+    /// vertices `hull` has at least three neighbours.
+    fn from_edges(points: &[P], mut edges: Vec<(u32, u32)>, hull: &[u32]) -> Option<Graph> {
+        let n = points.len();
         edges.sort_unstable();
         edges.dedup();
         let mut offsets = vec![0u32; n + 1];
@@ -182,7 +229,7 @@ impl Graph {
         for k in 0..n {
             offsets[k + 1] += offsets[k];
         }
-        if index
+        if hull
             .iter()
             .any(|&k| offsets[k as usize + 1] - offsets[k as usize] < 3)
         {

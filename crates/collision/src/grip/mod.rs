@@ -19,8 +19,11 @@ use pregrasp_robot::{
 };
 
 use crate::closing::{FingerShapes, PartClosing};
-use crate::distance::triangle_box_intersect;
 use crate::object::ObjectGeometry;
+
+mod patches;
+
+pub use patches::{pad_patches, PadPatch, PATCH_DEPTH, PATCH_STEP};
 
 /// Largest joint turn (rad) between two poses of a closing kept for the support test. Between
 /// two kept poses a finger point moves on arcs of at most two stacked rotations (a link and
@@ -221,6 +224,46 @@ fn link_levels() -> &'static [Levels] {
     })
 }
 
+/// The points of each link's [`Levels`] one after the other, and how many each level has: what
+/// [`Sweep::add`] places, a link at a time.
+type FlatLevels = (Vec<[f64; 2]>, Vec<usize>);
+
+/// The lesser of `a` and `b` (`a` where they are equal), for numbers (no NaN): `f64::min`
+/// without its NaN handling, which costs as much as the rest of [`Sweep::add`].
+fn least(a: f64, b: f64) -> f64 {
+    if b < a {
+        b
+    } else {
+        a
+    }
+}
+
+/// The greater of `a` and `b` (`a` where they are equal), for numbers (no NaN).
+fn most(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
+    }
+}
+
+/// [`FlatLevels`] of each link of the `+x` finger.
+fn link_points() -> &'static [FlatLevels] {
+    static POINTS: OnceLock<Vec<FlatLevels>> = OnceLock::new();
+    POINTS.get_or_init(|| {
+        link_levels()
+            .iter()
+            .map(|levels| {
+                let pts = levels.iter().flat_map(|(_, pts)| pts.iter().copied());
+                (
+                    pts.collect(),
+                    levels.iter().map(|(_, pts)| pts.len()).collect(),
+                )
+            })
+            .collect()
+    })
+}
+
 /// The finger points swept while closing: per kept pose, both fingers' points side by side,
 /// link and `y` level after level (`(x, z)` in G), in the order [`Sweep::add`] visits them.
 struct Sweep {
@@ -267,21 +310,27 @@ impl Sweep {
         let l = linkage();
         let mut slot = 0;
         for (cfg, side) in configs.iter().zip([1.0, -1.0]) {
-            for (frame, levels) in cfg.link_frames(l).iter().zip(link_levels()) {
+            for (frame, (pts, counts)) in cfg.link_frames(l).iter().zip(link_points()) {
                 // The link frame in the finger's plane: `(x, z) ↦ o + R(angle)·(x, z)`, then
                 // mirrored `x → −x` for the `−x` finger (`PlanarPose::to_isometry`, in 2-D: the
                 // levels' `y` does not change).
                 let (s, c) = frame.angle.sin_cos();
                 let (ox, oz) = (frame.origin.x, frame.origin.y);
-                for (_, pts) in levels {
-                    let (lo, hi) = &mut self.bounds[slot];
-                    self.poses.extend(pts.iter().map(|[x, z]| {
-                        let p = [side * (ox + c * x - s * z), oz + s * x + c * z];
-                        *lo = [lo[0].min(p[0]), lo[1].min(p[1])];
-                        *hi = [hi[0].max(p[0]), hi[1].max(p[1])];
-                        p
-                    }));
+                let mut at = self.poses.len();
+                self.poses.extend(
+                    pts.iter()
+                        .map(|[x, z]| [side * (ox + c * x - s * z), oz + s * x + c * z]),
+                );
+                // Each level's box, its points in order.
+                for &n in counts {
+                    let (mut lo, mut hi) = self.bounds[slot];
+                    for p in &self.poses[at..at + n] {
+                        lo = [least(lo[0], p[0]), least(lo[1], p[1])];
+                        hi = [most(hi[0], p[0]), most(hi[1], p[1])];
+                    }
+                    self.bounds[slot] = (lo, hi);
                     slot += 1;
+                    at += n;
                 }
             }
         }
@@ -484,112 +533,5 @@ pub fn close_on_part(
         links: Arc::new(link_sweeps(&swept)),
         swept: Arc::new(swept),
         points: Arc::new(points),
-    })
-}
-
-/// Where a pad presses on the part: the part of its contact face that lies on the part's
-/// surface (within [`PATCH_DEPTH`]), sampled every [`PATCH_STEP`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PadPatch {
-    /// Centroid of the patch, in G.
-    pub center: Point3<f64>,
-    /// Area (m²).
-    pub area: f64,
-    /// Mean distance of the patch from its centroid (m): under uniform pressure the pad's
-    /// torsional friction is `μ·N·e` with this `e` (the soft-finger model).
-    pub torsion_radius: f64,
-}
-
-/// How close (m) the part's surface must come to a point of a pad's contact face for the point
-/// to bear on it: the silicone pad yields about this much under the squeeze.
-pub const PATCH_DEPTH: f64 = 5e-4;
-/// Sampling step (m) of a pad's contact face.
-pub const PATCH_STEP: f64 = 0.002;
-/// The pad's contact face in the pad frame of the `+x` finger: `x`, and its extent in `y`
-/// (22 mm wide) and `z` (37.5 mm long).
-const PAD_FACE_X: f64 = -0.0066;
-const PAD_FACE_Y: (f64, f64) = (-0.011, 0.011);
-const PAD_FACE_Z: (f64, f64) = (0.0, 0.0375);
-
-/// The patches where the pads of `grip` bear on the part, `[+x, −x]` (`None`: the pad does not
-/// touch it), the gripper at `flange_in_object` (G → object frame).
-pub fn pad_patches(
-    object: &ObjectGeometry,
-    flange_in_object: &Isometry3<f64>,
-    grip: &Grip,
-) -> [Option<PadPatch>; 2] {
-    let l = linkage();
-    let configs = grip.fingers.configs();
-    let ny = ((PAD_FACE_Y.1 - PAD_FACE_Y.0) / PATCH_STEP).round() as usize;
-    let nz = ((PAD_FACE_Z.1 - PAD_FACE_Z.0) / PATCH_STEP).round() as usize;
-    let (dy, dz) = (
-        (PAD_FACE_Y.1 - PAD_FACE_Y.0) / ny as f64,
-        (PAD_FACE_Z.1 - PAD_FACE_Z.0) / nz as f64,
-    );
-    let half = nalgebra::Vector3::repeat(PATCH_DEPTH);
-    let to_object = flange_in_object.rotation.to_rotation_matrix();
-    [0, 1].map(|k| {
-        let side = if k == 0 { 1.0 } else { -1.0 };
-        let pad = configs[k].link_frames(l)[PAD].to_isometry(side);
-        // The triangles near the face (its slab, grown by a sample cube's half diagonal, √3 ×
-        // the depth: the cubes have G's axes, the slab the pad's), once; then each sample's
-        // cube of half size PATCH_DEPTH against them.
-        let grow = PATCH_DEPTH * 3f64.sqrt();
-        let slab_center = Point3::new(
-            side * PAD_FACE_X,
-            0.5 * (PAD_FACE_Y.0 + PAD_FACE_Y.1),
-            0.5 * (PAD_FACE_Z.0 + PAD_FACE_Z.1),
-        );
-        let slab_half = nalgebra::Vector3::new(
-            grow,
-            0.5 * (PAD_FACE_Y.1 - PAD_FACE_Y.0) + grow,
-            0.5 * (PAD_FACE_Z.1 - PAD_FACE_Z.0) + grow,
-        );
-        let slab = flange_in_object * pad * nalgebra::Translation3::from(slab_center.coords);
-        let mut near: Vec<[Point3<f64>; 3]> = Vec::new();
-        object.any_triangle_in_box(&slab, &slab_half, |a, b, c| {
-            near.push([*a, *b, *c]);
-            false
-        });
-        let mut touching = Vec::new();
-        if near.is_empty() {
-            return None;
-        }
-        for i in 0..ny {
-            for j in 0..nz {
-                let local = Point3::new(
-                    side * PAD_FACE_X,
-                    PAD_FACE_Y.0 + (i as f64 + 0.5) * dy,
-                    PAD_FACE_Z.0 + (j as f64 + 0.5) * dz,
-                );
-                let p = pad * local;
-                // The sample's cube has G's axes: the triangles in its frame.
-                let c = flange_in_object * p;
-                let cube = |v: &Point3<f64>| Point3::from(to_object.transpose() * (v - c));
-                let hit = near
-                    .iter()
-                    .any(|[a, b, t]| triangle_box_intersect(&cube(a), &cube(b), &cube(t), &half));
-                if hit {
-                    touching.push(p);
-                }
-            }
-        }
-        if touching.is_empty() {
-            return None;
-        }
-        let n = touching.len() as f64;
-        let center = Point3::from(
-            touching
-                .iter()
-                .map(|p| p.coords)
-                .sum::<nalgebra::Vector3<f64>>()
-                / n,
-        );
-        let torsion_radius = touching.iter().map(|p| (p - center).norm()).sum::<f64>() / n;
-        Some(PadPatch {
-            center,
-            area: n * dy * dz,
-            torsion_radius,
-        })
     })
 }

@@ -2,9 +2,12 @@
 //! [`pregrasp_robot::ClosingWorld`] of a grasp, for [`pregrasp_robot::close_fingers`].
 //!
 //! A finger link is a set of convex pieces in its link frame ([`FingerShapes`]); it touches the
-//! part when a piece meets a triangle of the part's mesh (parry's convex-vs-mesh test through the
-//! BVH), and the support when any piece vertex lies below the support plane. Frames: the
-//! pieces are placed in the gripper frame G by the linkage, G in the object frame by the
+//! part when a piece meets a triangle of the part's mesh (GJK on the link's hull, then on its
+//! pieces, against the triangles near it), and the support when any piece vertex lies below the
+//! support plane. Most poses of a closing are answered without a test: a link found clear of the
+//! part (or a triangle) by some distance stays clear while it moves less than that, and one found
+//! deep in a triangle stays in contact while it moves less than its depth ([`near`]). Frames:
+//! the pieces are placed in the gripper frame G by the linkage, G in the object frame by the
 //! grasp (`flange_in_object`); the support plane is given in the object frame as `(n, d)`: the
 //! points `p` with `n · p > d` are below it (inside the table).
 
@@ -18,11 +21,18 @@ use pregrasp_robot::{ClosingWorld, ConvexPieces, PlanarPose, Touch, FINGER_LINKS
 use crate::object::ObjectGeometry;
 use crate::tight::Tight;
 
+mod near;
+
+use near::{Clearance, Link, Near, Solid};
+
 /// One convex piece of a finger link: its vertices (for the support test and the boxes).
 #[derive(Clone, Debug)]
 struct Piece {
     vertices: Vec<Point3<f64>>,
 }
+
+/// A hull: its vertices and its faces (indices into them), as parry gives it.
+type HullFaces = (Vec<Point3<f64>>, Vec<[u32; 3]>);
 
 /// The finger links' convex pieces in their link frames, for the `+x` finger and its mirror.
 #[derive(Clone, Debug)]
@@ -41,6 +51,8 @@ pub struct FingerShapes {
     hull_points: Vec<Vec<Point3<f64>>>,
     /// `[side][link]`: the largest distance of a piece vertex from the link frame's origin.
     reach: [Vec<f64>; 2],
+    /// `[side][link][piece]`: the pieces as solids bounded by planes (how deep a point lies).
+    solids: [Vec<Vec<Solid>>; 2],
 }
 
 impl FingerShapes {
@@ -106,34 +118,38 @@ impl FingerShapes {
                 })
                 .collect()
         };
-        // Each link's hull once, for the `+x` finger; the other finger's is its mirror image.
-        let hull_points: Vec<Vec<Point3<f64>>> = pieces[0]
+        // Each link's hull once, for the `+x` finger (its vertices and faces); the other
+        // finger's is its mirror image, with the same faces.
+        let hull_faces: Vec<HullFaces> = pieces[0]
             .iter()
             .map(|link| {
                 let all: Vec<Point3<f64>> = link
                     .iter()
                     .flat_map(|p| p.vertices.iter().copied())
                     .collect();
-                crate::tight::hull_points(&all)
+                parry3d_f64::transformation::try_convex_hull(&all).unwrap_or((all, Vec::new()))
             })
             .collect();
         let hulls = |sign: f64| -> Option<Vec<Tight>> {
-            hull_points
+            hull_faces
                 .iter()
-                .map(|pts| {
-                    Tight::new(&ConvexPieces {
-                        pieces: vec![pts
-                            .iter()
-                            .map(|p| Point3::new(sign * p.x, p.y, p.z))
-                            .collect()],
-                        slack: 0.0,
-                    })
+                .map(|(pts, faces)| {
+                    let pts = pts.iter().map(|p| Point3::new(sign * p.x, p.y, p.z));
+                    Tight::hull(pts.collect(), faces)
                 })
                 .collect()
         };
+        let hull_points = hull_faces.iter().map(|(pts, _)| pts.clone()).collect();
         let hulls = [hulls(1.0)?, hulls(-1.0)?];
         let tight = [tight(&pieces[0])?, tight(&pieces[1])?];
+        let solids = |pieces: &Vec<Vec<Piece>>| -> Vec<Vec<Solid>> {
+            pieces
+                .iter()
+                .map(|link| link.iter().map(|p| Solid::new(&p.vertices)).collect())
+                .collect()
+        };
         Some(FingerShapes {
+            solids: [solids(&pieces[0]), solids(&pieces[1])],
             hull_points,
             hulls,
             reach: [reach(&pieces[0]), reach(&pieces[1])],
@@ -194,13 +210,12 @@ pub struct PartClosing<'a> {
     /// link many times (the spring link turns about a pivot on the housing, so while it rests
     /// on the part its searches probe the same angles at every driver step).
     memo: RefCell<HashMap<PoseKey, bool, BuildHasherDefault<PoseHasher>>>,
-    /// Per `[side][link]`, a pose at which the link's box grown by [`FREE_BALL`] missed the
-    /// part: the link misses it in every pose that moves none of its points that far.
-    free: RefCell<[[Option<PlanarPose>; 5]; 2]>,
+    /// Per `[side][link]`, the link's last clearance from the part ([`near`]): it misses the
+    /// part at every pose that moves none of its points that far.
+    free: RefCell<[[Option<Clearance>; 5]; 2]>,
+    /// Per `[side][link]`, the triangles near the link and its clearances from them.
+    near: RefCell<[[Near; 5]; 2]>,
 }
-
-/// How far a link's box is grown for [`PartClosing`]'s free-pose cache (m).
-const FREE_BALL: f64 = 0.004;
 
 impl<'a> PartClosing<'a> {
     /// The closing world of the part `object` with the gripper at `flange_in_object` (G → object
@@ -218,22 +233,18 @@ impl<'a> PartClosing<'a> {
             support,
             memo: RefCell::new(HashMap::default()),
             free: RefCell::new([[None; 5]; 2]),
+            near: RefCell::new(Default::default()),
         }
     }
 
-    /// Whether link `link` of finger `s` is known to miss the part at `pose`: a pose it was
-    /// found clear by [`FREE_BALL`] at moves none of its points farther than that
-    /// (`|Δorigin| + |Δangle| · reach`).
+    /// Whether link `link` of finger `s` is known to miss the part at `pose`: its last
+    /// clearance is not used up there.
     fn known_free(&self, s: usize, link: usize, pose: &PlanarPose) -> bool {
-        self.free.borrow()[s][link].is_some_and(|at| {
-            let moved = (pose.origin - at.origin).norm()
-                + (pose.angle - at.angle).abs() * self.shapes.reach[s][link];
-            moved < FREE_BALL
-        })
+        self.free.borrow()[s][link].is_some_and(|c| c.left(pose, self.shapes.reach[s][link]) > 0.0)
     }
 
     /// Whether link `link` of finger `s` (0: `+x`) touches the part at `pose` (its frame in
-    /// the object frame `in_object`).
+    /// the object frame `in_object`); a pose where it does not leaves its clearance.
     fn touches_part(
         &self,
         s: usize,
@@ -245,23 +256,25 @@ impl<'a> PartClosing<'a> {
             return false;
         }
         let (center, half) = &self.shapes.boxes[s][link];
-        let box_pose = in_object * nalgebra::Translation3::from(*center);
-        if !self
-            .object
-            .box_touches(&box_pose, &(half + Vector3::repeat(FREE_BALL)))
-        {
-            self.free.borrow_mut()[s][link] = Some(*pose);
-            return false;
+        let tested = Link {
+            hull: &self.shapes.hulls[s][link],
+            pieces: &self.shapes.tight[s][link],
+            solids: &self.shapes.solids[s][link],
+            center,
+            half,
+            reach: self.shapes.reach[s][link],
+            in_object,
+        };
+        let clear = self.near.borrow_mut()[s][link].touches(self.object, &tested, pose);
+        match clear {
+            None => true,
+            Some(gap) => {
+                if gap > 0.0 {
+                    self.free.borrow_mut()[s][link] = Some(Clearance { at: *pose, gap });
+                }
+                false
+            }
         }
-        // The triangles the box meets, each against the link's hull, then its pieces.
-        let hull = &self.shapes.hulls[s][link];
-        let pieces = &self.shapes.tight[s][link];
-        self.object.any_triangle_in_box(&box_pose, half, |a, b, c| {
-            let tri = parry3d_f64::shape::Triangle::new(*a, *b, *c);
-            let key = a as *const _ as usize;
-            hull.any_piece_touches(in_object, &tri, key)
-                && pieces.any_piece_touches(in_object, &tri, key)
-        })
     }
 }
 
