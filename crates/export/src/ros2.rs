@@ -2,7 +2,8 @@
 //! `trajectory_msgs/msg/JointTrajectory` in the YAML that `ros2 topic pub` and action clients
 //! (`ros2 action send_goal … FollowJointTrajectory`) take.
 //!
-//! `joint_names` are ur_robot_driver's, with an optional prefix. `time_from_start` counts from
+//! `joint_names` are ur_robot_driver's for a built-in arm, the plan's (its description's) for an
+//! arm from a robot description, with an optional prefix. `time_from_start` counts from
 //! the segment's first point. `velocities` are the finite differences of the plan's linear
 //! interpolation: at an inner point the time-weighted mean of the slopes of its two intervals,
 //! `(q[k+1] − q[k−1]) / (t[k+1] − t[k−1])`, and zero at the segment's ends (the arm stops
@@ -64,7 +65,13 @@ pub fn segment_yaml(timeline: &Timeline, seg: &Segment, prefix: &str) -> String 
         float(seg.t_end() - seg.t0)
     );
     s.push_str("header:\n  stamp: {sec: 0, nanosec: 0}\n  frame_id: ''\njoint_names:\n");
-    for n in ROS_JOINT_NAMES {
+    // A built-in arm is driven by ur_robot_driver; any other by the names its description
+    // gives (the plan's `joint_names`).
+    let names: Vec<&str> = match arm.model.builtin() {
+        Some(_) => ROS_JOINT_NAMES.to_vec(),
+        None => arm.joint_names.iter().map(String::as_str).collect(),
+    };
+    for n in names {
         s.push_str(&format!("  - {prefix}{n}\n"));
     }
     s.push_str("points:\n");

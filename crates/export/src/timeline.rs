@@ -40,6 +40,8 @@ pub struct GripEvent {
 pub struct Arm {
     pub name: String,
     pub model: RobotModel,
+    /// The plan's names of the six joints, base to flange.
+    pub joint_names: Vec<String>,
     /// Base pose in the world.
     pub base: Isometry3<f64>,
     pub start: Joints,
@@ -167,6 +169,7 @@ impl Timeline {
             arms.push(Arm {
                 name: r.name.clone(),
                 model,
+                joint_names: r.joint_names.clone(),
                 base: r.base.to_isometry(),
                 start: r.start,
                 knots: vec![(0.0, r.start)],
