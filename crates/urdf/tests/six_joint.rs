@@ -171,12 +171,12 @@ fn round_trips(arm: &SixJointArm, n: usize, seed: u64) {
 
 #[test]
 fn fr3_held_elbow_ik_round_trips() {
-    round_trips(&fr3_six(), 300, 5);
+    round_trips(&fr3_six(), 1000, 5);
 }
 
 #[test]
 fn xarm6_ik_round_trips() {
-    round_trips(&SixJointArm::new("xarm6", &xarm6(), &[]).unwrap(), 300, 6);
+    round_trips(&SixJointArm::new("xarm6", &xarm6(), &[]).unwrap(), 1000, 6);
 }
 
 #[test]
