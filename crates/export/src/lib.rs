@@ -43,7 +43,7 @@ pub enum ExportError {
     NoMesh,
     #[error(
         "{format}: arm {arm:?} is not a Universal Robots arm (it comes from its robot \
-         description); {why} (csv and ros2 export any arm)"
+         description); {why} (csv, ros2 and gltf export any arm)"
     )]
     NotUr {
         arm: String,
@@ -201,9 +201,23 @@ pub struct OutFile {
 }
 
 /// Exports plan `index` of `file` in `formats`. `mesh` (the part, in metres) is needed for
-/// glTF only. Nothing is written.
+/// glTF only. Nothing is written. Arms from a robot description are found from the current
+/// directory ([`export_at`] finds them from the plan file's).
 pub fn export(
     file: &PlanFile,
+    index: usize,
+    formats: &[Format],
+    options: &Options,
+    mesh: Option<&Mesh>,
+) -> Result<Vec<OutFile>, ExportError> {
+    export_at(file, None, index, formats, options, mesh)
+}
+
+/// [`export`] of the plan file read from `plan_path` (which finds the robot descriptions the
+/// glTF export draws, as [`PlanFile::arm_descriptions`] does).
+pub fn export_at(
+    file: &PlanFile,
+    plan_path: Option<&std::path::Path>,
     index: usize,
     formats: &[Format],
     options: &Options,
@@ -232,9 +246,12 @@ pub fn export(
             Format::Ros2 => out.extend(ros2::export(&timeline, options)),
             Format::Gltf => {
                 let mesh = mesh.ok_or(ExportError::NoMesh)?;
+                let arms = file
+                    .arm_descriptions(plan_path)
+                    .map_err(ExportError::Plan)?;
                 out.push(OutFile {
                     name: "plan.glb".into(),
-                    bytes: gltf::export(&timeline, mesh)?,
+                    bytes: gltf::export(&timeline, mesh, &arms)?,
                 });
             }
         }

@@ -12,7 +12,6 @@ use std::collections::HashMap;
 
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use pregrasp_export::{export, Format, Options};
-use pregrasp_robot::UrKinematics;
 
 fn glb() -> Vec<u8> {
     let (file, mesh) = common::chair_side();
@@ -104,10 +103,56 @@ fn glb_parses_validates_and_accessors_are_consistent() {
 
 #[test]
 fn animation_is_on_the_plan_time_line_and_nodes_follow_fk() {
-    let bytes = glb();
-    let g = gltf::Gltf::from_slice(&bytes).unwrap();
-    let blob = g.blob.as_deref().unwrap();
     let (file, _) = common::chair_side();
+    nodes_follow_fk(file, &glb());
+}
+
+/// Two FR3 (an arm from its robot description, elbow held) in place of the chair's UR5e: the
+/// nodes follow its kinematics as they follow the UR's.
+#[test]
+fn an_arm_from_its_description_is_animated_by_its_own_chain() {
+    let ex = pregrasp_examples::by_name("chair_side").unwrap();
+    let urdf = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/robots/fr3.urdf");
+    let arm = format!(
+        "urdf = {:?}\ntool_link = \"fr3_link8\"\nhold = {{ fr3_joint3 = 0.0 }}",
+        urdf.display().to_string()
+    );
+    let mut text = String::new();
+    for line in ex.scene_toml.lines() {
+        match line {
+            l if l.trim() == "model = \"ur5e\"" => text.push_str(&arm),
+            l if l.starts_with("start = ") => {
+                text.push_str("start = [0.0, -0.7854, -2.3562, 0.0, 1.5708, 0.7854]")
+            }
+            l => text.push_str(l),
+        }
+        text.push('\n');
+    }
+    let scene = pregrasp_io::scene::Scene::from_str(
+        &text,
+        std::path::Path::new("examples/chair_side.toml"),
+    )
+    .unwrap();
+    let options = pregrasp_planner::pipeline::PlanOptions::default();
+    let file = pregrasp_planner::pipeline::plan(&scene, &ex.mesh, &options, &|_| {}, &|| {}).file;
+    assert!(!file.plans.is_empty(), "{:?}", file.reason);
+    let out = export(
+        &file,
+        0,
+        &[Format::Gltf],
+        &Options::default(),
+        Some(&ex.mesh),
+    )
+    .unwrap();
+    nodes_follow_fk(&file, &out[0].bytes);
+}
+
+/// The animation runs on the plan's time line; every arm frame node is at `base · fk_frames`,
+/// the part at its plan pose, one gripper variant shown at a time.
+fn nodes_follow_fk(file: &pregrasp_io::plan_file::PlanFile, bytes: &[u8]) {
+    let g = gltf::Gltf::from_slice(bytes).unwrap();
+    let blob = g.blob.as_deref().unwrap();
+    let arms = file.arm_descriptions(None).unwrap();
     assert_eq!(g.animations().count(), 1);
     let anim = g.animations().next().unwrap();
     // Node index -> (translation, rotation, scale) keys.
@@ -204,8 +249,8 @@ fn animation_is_on_the_plan_time_line_and_nodes_follow_fk() {
         m
     };
     let mut worst: f64 = 0.0;
-    for r in &file.robots {
-        let kin = UrKinematics::new(r.model.builtin().expect("a built-in arm"));
+    for (r, arm) in file.robots.iter().zip(&arms) {
+        let kin = &arm.kin;
         let base = r.base.to_isometry();
         let frames: Vec<usize> = (1..=6)
             .map(|i| by_name(&format!("{}_frame{i}", r.name)))

@@ -20,7 +20,7 @@
 
 use std::sync::{Arc, OnceLock};
 
-use nalgebra::Isometry3;
+use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 
 use crate::fk::UrKinematics;
 use crate::links::{arm_geometry, ArmGeometry};
@@ -57,6 +57,34 @@ pub trait ArmKinematics: Send + Sync + std::fmt::Debug {
     /// Per joint `i` (0-based), the distance from frame `i`'s origin to frame `i + 1`'s: a
     /// constant of the arm, since frame `i`'s origin is on the axis joint `i + 1` turns about.
     fn frame_offsets(&self) -> [f64; 6];
+
+    /// The chain as a drawing or an animation builds it: frame 0 in the base frame, and per
+    /// joint `i` (0-based) its axis in frame `i` and frame `i + 1` in frame `i` turned about
+    /// that axis, so that `frame_{i+1} = frame_i · Rot(axis_i, q_i) · link_i`
+    /// ([`chain_frames`] composes them; the result is [`ArmKinematics::fk_frames`]).
+    fn chain_steps(&self) -> ChainSteps;
+}
+
+/// Frame 0 and the six joint steps of an arm (see [`ArmKinematics::chain_steps`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChainSteps {
+    /// Frame 0 in the base frame.
+    pub frame0: Isometry3<f64>,
+    /// Per joint, its axis in the frame before it.
+    pub axes: [Unit<Vector3<f64>>; 6],
+    /// Per joint, the next frame in the frame before it turned by the joint.
+    pub links: [Isometry3<f64>; 6],
+}
+
+/// The frames 0..=6 of `steps` at `q`: `frame_{i+1} = frame_i · Rot(axis_i, q_i) · link_i`.
+pub fn chain_frames(steps: &ChainSteps, q: &Joints) -> [Isometry3<f64>; 7] {
+    let mut frames = [steps.frame0; 7];
+    for i in 0..6 {
+        let turn = UnitQuaternion::from_axis_angle(&steps.axes[i], q[i]);
+        frames[i + 1] =
+            frames[i] * Isometry3::from_parts(Default::default(), turn) * steps.links[i];
+    }
+    frames
 }
 
 impl ArmKinematics for UrKinematics {
@@ -98,6 +126,22 @@ impl ArmKinematics for UrKinematics {
             let (d, a, _) = dh.row(j);
             a.hypot(d)
         })
+    }
+
+    /// DH: every joint turns about its frame's z; `link_i = Tz(d_i)·Tx(a_i)·Rx(α_i)`.
+    fn chain_steps(&self) -> ChainSteps {
+        let dh = self.dh();
+        ChainSteps {
+            frame0: Isometry3::identity(),
+            axes: [Vector3::z_axis(); 6],
+            links: std::array::from_fn(|i| {
+                let (d, a, alpha) = dh.row(i);
+                Isometry3::from_parts(
+                    Translation3::new(a, 0.0, d),
+                    UnitQuaternion::from_axis_angle(&Vector3::x_axis(), alpha),
+                )
+            }),
+        }
     }
 }
 
@@ -176,6 +220,11 @@ mod tests {
                 }
                 let flange = ArmKinematics::fk(&kin, &q);
                 assert!((flange.translation.vector - f[6].translation.vector).norm() < 1e-12);
+                let g = chain_frames(&kin.chain_steps(), &q);
+                for (a, b) in f.iter().zip(&g) {
+                    assert!((a.translation.vector - b.translation.vector).norm() < 1e-12);
+                    assert!(a.rotation.angle_to(&b.rotation) < 1e-12);
+                }
             }
         }
     }

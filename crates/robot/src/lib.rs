@@ -20,7 +20,7 @@ mod model;
 mod sweep_radii;
 
 pub use angle::{atan2, wrap_angle};
-pub use arm::{ArmDescription, ArmKinematics};
+pub use arm::{chain_frames, ArmDescription, ArmKinematics, ChainSteps};
 pub use closing::{
     close_fingers, close_fingers_traced, ClosingKind, ClosingWorld, FingerClosing, Touch, COUPLER,
     DRIVER, DRIVER_STEP, DRIVER_TOLERANCE, FOLLOWER, PAD, SPRING_LINK,

@@ -19,7 +19,7 @@
 //! last), whatever the joints.
 
 use nalgebra::Isometry3;
-use pregrasp_robot::{ArmKinematics, Joints, DEFAULT_JOINT_ACCEL};
+use pregrasp_robot::{ArmKinematics, ChainSteps, Joints, DEFAULT_JOINT_ACCEL};
 
 use crate::chain::{Drive, SerialChain};
 use crate::error::UrdfError;
@@ -189,5 +189,19 @@ impl ArmKinematics for SixJointArm {
 
     fn frame_offsets(&self) -> [f64; 6] {
         self.offsets
+    }
+
+    /// Frame 0 is joint 1's origin; joint `i` turns about its URDF axis (given in its own
+    /// frame, frame `i − 1`), and `link_i` is the next joint's origin (the tool offset last).
+    fn chain_steps(&self) -> ChainSteps {
+        let joints = self.chain.joints();
+        ChainSteps {
+            frame0: joints[0].origin,
+            axes: std::array::from_fn(|i| joints[i].axis),
+            links: std::array::from_fn(|i| match joints.get(i + 1) {
+                Some(next) => next.origin,
+                None => *self.chain.tip_offset(),
+            }),
+        }
     }
 }

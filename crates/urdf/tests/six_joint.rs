@@ -75,6 +75,14 @@ fn frames_keep_their_promises(arm: &dyn ArmKinematics, qs: &[Joints]) {
         let f = arm.fk_frames(q);
         let (dp, dr) = dist(&f[6], &arm.fk(q));
         assert!(dp < 1e-12 && dr < 1e-12);
+        // The chain steps compose to the same frames.
+        for (a, b) in f
+            .iter()
+            .zip(&pregrasp_robot::chain_frames(&arm.chain_steps(), q))
+        {
+            let (dp, dr) = dist(a, b);
+            assert!(dp < 1e-12 && dr < 1e-12, "{}", arm.name());
+        }
         for i in 0..6 {
             let d = (f[i + 1].translation.vector - f[i].translation.vector).norm();
             assert!((d - offsets[i]).abs() < 1e-12, "{}: joint {i}", arm.name());

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context;
-use pregrasp_export::{export, write_all, Format, Options};
+use pregrasp_export::{export_at, write_all, Format, Options};
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::plan_file::PlanFile;
 
@@ -117,8 +117,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         None
     };
-    let files = export(&file, args.plan_index, &formats, &options, mesh.as_ref())
-        .with_context(|| shown.clone())?;
+    let files = export_at(
+        &file,
+        Some(&args.plan),
+        args.plan_index,
+        &formats,
+        &options,
+        mesh.as_ref(),
+    )
+    .with_context(|| shown.clone())?;
     let written = write_all(&args.output, &files, &[(args.plan.as_path(), "the plan")])?;
     for p in &written {
         println!("wrote {}", p.display());

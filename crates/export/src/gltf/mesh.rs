@@ -2,7 +2,7 @@
 //! tessellated, the part's mesh as it is.
 
 use nalgebra::{Isometry3, Point3, Vector3};
-use pregrasp_robot::Primitive;
+use pregrasp_robot::{LinkShape, Primitive};
 
 /// Sides of a tessellated cylinder.
 const SIDES: usize = 24;
@@ -109,6 +109,33 @@ impl Tris {
         ];
         for f in F {
             self.idx.extend(f.map(|i| start + i));
+        }
+    }
+
+    /// The convex hull of `points` (a link's convex piece); nothing for a degenerate one.
+    pub(super) fn convex(&mut self, points: &[Point3<f64>]) {
+        let Ok(hull) = pregrasp_geometry::hull::ConvexHull::from_points(points) else {
+            return;
+        };
+        let start = self.pos.len() as u32;
+        for v in &hull.vertices {
+            self.vertex(*v);
+        }
+        for t in &hull.triangles {
+            self.idx.extend(t.map(|i| start + i));
+        }
+    }
+
+    /// A link shape as drawn: its exact pieces when `pieces` (a link from a robot description,
+    /// whose primitive is only their box) and it has them, else its primitive.
+    pub(super) fn link(&mut self, shape: &LinkShape, pieces: bool) {
+        match shape.pieces {
+            Some(exact) if pieces => {
+                for p in &exact.pieces {
+                    self.convex(p);
+                }
+            }
+            _ => self.primitive(&shape.primitive),
         }
     }
 

@@ -4,12 +4,14 @@
 //! Frames: glTF is y-up, the plan z-up; the one root node `world` turns the plan's world into
 //! glTF's (a −90° rotation about x), everything else is in plan coordinates (metres).
 //!
-//! Per arm, the node chain follows the standard DH chain of `UrKinematics`:
-//! `<arm>` (the base pose, static, carries the base link shapes) → `<arm>_joint1` (rotation
-//! `Rz(q1)`, animated) → `<arm>_frame1` (static `Tz(d1)·Tx(a1)`, `Rx(α1)`; the shapes that move
-//! with joint 1) → `<arm>_joint2` → … → `<arm>_frame6` (the flange). So the world transform
-//! of `<arm>_frame<i>` is `base · fk_frames(q)[i]`. Link shapes come from `arm_geometry`
-//! (cylinders, capsules, boxes), tessellated. The gripper hangs under the flange as several
+//! Per arm, the node chain follows the arm's chain steps (`ArmKinematics::chain_steps`; for a
+//! UR the standard DH chain): `<arm>` (the base pose times frame 0, static, carries the base
+//! link shapes) → `<arm>_joint1` (rotation `Rot(axis1, q1)`, animated; `Rz(q1)` for DH) →
+//! `<arm>_frame1` (static `link1`, for DH `Tz(d1)·Tx(a1)·Rx(α1)`, with the shapes that move
+//! with the first joint) → `<arm>_joint2` → … → `<arm>_frame6` (the flange). So the world transform of
+//! `<arm>_frame<i>` is `base · fk_frames(q)[i]`. Link shapes are a built-in arm's primitives
+//! (cylinders, capsules, boxes), tessellated, or the convex pieces of an arm from its robot
+//! description. The gripper hangs under the flange as several
 //! nodes, `<arm>_gripper_open` and one `<arm>_gripper_<segment>` per segment that closes it
 //! (fingers at that segment's `grip_width`); a STEP-interpolated scale channel shows the one
 //! in use (scale 1) and hides the others (scale 0) — a switch, not a motion.
@@ -29,7 +31,7 @@ use json::validation::{Checked::Valid, USize64};
 use json::Index;
 use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
 use pregrasp_geometry::Mesh;
-use pregrasp_robot::{arm_geometry, Gripper2F85, GripperState, UrKinematics};
+use pregrasp_robot::{ArmDescription, Gripper2F85, GripperState};
 
 use crate::timeline::Timeline;
 use crate::ExportError;
@@ -219,9 +221,20 @@ pub fn key_times(timeline: &Timeline) -> Vec<f64> {
     out
 }
 
-/// The `.glb` bytes of `timeline` with the part `mesh` (object frame, metres).
-pub fn export(timeline: &Timeline, mesh: &Mesh) -> Result<Vec<u8>, ExportError> {
-    let models = timeline.ur_models("gltf", "the animation draws the built-in arms' links")?;
+/// The `.glb` bytes of `timeline` with the part `mesh` (object frame, metres); `arms` are the
+/// timeline's arms ([`pregrasp_io::plan_file::PlanFile::arm_descriptions`]).
+pub fn export(
+    timeline: &Timeline,
+    mesh: &Mesh,
+    arms: &[ArmDescription],
+) -> Result<Vec<u8>, ExportError> {
+    if arms.len() != timeline.arms.len() {
+        return Err(ExportError::Plan(format!(
+            "{} arm models for {} arms",
+            arms.len(),
+            timeline.arms.len()
+        )));
+    }
     let mut b = Builder {
         root: json::Root {
             asset: json::Asset {
@@ -321,20 +334,24 @@ pub fn export(timeline: &Timeline, mesh: &Mesh) -> Result<Vec<u8>, ExportError> 
     };
 
     for (ai, arm) in timeline.arms.iter().enumerate() {
-        let geometry = arm_geometry(models[ai]);
-        let dh = UrKinematics::new(models[ai]).dh();
+        let geometry = &arms[ai].geometry;
+        let steps = arms[ai].kin.chain_steps();
+        // A built-in arm's link shapes are what it looks like; an arm from a robot
+        // description is drawn by its pieces (its shapes are their boxes).
+        let pieces = arms[ai].ur.is_none();
         let shapes_of = |frame: usize| {
             let mut t = Tris::default();
             for l in geometry.links.iter().filter(|l| l.frame == frame) {
-                t.primitive(&l.primitive);
+                t.link(l, pieces);
             }
             t
         };
         let base_mesh = b.mesh(&format!("{}_link0", arm.name), &shapes_of(0), m_arm);
+        let base_pose = arm.base * steps.frame0;
         let base = b.node(json::Node {
             mesh: Some(base_mesh),
-            translation: Some(trans(&arm.base.translation.vector)),
-            rotation: Some(json::scene::UnitQuaternion(quat(&arm.base.rotation))),
+            translation: Some(trans(&base_pose.translation.vector)),
+            rotation: Some(json::scene::UnitQuaternion(quat(&base_pose.rotation))),
             ..named(arm.name.clone())
         });
         b.add_child(world, base);
@@ -342,14 +359,15 @@ pub fn export(timeline: &Timeline, mesh: &Mesh) -> Result<Vec<u8>, ExportError> 
         let q_keys: Vec<[f64; 6]> = times.iter().map(|t| timeline.q_at(ai, *t)).collect();
         for j in 0..6 {
             let q0 = arm.start[j];
+            let axis = steps.axes[j];
             let joint = b.node(json::Node {
                 rotation: Some(json::scene::UnitQuaternion(quat(
-                    &UnitQuaternion::from_axis_angle(&Vector3::z_axis(), q0),
+                    &UnitQuaternion::from_axis_angle(&axis, q0),
                 ))),
                 ..named(format!("{}_joint{}", arm.name, j + 1))
             });
             b.add_child(parent, joint);
-            let (d, a, alpha) = dh.row(j);
+            let step = steps.links[j];
             let link = shapes_of(j + 1);
             let link_mesh = if link.idx.is_empty() {
                 None
@@ -358,24 +376,24 @@ pub fn export(timeline: &Timeline, mesh: &Mesh) -> Result<Vec<u8>, ExportError> 
             };
             let frame = b.node(json::Node {
                 mesh: link_mesh,
-                translation: Some([a as f32, 0.0, d as f32]),
-                rotation: Some(json::scene::UnitQuaternion(quat(
-                    &UnitQuaternion::from_axis_angle(&Vector3::x_axis(), alpha),
-                ))),
+                translation: Some(trans(&step.translation.vector)),
+                rotation: Some(json::scene::UnitQuaternion(quat(&step.rotation))),
                 ..named(format!("{}_frame{}", arm.name, j + 1))
             });
             b.add_child(joint, frame);
-            // Rotation keys Rz(q_j), consecutive quaternions in one hemisphere.
+            // Rotation keys Rot(axis_j, q_j), consecutive quaternions in one hemisphere.
             let mut data = Vec::with_capacity(4 * times.len());
             let mut prev: Option<[f64; 4]> = None;
             for q in &q_keys {
                 let (s, c) = (0.5 * q[j]).sin_cos();
-                let mut v = [0.0, 0.0, s, c];
+                let mut v = [s * axis.x, s * axis.y, s * axis.z, c];
                 if let Some(p) = prev {
-                    if p[2] * v[2] + p[3] * v[3] < 0.0 {
-                        v = [0.0, 0.0, -s, -c];
+                    if p.iter().zip(&v).map(|(a, b)| a * b).sum::<f64>() < 0.0 {
+                        v = v.map(|x| -x);
                     }
                 }
+                // No −0 from an axis component that is zero.
+                v = v.map(|x| x + 0.0);
                 prev = Some(v);
                 data.extend(v.map(|x| x as f32));
             }

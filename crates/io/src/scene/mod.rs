@@ -10,7 +10,7 @@
 //!
 //! Every number is checked for range as well as type: lengths lie within
 //! ±[`MAX_COORDINATE`] of the origin, start joint angles within the model's joint limits
-//! ([`UrModel::joint_limits`]), gripper points between the 2F-85's palm and fingertips, and
+//! (the arm's `joint_limits`), gripper points between the 2F-85's palm and fingertips, and
 //! every `[planner]` key within the range `docs/scene-format.md` gives it.
 //!
 //! The mesh itself is not read here (see [`crate::mesh_io::load_mesh`]); the scene only resolves
