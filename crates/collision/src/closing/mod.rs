@@ -6,7 +6,7 @@
 //! pieces, against the triangles near it), and the support when any piece vertex lies below the
 //! support plane. Most poses of a closing are answered without a test: a link found clear of the
 //! part (or a triangle) by some distance stays clear while it moves less than that, and one found
-//! deep in a triangle stays in contact while it moves less than its depth ([`near`]). Frames:
+//! deep in a triangle stays in contact while it moves less than its depth (`near.rs`). Frames:
 //! the pieces are placed in the gripper frame G by the linkage, G in the object frame by the
 //! grasp (`flange_in_object`); the support plane is given in the object frame as `(n, d)`: the
 //! points `p` with `n · p > d` are below it (inside the table).
