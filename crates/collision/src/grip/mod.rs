@@ -315,7 +315,11 @@ impl Sweep {
         self.poses.resize(start + self.per_pose, [0.0; 2]);
         let pose = &mut self.poses[start..];
         let mut at = 0;
-        for (cfg, side) in configs.iter().zip([1.0, -1.0]) {
+        // Fingers in the same configuration (both in free air): the `−x` finger's points are
+        // the `+x` finger's mirrored, `−1 · v` being `−v` exactly.
+        let alike = configs[0] == configs[1];
+        let fingers = if alike { 1 } else { 2 };
+        for (cfg, side) in configs.iter().zip([1.0, -1.0]).take(fingers) {
             for (frame, pts) in cfg.link_frames(l).iter().zip(link_points()) {
                 // The link frame in the finger's plane: `(x, z) ↦ o + R(angle)·(x, z)`, then
                 // mirrored `x → −x` for the `−x` finger (`PlanarPose::to_isometry`, in 2-D: the
@@ -327,6 +331,12 @@ impl Sweep {
                 for (p, [x, z]) in pose[span].iter_mut().zip(pts) {
                     *p = [side * (ox + c * x - s * z), oz + s * x + c * z];
                 }
+            }
+        }
+        if alike {
+            let (right, left) = pose.split_at_mut(at);
+            for (q, p) in left.iter_mut().zip(&*right) {
+                *q = [-p[0], p[1]];
             }
         }
         // Each point's box grows by its new place, coordinate by coordinate.
