@@ -408,15 +408,23 @@ pub fn grips(
         close_on_part(object, &(grasp * point.inverse()))
     };
     let support_at = |arm: usize| gripper(arm).precision_point();
-    let first = close(support, support_at(0));
-    let second = if holds_support_alike(world.arms()) {
-        first.clone()
-    } else {
-        close(support, support_at(1))
-    };
+    let alike = holds_support_alike(world.arms());
+    // The closings are independent: run side by side (each answer is its own, so the result
+    // does not depend on the threads).
+    let power_of = |arm: usize| close(&power[arm], gripper(arm).power_point());
+    let ((first, second), (p0, p1)) = rayon::join(
+        || {
+            rayon::join(
+                || close(support, support_at(0)),
+                || (!alike).then(|| close(support, support_at(1))),
+            )
+        },
+        || rayon::join(|| power_of(0), || power_of(1)),
+    );
+    let second = second.unwrap_or_else(|| first.clone());
     Grips {
         support: [first, second],
-        power: [0, 1].map(|arm| close(&power[arm], gripper(arm).power_point())),
+        power: [p0, p1],
     }
 }
 

@@ -28,6 +28,8 @@
 //! part. Contacts are found on a driver-angle grid of [`DRIVER_STEP`] and refined by bisection
 //! to [`DRIVER_TOLERANCE`].
 
+use std::cell::Cell;
+
 use crate::linkage::{FingerConfig, FingerLinkage, PlanarPose};
 
 /// Driver-angle step of the closing search (rad): about 0.27 mm of pad travel.
@@ -142,19 +144,75 @@ fn touches(
     part
 }
 
+/// The bits of `(driver, spring link)` and the finger there ([`Solutions::assemble`]).
+type Solved = ([u64; 2], Option<FingerConfig>);
+
+/// The linkage's solutions, the last few remembered: both fingers settle at the same driver
+/// angle in turn, and in free air they probe the same spring-link angles, so the second finger
+/// mostly asks what the first just did. A solution is a function of the angles alone: the
+/// remembered one is the one the linkage would give again, bit for bit.
+struct Solutions<'a> {
+    linkage: &'a FingerLinkage,
+    /// The last answers of [`Solutions::assemble`], the newest at `next - 1`.
+    assembled: Cell<[Option<Solved>; 4]>,
+    next: Cell<usize>,
+    /// Driver bits and [`FingerLinkage::parallel`] there.
+    parallel: Cell<Option<(u64, Option<FingerConfig>)>>,
+}
+
+impl<'a> Solutions<'a> {
+    fn new(linkage: &'a FingerLinkage) -> Self {
+        Solutions {
+            linkage,
+            assembled: Cell::new([None; 4]),
+            next: Cell::new(0),
+            parallel: Cell::new(None),
+        }
+    }
+
+    /// The finger at `(driver, spring_link)`: `None` if the loop cannot close there or a joint
+    /// is out of range (the coupler past its stop included).
+    fn assemble(&self, driver: f64, spring_link: f64) -> Option<FingerConfig> {
+        let key = [driver.to_bits(), spring_link.to_bits()];
+        let mut known = self.assembled.get();
+        if let Some((_, cfg)) = known.iter().flatten().find(|(k, _)| *k == key) {
+            return *cfg;
+        }
+        let linkage = self.linkage;
+        let cfg = linkage
+            .assemble(driver, spring_link)
+            .filter(|c| linkage.within_limits(c, 1e-9));
+        let at = self.next.get();
+        known[at] = Some((key, cfg));
+        self.assembled.set(known);
+        self.next.set((at + 1) % known.len());
+        cfg
+    }
+
+    /// [`FingerLinkage::parallel`] at `driver`.
+    fn parallel(&self, driver: f64) -> Option<FingerConfig> {
+        match self.parallel.get() {
+            Some((k, cfg)) if k == driver.to_bits() => cfg,
+            _ => {
+                let cfg = self.linkage.parallel(driver);
+                self.parallel.set(Some((driver.to_bits(), cfg)));
+                cfg
+            }
+        }
+    }
+}
+
 /// The state of the finger at `(driver, spring_link)`: `None` if the loop cannot close there or
 /// a joint is out of range (the coupler past its stop included), else what it touches.
 fn state(
     world: &dyn ClosingWorld,
-    linkage: &FingerLinkage,
+    solutions: &Solutions,
     side: f64,
     driver: f64,
     spring_link: f64,
 ) -> Option<(FingerConfig, LinkTouch)> {
-    let cfg = linkage
-        .assemble(driver, spring_link)
-        .filter(|c| linkage.within_limits(c, 1e-9))?;
-    Some((cfg, touches(world, linkage, side, &cfg)))
+    let cfg = solutions.assemble(driver, spring_link)?;
+    Some((cfg, touches(world, solutions.linkage, side, &cfg)))
 }
 
 /// Step of the spring link's search when something pushes it open (rad).
@@ -171,7 +229,7 @@ const SPRING_REACH: f64 = 0.08;
 /// is free; the touch that bounds the settled angle from above, if any, comes with it.
 fn settle(
     world: &dyn ClosingWorld,
-    linkage: &FingerLinkage,
+    solutions: &Solutions,
     side: f64,
     driver: f64,
     previous: f64,
@@ -179,8 +237,9 @@ fn settle(
 ) -> Settled {
     // A touch of the support anywhere in the search ends the closing there: the finger would
     // meet the table on its way, whatever the part does.
-    let support = std::cell::Cell::new(None);
-    let probe = |q: f64| match state(world, linkage, side, driver, q) {
+    let linkage = solutions.linkage;
+    let support = Cell::new(None);
+    let probe = |q: f64| match state(world, solutions, side, driver, q) {
         Some((cfg, None)) => Ok(cfg),
         Some((_, Some(t @ (_, Touch::Support)))) => {
             support.set(support.get().or(Some(t)));
@@ -207,7 +266,7 @@ fn settle(
         }
         probe(q)
     };
-    let settled = settle_search(linkage, driver, previous, may_open, &free);
+    let settled = settle_search(solutions, driver, previous, may_open, &free);
     match support.get() {
         Some(t) => Err(Some(t)),
         None => settled,
@@ -216,14 +275,15 @@ fn settle(
 
 /// The search of [`settle`], on the probe `free` (a free configuration, or what is in the way).
 fn settle_search(
-    linkage: &FingerLinkage,
+    solutions: &Solutions,
     driver: f64,
     previous: f64,
     may_open: bool,
     free: &dyn Fn(f64) -> Result<FingerConfig, LinkTouch>,
 ) -> Settled {
     // The spring's upper bound: the coupler on its stop.
-    let top = linkage
+    let linkage = solutions.linkage;
+    let top = solutions
         .parallel(driver)
         .map_or(linkage.limits.spring_link.1, |c| c.spring_link)
         .min(linkage.limits.spring_link.1);
@@ -283,14 +343,14 @@ enum Step {
 /// The finger on side `side`, settled from `from` at driver angle `driver`.
 fn step(
     world: &dyn ClosingWorld,
-    linkage: &FingerLinkage,
+    solutions: &Solutions,
     side: f64,
     from: &FingerConfig,
     driver: f64,
     wrapping: bool,
 ) -> Step {
-    match settle(world, linkage, side, driver, from.spring_link, wrapping) {
-        Ok((cfg, _)) if at_middle(linkage, &cfg) => Step::Middle,
+    match settle(world, solutions, side, driver, from.spring_link, wrapping) {
+        Ok((cfg, _)) if at_middle(solutions.linkage, &cfg) => Step::Middle,
         Ok((cfg, bound)) => Step::Moved(cfg, bound),
         Err(blocking) => Step::Stopped(blocking),
     }
@@ -361,10 +421,11 @@ pub fn close_fingers_traced(
     if stuck_open {
         return result;
     }
+    let solutions = Solutions::new(linkage);
     let both = |at: &[FingerConfig; 2], driver: f64, result: &[FingerClosing; 2]| {
         [0, 1].map(|k| {
             let wrapping = result[k].first_touch == Some(SPRING_LINK);
-            step(world, linkage, SIDES[k], &at[k], driver, wrapping)
+            step(world, &solutions, SIDES[k], &at[k], driver, wrapping)
         })
     };
     let moved = |steps: &[Step; 2]| steps.iter().all(|s| matches!(s, Step::Moved(..)));

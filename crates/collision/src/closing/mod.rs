@@ -130,17 +130,16 @@ impl FingerShapes {
                 parry3d_f64::transformation::try_convex_hull(&all).unwrap_or((all, Vec::new()))
             })
             .collect();
-        let hulls = |sign: f64| -> Option<Vec<Tight>> {
-            hull_faces
-                .iter()
-                .map(|(pts, faces)| {
-                    let pts = pts.iter().map(|p| Point3::new(sign * p.x, p.y, p.z));
-                    Tight::hull(pts.collect(), faces)
-                })
-                .collect()
-        };
+        let right: Vec<Tight> = hull_faces
+            .iter()
+            .map(|(pts, faces)| Tight::hull(pts.clone(), faces))
+            .collect::<Option<_>>()?;
+        let left: Vec<Tight> = right
+            .iter()
+            .map(Tight::mirrored_hull)
+            .collect::<Option<_>>()?;
         let hull_points = hull_faces.iter().map(|(pts, _)| pts.clone()).collect();
-        let hulls = [hulls(1.0)?, hulls(-1.0)?];
+        let hulls = [right, left];
         let tight = [tight(&pieces[0])?, tight(&pieces[1])?];
         let solids = |pieces: &Vec<Vec<Piece>>| -> Vec<Vec<Solid>> {
             pieces

@@ -224,9 +224,9 @@ fn link_levels() -> &'static [Levels] {
     })
 }
 
-/// The points of each link's [`Levels`] one after the other, and how many each level has: what
-/// [`Sweep::add`] places, a link at a time.
-type FlatLevels = (Vec<[f64; 2]>, Vec<usize>);
+/// The points of each link's [`Levels`] one after the other: what [`Sweep::add`] places, a link
+/// at a time.
+type FlatLevels = Vec<[f64; 2]>;
 
 /// The lesser of `a` and `b` (`a` where they are equal), for numbers (no NaN): `f64::min`
 /// without its NaN handling, which costs as much as the rest of [`Sweep::add`].
@@ -254,11 +254,10 @@ fn link_points() -> &'static [FlatLevels] {
         link_levels()
             .iter()
             .map(|levels| {
-                let pts = levels.iter().flat_map(|(_, pts)| pts.iter().copied());
-                (
-                    pts.collect(),
-                    levels.iter().map(|(_, pts)| pts.len()).collect(),
-                )
+                levels
+                    .iter()
+                    .flat_map(|(_, pts)| pts.iter().copied())
+                    .collect()
             })
             .collect()
     })
@@ -268,9 +267,12 @@ fn link_points() -> &'static [FlatLevels] {
 /// link and `y` level after level (`(x, z)` in G), in the order [`Sweep::add`] visits them.
 struct Sweep {
     poses: Vec<[f64; 2]>,
-    adds: usize,
-    /// Per level, the box `(lo, hi)` of its points so far.
-    bounds: Vec<([f64; 2], [f64; 2])>,
+    /// [`Sweep::per_pose`].
+    per_pose: usize,
+    /// Per coordinate of a pose (`x`, `z` of each point in turn), the least and the greatest
+    /// of its values so far.
+    lo: Vec<f64>,
+    hi: Vec<f64>,
 }
 
 /// Poses a closing usually keeps (capacity reserved up front).
@@ -287,11 +289,12 @@ impl Sweep {
     }
 
     fn new() -> Sweep {
-        let levels = Sweep::levels().count();
+        let per_pose = Sweep::per_pose();
         Sweep {
-            poses: Vec::with_capacity(SWEEP_POSES * Sweep::per_pose()),
-            adds: 0,
-            bounds: vec![([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]); levels],
+            poses: Vec::with_capacity(SWEEP_POSES * per_pose),
+            per_pose,
+            lo: vec![f64::INFINITY; 2 * per_pose],
+            hi: vec![f64::NEG_INFINITY; 2 * per_pose],
         }
     }
 
@@ -308,49 +311,66 @@ impl Sweep {
     /// Adds both fingers at `configs` (`[+x, −x]`).
     fn add(&mut self, configs: &[FingerConfig; 2]) {
         let l = linkage();
-        let mut slot = 0;
-        for (cfg, side) in configs.iter().zip([1.0, -1.0]) {
-            for (frame, (pts, counts)) in cfg.link_frames(l).iter().zip(link_points()) {
+        let start = self.poses.len();
+        self.poses.resize(start + self.per_pose, [0.0; 2]);
+        let pose = &mut self.poses[start..];
+        let mut at = 0;
+        // Fingers in the same configuration (both in free air): the `−x` finger's points are
+        // the `+x` finger's mirrored, `−1 · v` being `−v` exactly.
+        let alike = configs[0] == configs[1];
+        let fingers = if alike { 1 } else { 2 };
+        for (cfg, side) in configs.iter().zip([1.0, -1.0]).take(fingers) {
+            for (frame, pts) in cfg.link_frames(l).iter().zip(link_points()) {
                 // The link frame in the finger's plane: `(x, z) ↦ o + R(angle)·(x, z)`, then
                 // mirrored `x → −x` for the `−x` finger (`PlanarPose::to_isometry`, in 2-D: the
                 // levels' `y` does not change).
                 let (s, c) = frame.angle.sin_cos();
                 let (ox, oz) = (frame.origin.x, frame.origin.y);
-                let mut at = self.poses.len();
-                self.poses.extend(
-                    pts.iter()
-                        .map(|[x, z]| [side * (ox + c * x - s * z), oz + s * x + c * z]),
-                );
-                // Each level's box, its points in order.
-                for &n in counts {
-                    let (mut lo, mut hi) = self.bounds[slot];
-                    for p in &self.poses[at..at + n] {
-                        lo = [least(lo[0], p[0]), least(lo[1], p[1])];
-                        hi = [most(hi[0], p[0]), most(hi[1], p[1])];
-                    }
-                    self.bounds[slot] = (lo, hi);
-                    slot += 1;
-                    at += n;
+                let span = at..at + pts.len();
+                at = span.end;
+                for (p, [x, z]) in pose[span].iter_mut().zip(pts) {
+                    *p = [side * (ox + c * x - s * z), oz + s * x + c * z];
                 }
             }
         }
-        self.adds += 1;
+        if alike {
+            let (right, left) = pose.split_at_mut(at);
+            for (q, p) in left.iter_mut().zip(&*right) {
+                *q = [-p[0], p[1]];
+            }
+        }
+        // Each point's box grows by its new place, coordinate by coordinate.
+        let pose = self.poses[start..].as_flattened();
+        for (lo, &v) in self.lo.iter_mut().zip(pose) {
+            *lo = least(*lo, v);
+        }
+        for (hi, &v) in self.hi.iter_mut().zip(pose) {
+            *hi = most(*hi, v);
+        }
     }
 
     /// The swept points, and each level with a circle holding its points (its box's
     /// circumcircle: [`Grip::lowest`] scans only the levels whose circle reaches below the best
     /// point so far).
     fn finish(self) -> (Vec<Level>, SweptPoints) {
-        let points = SweptPoints {
-            per_pose: Sweep::per_pose(),
-            data: self.poses,
-        };
         let mut offset = 0;
         let levels = Sweep::levels()
-            .zip(self.bounds)
-            .map(|((y, n), (lo, hi))| {
+            .map(|(y, n)| {
                 let pts = offset..offset + n;
                 offset += n;
+                // The level's box: its points' boxes over all poses (the least and the greatest
+                // of the same numbers, whatever the order).
+                let coords = 2 * pts.start..2 * pts.end;
+                let lo = self.lo[coords.clone()]
+                    .chunks_exact(2)
+                    .fold([f64::INFINITY; 2], |a, b| {
+                        [least(a[0], b[0]), least(a[1], b[1])]
+                    });
+                let hi = self.hi[coords]
+                    .chunks_exact(2)
+                    .fold([f64::NEG_INFINITY; 2], |a, b| {
+                        [most(a[0], b[0]), most(a[1], b[1])]
+                    });
                 Level {
                     y,
                     center: [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])],
@@ -359,6 +379,10 @@ impl Sweep {
                 }
             })
             .collect();
+        let points = SweptPoints {
+            per_pose: self.per_pose,
+            data: self.poses,
+        };
         (levels, points)
     }
 }

@@ -106,6 +106,30 @@ impl Polytope {
     }
 }
 
+impl super::Tight {
+    /// This hull ([`Tight::hull`](super::Tight::hull)) mirrored `x → −x`: what `Tight::hull`
+    /// builds from the mirrored vertices and the same faces, bit for bit, its vertex graph
+    /// this one's (the same edges; the `±x` extremes trade places) rather than built again.
+    pub(crate) fn mirrored_hull(&self) -> Option<super::Tight> {
+        let [piece] = &self.pieces[..] else {
+            return None;
+        };
+        let points: Vec<P> = (piece.poly.points.iter())
+            .map(|p| P::new(-p.x, p.y, p.z))
+            .collect();
+        let mut tight = super::Tight::new(&pregrasp_robot::ConvexPieces {
+            pieces: vec![points.clone()],
+            slack: 0.0,
+        })?;
+        let poly = Polytope::new(points);
+        if let Some(graph) = piece.poly.graph.get() {
+            let _ = poly.graph.set(graph.as_ref().map(Graph::mirrored_x));
+        }
+        tight.pieces[0].poly = poly;
+        Some(tight)
+    }
+}
+
 /// A polytope as GJK asks it for support points, in one run or a run of them: each climb starts
 /// where the last one ended, since GJK's directions change little from one step to the next
 /// (the first at the best of the axis extremes).
@@ -166,6 +190,18 @@ pub(super) struct Graph {
 }
 
 impl Graph {
+    /// The graph of the vertices mirrored `x → −x`: the same edges, the `±x` extremes swapped
+    /// (a vertex's value along `+x` after the mirror is exactly its value along `−x` before).
+    fn mirrored_x(&self) -> Graph {
+        let mut extremes = self.extremes;
+        extremes.swap(0, 1);
+        Graph {
+            offsets: self.offsets.clone(),
+            adjacent: self.adjacent.clone(),
+            extremes,
+        }
+    }
+
     /// The graph of the hull of `points`, if it answers exactly like a scan: parry builds the
     /// hull, every point is one of its vertices, repeats an earlier point, lies inside it or on
     /// one of its faces (then joined to that face's vertices), and every hull vertex has at least
