@@ -1,7 +1,7 @@
 //! An arm from its robot description, through the commands a user runs: `plan` writes a file
-//! that follows the schema, `check` finds the description from the plan and passes it, `export`
-//! writes CSV and ROS 2 trajectories with the description's joint names and refuses URScript
-//! for a non-UR arm, leaving nothing behind.
+//! that follows the schema, `check` finds the description from the plan and passes it, `view`
+//! draws the arm by its chain, `export` writes CSV and ROS 2 trajectories with the
+//! description's joint names and refuses URScript for a non-UR arm, leaving nothing behind.
 
 mod common;
 
@@ -52,6 +52,23 @@ fn an_fr3_plan_is_checked_and_exported_as_csv_and_ros2_not_urscript() {
 
     let out = pregrasp(dir.path(), &["check", "p.json"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+
+    // The viewer draws the arm by its own chain and its links' convex pieces.
+    let out = pregrasp(dir.path(), &["view", "p.json", "-o", "v.html"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let page = std::fs::read_to_string(dir.path().join("v.html")).unwrap();
+    assert!(
+        page.contains("\"chain\":{\"frame0\""),
+        "no chain steps in the page"
+    );
+    assert!(
+        page.contains("\"kind\":\"hull\""),
+        "no link pieces in the page"
+    );
+    assert!(
+        !page.contains("\"known\":false"),
+        "an arm the page cannot draw"
+    );
 
     let out = pregrasp(
         dir.path(),

@@ -5,7 +5,8 @@
 use pregrasp_geometry::{ConvexHull, Mesh};
 use pregrasp_io::plan_file::{GraspKind, PlanFile, PoseJson, RobotJson};
 use pregrasp_robot::{
-    arm_geometry, Gripper2F85, GripperState, Joints, LinkShape, Primitive, UrKinematics,
+    arm_geometry, ArmDescription, Gripper2F85, GripperState, Joints, LinkShape, Primitive,
+    UrKinematics,
 };
 use serde::Serialize;
 
@@ -57,10 +58,14 @@ pub struct MeshJson {
 pub struct RobotModelJson {
     pub name: String,
     pub model: String,
-    /// False for a robot the page cannot draw (an arm from a robot description: the page's
-    /// FK is the UR's DH); the page then draws no arm.
+    /// False for a robot the page cannot draw (an arm from a robot description that could
+    /// not be loaded); the page then draws no arm.
     pub known: bool,
     pub dh: DhJson,
+    /// An arm from its robot description: its chain steps, which the page's FK uses instead
+    /// of `dh`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub chain: Option<ChainJson>,
     /// Link shapes in their DH frames (`frame` indexes frames 0..=6 of the FK).
     pub links: Vec<ShapeJson>,
     pub gripper: GripperShapesJson,
@@ -119,6 +124,14 @@ pub enum ShapeJson {
         b: [f64; 3],
         radius: f64,
     },
+    /// A convex piece of a link from a robot description: its hull's vertices and outward
+    /// counter-clockwise triangles.
+    Hull {
+        name: String,
+        frame: usize,
+        positions: Vec<[f64; 3]>,
+        triangles: Vec<[u32; 3]>,
+    },
 }
 
 impl From<&LinkShape> for ShapeJson {
@@ -173,7 +186,15 @@ impl<'a> ViewData<'a> {
                 Some(hull) => feature_edges(hull),
                 None => hull_edges(mesh),
             },
-            robots: plan.robots.iter().map(|r| robot_model(r, plan)).collect(),
+            robots: {
+                // Arms from a robot description are loaded as `check` loads them.
+                let arms = plan.arm_descriptions(options.plan_path.as_deref()).ok();
+                plan.robots
+                    .iter()
+                    .enumerate()
+                    .map(|(i, r)| robot_model(r, plan, arms.as_ref().map(|a| &a[i])))
+                    .collect()
+            },
         }
     }
 }
@@ -225,15 +246,32 @@ pub fn gripper_of(robot: &RobotJson) -> Gripper2F85 {
     }
 }
 
-fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
+fn robot_model(robot: &RobotJson, plan: &PlanFile, arm: Option<&ArmDescription>) -> RobotModelJson {
     let gripper = gripper_of(robot);
     let shapes = |state| gripper.shapes(state).iter().map(ShapeJson::from).collect();
     let Some(model) = robot.model.builtin() else {
+        if let Some(arm) = arm {
+            let held = |grasp: GraspKind| {
+                plan.plans
+                    .iter()
+                    .flat_map(|p| &p.segments)
+                    .filter(|s| s.robot == robot.name && s.grasp == grasp)
+                    .find_map(|s| s.held_fingers())
+            };
+            let grippers = GripperShapesJson {
+                open: shapes(GripperState::Open),
+                closed: shapes(GripperState::fully_closed()),
+                closed_precision: held(GraspKind::Support).map(shapes),
+                closed_power: held(GraspKind::Power).map(shapes),
+            };
+            return described_model(robot, plan, arm, grippers);
+        }
         return RobotModelJson {
             name: robot.name.clone(),
             model: robot.model.to_string(),
             known: false,
             dh: DhJson::default(),
+            chain: None,
             links: Vec::new(),
             gripper: GripperShapesJson {
                 open: shapes(GripperState::Open),
@@ -267,6 +305,7 @@ fn robot_model(robot: &RobotJson, plan: &PlanFile) -> RobotModelJson {
         model: model.name().to_string(),
         known: true,
         dh: dh_json,
+        chain: None,
         links: arm_geometry(model)
             .links
             .iter()
@@ -303,4 +342,65 @@ fn fk_check_configs(robot: &RobotJson, plan: &PlanFile) -> Vec<Joints> {
     }
     qs.truncate(MAX_FK_CHECKS);
     qs
+}
+
+// ---------- arms from a robot description (`robots[].model = "urdf"`) ----------
+//
+// The page composes their chain steps, `frame_{i+1} = frame_i · Rot(axis_i, q_i) · link_i`
+// (`ArmKinematics::chain_steps`), instead of DH rows, and draws their links' convex pieces as
+// triangle meshes in the frames 0..=6.
+
+/// An arm's chain steps (see the module documentation); poses as the plan file writes them.
+#[derive(Serialize, Debug, Clone, PartialEq)]
+pub struct ChainJson {
+    pub frame0: PoseJson,
+    pub axes: [[f64; 3]; 6],
+    pub links: [PoseJson; 6],
+}
+
+/// The page's model of `robot`, an arm from its description `arm`.
+fn described_model(
+    robot: &RobotJson,
+    plan: &PlanFile,
+    arm: &ArmDescription,
+    gripper: GripperShapesJson,
+) -> RobotModelJson {
+    let steps = arm.kin.chain_steps();
+    let links = arm
+        .geometry
+        .links
+        .iter()
+        .flat_map(|l| {
+            let pieces = l.pieces.map_or(&[][..], |p| &p.pieces[..]);
+            pieces.iter().filter_map(move |piece| {
+                let hull = ConvexHull::from_points(piece).ok()?;
+                Some(ShapeJson::Hull {
+                    name: l.name.to_string(),
+                    frame: l.frame,
+                    positions: hull.vertices.iter().map(|v| v.coords.into()).collect(),
+                    triangles: hull.triangles.clone(),
+                })
+            })
+        })
+        .collect();
+    RobotModelJson {
+        name: robot.name.clone(),
+        model: robot.model.to_string(),
+        known: true,
+        dh: Default::default(),
+        chain: Some(ChainJson {
+            frame0: PoseJson::from(&steps.frame0),
+            axes: steps.axes.map(|a| a.into_inner().into()),
+            links: steps.links.map(|l| PoseJson::from(&l)),
+        }),
+        links,
+        gripper,
+        fk_check: fk_check_configs(robot, plan)
+            .into_iter()
+            .map(|q| FkCheckJson {
+                q,
+                flange: PoseJson::from(&arm.kin.fk(&q)),
+            })
+            .collect(),
+    }
 }

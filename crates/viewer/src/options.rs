@@ -11,6 +11,9 @@ pub struct ViewOptions {
     pub speed: f64,
     /// Start playing as soon as the page has loaded.
     pub autoplay: bool,
+    /// Where the plan file was read from: finds the robot descriptions of arms given by one,
+    /// as `check` does (`None`: from the current directory).
+    pub plan_path: Option<std::path::PathBuf>,
 }
 
 impl Default for ViewOptions {
@@ -20,6 +23,7 @@ impl Default for ViewOptions {
             initial_plan: 0,
             speed: 1.0,
             autoplay: true,
+            plan_path: None,
         }
     }
 }

@@ -194,6 +194,7 @@ fn options_and_title_reach_the_page() {
         initial_plan: 1,
         speed: 2.0,
         autoplay: false,
+        plan_path: None,
     };
     let html = render_html(&plan, &fixture::plate_mesh(), &options);
     let data = embedded(&html);

@@ -57,6 +57,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         initial_plan: (args.plan_number - 1) as usize,
         speed: args.speed,
         autoplay: !args.no_autoplay,
+        plan_path: Some(args.plan.clone()),
     };
     let html = render_html(&plan, &loaded.mesh, &options);
     outputs.write(out, html.as_bytes())?;

@@ -109,8 +109,27 @@ function dhMatrix(theta, d, a, alpha) {
   return m4.rt([ct, -st * ca, st * sa, st, ct * ca, -ct * sa, 0, sa, ca], [a * ct, a * st, d]);
 }
 
-/** DH frames 0..=6 in the arm base frame: [0] = identity, [i] = T_1···T_i, [6] = flange. */
-function fkFrames(dh, q) {
+/** Rotation by angle t about the unit axis u, as a matrix. */
+function axisAngleMatrix(u, t) {
+  const s = Math.sin(t / 2);
+  return m4.rt(quatMatrix([u[0] * s, u[1] * s, u[2] * s, Math.cos(t / 2)]), [0, 0, 0]);
+}
+
+/**
+ * Frames 0..=6 of an arm model in its base frame, [6] = flange. A built-in arm by its DH rows
+ * ([0] = identity, [i] = T_1···T_i); an arm from a robot description by its chain steps:
+ * [0] = frame0, [i+1] = [i]·Rot(axis_i, q_i)·link_i.
+ */
+function fkFrames(model, q) {
+  const c = model.chain;
+  if (c) {
+    const frames = [poseMatrix(c.frame0)];
+    for (let i = 0; i < 6; i++) {
+      frames.push(m4.mul(m4.mul(frames[i], axisAngleMatrix(c.axes[i], q[i])), poseMatrix(c.links[i])));
+    }
+    return frames;
+  }
+  const dh = model.dh;
   const frames = [m4.identity()];
   for (let i = 0; i < 6; i++) frames.push(m4.mul(frames[i], dhMatrix(q[i], dh.d[i], dh.a[i], dh.alpha[i])));
   return frames;
@@ -219,8 +238,18 @@ function cone(g, base, tip, r) {
   return disc(g, base, v3.scale(u, -1), r);
 }
 
-/** One link or gripper shape (capsule, cylinder or cuboid) in its owning frame. */
+/** A convex piece: its hull's triangles, flat shaded. */
+function hull(g, positions, triangles) {
+  for (const [i, j, k] of triangles) {
+    const a = positions[i], b = positions[j], c = positions[k];
+    g.tri(a, b, c, v3.norm(v3.cross(v3.sub(b, a), v3.sub(c, a))));
+  }
+  return g;
+}
+
+/** One link or gripper shape (capsule, cylinder, cuboid or hull) in its owning frame. */
 function shapeGeometry(g, s) {
+  if (s.kind === 'hull') return hull(g, s.positions, s.triangles);
   if (s.kind === 'capsule') return capsule(g, s.a, s.b, s.radius);
   if (s.kind === 'cylinder') return cylinder(g, s.a, s.b, s.radius);
   if (s.kind === 'cuboid') return box(g, poseMatrix(s.pose), s.half_extents);

@@ -61,7 +61,7 @@ class Arm {
   setState(q, grip) {
     this.q = q.slice();
     this.grip = grip;
-    this.world = fkFrames(this.model.dh, q).map((f) => m4.mul(this.base, f));
+    this.world = fkFrames(this.model, q).map((f) => m4.mul(this.base, f));
   }
 
   /** World position of the flange (DH frame 6). */
@@ -481,7 +481,7 @@ function fkError() {
   DATA.robots.forEach((model) => {
     if (!model || !model.known) return;
     for (const c of model.fk_check) {
-      const f = fkFrames(model.dh, c.q)[6];
+      const f = fkFrames(model, c.q)[6];
       const expected = poseMatrix(c.flange);
       worst = Math.max(worst, v3.dist(m4.position(f), m4.position(expected)));
       // Rotation: compare the x and z axes as unit vectors.
