@@ -163,47 +163,31 @@ fn an_fr3_scene_plans_to_the_same_bytes_twice() {
 fn a_seven_joint_arm_needs_a_held_joint_and_a_ur_none() {
     let scene_path = root().join("examples/chair_side.toml");
     let text = std::fs::read_to_string(&scene_path).unwrap();
-    let fr3 = root().join("data/robots/fr3.urdf");
-    let no_hold = text.replacen(
-        "model = \"ur5e\"",
-        &format!(
-            "urdf = {:?}\ntool_link = \"fr3_link8\"",
-            fr3.display().to_string()
-        ),
-        1,
+    // The scene's error with the first arm's `model` line replaced by `keys`.
+    let error_with = |keys: String| {
+        let text = text.replacen("model = \"ur5e\"", &keys, 1);
+        Scene::from_str(&text, &scene_path).unwrap_err().to_string()
+    };
+    let fr3 = format!(
+        "urdf = {:?}\ntool_link = \"fr3_link8\"",
+        root().join("data/robots/fr3.urdf").display().to_string()
     );
-    let err = Scene::from_str(&no_hold, &scene_path)
-        .unwrap_err()
-        .to_string();
+    let err = error_with(fr3.clone());
     assert!(err.contains("robot[0].urdf"), "{err}");
     assert!(
         err.contains("7 actuated joints") && err.contains("hold one joint"),
         "{err}"
     );
-    let bad_hold = no_hold.replacen(
-        "tool_link = \"fr3_link8\"",
-        "tool_link = \"fr3_link8\"\nhold = { fr3_joint9 = 0.0 }",
-        1,
-    );
-    let err = Scene::from_str(&bad_hold, &scene_path)
-        .unwrap_err()
-        .to_string();
+    let err = error_with(format!("{fr3}\nhold = {{ fr3_joint9 = 0.0 }}"));
     assert!(
         err.contains("robot[0].hold") && err.contains("fr3_joint9"),
         "{err}"
     );
     let ur5e = root().join("data/robots/ur5e.urdf");
-    let ur_hold = text.replacen(
-        "model = \"ur5e\"",
-        &format!(
-            "urdf = {:?}\nhold = {{ shoulder_pan_joint = 0.0 }}",
-            ur5e.display().to_string()
-        ),
-        1,
-    );
-    let err = Scene::from_str(&ur_hold, &scene_path)
-        .unwrap_err()
-        .to_string();
+    let err = error_with(format!(
+        "urdf = {:?}\nhold = {{ shoulder_pan_joint = 0.0 }}",
+        ur5e.display().to_string()
+    ));
     assert!(
         err.contains("robot[0].hold") && err.contains("nothing to hold"),
         "{err}"

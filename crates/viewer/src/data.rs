@@ -249,37 +249,38 @@ pub fn gripper_of(robot: &RobotJson) -> Gripper2F85 {
 fn robot_model(robot: &RobotJson, plan: &PlanFile, arm: Option<&ArmDescription>) -> RobotModelJson {
     let gripper = gripper_of(robot);
     let shapes = |state| gripper.shapes(state).iter().map(ShapeJson::from).collect();
+    // The fingers this robot holds the part with, as the plans record them.
+    let held = |grasp: GraspKind| {
+        plan.plans
+            .iter()
+            .flat_map(|p| &p.segments)
+            .filter(|s| s.robot == robot.name && s.grasp == grasp)
+            .find_map(|s| s.held_fingers())
+    };
+    let grippers = GripperShapesJson {
+        open: shapes(GripperState::Open),
+        closed: shapes(GripperState::fully_closed()),
+        closed_precision: held(GraspKind::Support).map(shapes),
+        closed_power: held(GraspKind::Power).map(shapes),
+    };
     let Some(model) = robot.model.builtin() else {
-        if let Some(arm) = arm {
-            let held = |grasp: GraspKind| {
-                plan.plans
-                    .iter()
-                    .flat_map(|p| &p.segments)
-                    .filter(|s| s.robot == robot.name && s.grasp == grasp)
-                    .find_map(|s| s.held_fingers())
-            };
-            let grippers = GripperShapesJson {
-                open: shapes(GripperState::Open),
-                closed: shapes(GripperState::fully_closed()),
-                closed_precision: held(GraspKind::Support).map(shapes),
-                closed_power: held(GraspKind::Power).map(shapes),
-            };
-            return described_model(robot, plan, arm, grippers);
-        }
-        return RobotModelJson {
-            name: robot.name.clone(),
-            model: robot.model.to_string(),
-            known: false,
-            dh: DhJson::default(),
-            chain: None,
-            links: Vec::new(),
-            gripper: GripperShapesJson {
-                open: shapes(GripperState::Open),
-                closed: shapes(GripperState::fully_closed()),
-                closed_precision: None,
-                closed_power: None,
+        return match arm {
+            Some(arm) => described_model(robot, plan, arm, grippers),
+            // A description that could not be loaded: the page draws no arm.
+            None => RobotModelJson {
+                name: robot.name.clone(),
+                model: robot.model.to_string(),
+                known: false,
+                dh: DhJson::default(),
+                chain: None,
+                links: Vec::new(),
+                gripper: GripperShapesJson {
+                    closed_precision: None,
+                    closed_power: None,
+                    ..grippers
+                },
+                fk_check: Vec::new(),
             },
-            fk_check: Vec::new(),
         };
     };
     let dh = model.dh();
@@ -290,15 +291,6 @@ fn robot_model(robot: &RobotJson, plan: &PlanFile, arm: Option<&ArmDescription>)
         dh_json.a[i] = a;
         dh_json.alpha[i] = alpha;
     }
-    // The fingers this robot holds the part with, as the plans record them.
-    let held = |grasp: GraspKind| {
-        plan.plans
-            .iter()
-            .flat_map(|p| &p.segments)
-            .filter(|s| s.robot == robot.name && s.grasp == grasp)
-            .find_map(|s| s.held_fingers())
-    };
-    let closed_at = |grasp: GraspKind| held(grasp).map(shapes);
     let kin = UrKinematics::new(model);
     RobotModelJson {
         name: robot.name.clone(),
@@ -311,12 +303,7 @@ fn robot_model(robot: &RobotJson, plan: &PlanFile, arm: Option<&ArmDescription>)
             .iter()
             .map(ShapeJson::from)
             .collect(),
-        gripper: GripperShapesJson {
-            open: shapes(GripperState::Open),
-            closed: shapes(GripperState::fully_closed()),
-            closed_precision: closed_at(GraspKind::Support),
-            closed_power: closed_at(GraspKind::Power),
-        },
+        gripper: grippers,
         fk_check: fk_check_configs(robot, plan)
             .into_iter()
             .map(|q| FkCheckJson {
