@@ -46,7 +46,12 @@ fn arm_of(robot: &RobotJson, scene: &Path) -> Result<ArmDescription, String> {
             let arm = UrdfArm::load(&path, Some(&urdf.base_link), Some(&urdf.tool_link))
                 .map_err(|e| e.to_string())?;
             let held: Vec<(&str, f64)> = urdf.held.iter().map(|(j, v)| (j.as_str(), *v)).collect();
-            let described = describe_arm(&arm, &held, &GeometryOptions::default())
+            let allowed: Vec<(&str, &str)> = urdf
+                .allow_collisions
+                .iter()
+                .map(|[a, b]| (a.as_str(), b.as_str()))
+                .collect();
+            let described = describe_arm(&arm, &held, &allowed, &GeometryOptions::default())
                 .map_err(|e| e.to_string())?;
             if described.joint_names.as_slice() != robot.joint_names.as_slice() {
                 return Err(format!(

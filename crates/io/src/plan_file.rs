@@ -153,6 +153,9 @@ pub struct UrdfJson {
     /// Joints held still while the planner drives the other six (rad), by name.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub held: BTreeMap<String, f64>,
+    /// Link pairs not checked for self-collision (the scene's `allow_collisions`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub allow_collisions: Vec<[String; 2]>,
 }
 
 /// Grasp poses in the object frame.

@@ -40,6 +40,7 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
                 base_link: u.base_link.clone(),
                 tool_link: u.tool_link.clone(),
                 held: u.held.iter().cloned().collect(),
+                allow_collisions: u.allowed.clone(),
             }),
         }
     });

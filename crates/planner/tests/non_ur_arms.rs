@@ -147,6 +147,22 @@ fn two_xarm6_plan_the_stool() {
     rotation_on_one_branch("stool_side", &file);
 }
 
+/// An allowed-collision list travels with the plan: the file records it and `check` loads the
+/// arm with it.
+#[test]
+fn allowed_pairs_are_planned_with_and_checked_with() {
+    let mut arm = fr3();
+    arm.keys
+        .push_str("\nallow_collisions = [[\"fr3_link1\", \"fr3_link6\"]]");
+    let (_, _, file, mesh) = plan_with("chair_side", &arm, 0.0, 0.45);
+    planned_and_valid("chair_side", &file, &mesh, &FR3_JOINTS);
+    let urdf = file.robots[0].urdf.as_ref().unwrap();
+    assert_eq!(
+        urdf.allow_collisions,
+        [["fr3_link1".to_string(), "fr3_link6".to_string()]]
+    );
+}
+
 #[test]
 fn an_fr3_scene_plans_to_the_same_bytes_twice() {
     let (_, _, a, _) = plan_with("chair_side", &fr3(), 0.0, 0.45);
@@ -181,6 +197,13 @@ fn a_seven_joint_arm_needs_a_held_joint_and_a_ur_none() {
     let err = error_with(format!("{fr3}\nhold = {{ fr3_joint9 = 0.0 }}"));
     assert!(
         err.contains("robot[0].hold") && err.contains("fr3_joint9"),
+        "{err}"
+    );
+    let err = error_with(format!(
+        "{fr3}\nhold = {{ fr3_joint3 = 0.0 }}\nallow_collisions = [[\"fr3_link1\", \"fr3_wing\"]]"
+    ));
+    assert!(
+        err.contains("robot[0].allow_collisions") && err.contains("fr3_wing"),
         "{err}"
     );
     let ur5e = root().join("data/robots/ur5e.urdf");

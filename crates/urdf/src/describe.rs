@@ -37,27 +37,36 @@ use crate::geometry::{GeometryOptions, UrdfGeometry};
 use crate::six::SixJointArm;
 
 /// The arm `arm` with the joints `held` fixed at their values, as the planner uses it, with
-/// the collision geometry loaded (and cached) per `opts`. Errors: what
-/// [`SixJointArm::new`] and [`UrdfGeometry::load`] report, or an arm with no collision
-/// geometry at all.
+/// the collision geometry loaded (and cached) per `opts`, and the link pairs `allowed` not
+/// checked for self-collision (an allowed-collision list, [`UrdfGeometry::allow`]). Errors:
+/// what [`SixJointArm::new`], [`UrdfGeometry::load`] and [`UrdfGeometry::allow`] report, or
+/// an arm with no collision geometry at all.
 pub fn describe_arm(
     arm: &UrdfArm,
     held: &[(&str, f64)],
+    allowed: &[(&str, &str)],
     opts: &GeometryOptions,
 ) -> Result<ArmDescription, UrdfError> {
     let kin = SixJointArm::new(arm.model.name(), &arm.chain, held)?;
-    let geometry = UrdfGeometry::load(&arm.model, opts)?.geometry;
+    let mut geometry = UrdfGeometry::load(&arm.model, opts)?.geometry;
+    geometry.allow_all(allowed.iter().copied())?;
+    let mut allowed_key: Vec<String> = allowed
+        .iter()
+        .map(|(a, b)| format!("{}+{}", a.min(b), a.max(b)))
+        .collect();
+    allowed_key.sort();
     let held_key: Vec<String> = kin
         .held()
         .iter()
         .map(|(i, v)| format!("{i}={:016x}", v.to_bits()))
         .collect();
     let key = format!(
-        "urdf:{}:{}:{}:{}",
+        "urdf:{}:{}:{}:{}:{}",
         geometry.key,
         arm.base_link,
         arm.tool_link,
-        held_key.join(",")
+        held_key.join(","),
+        allowed_key.join(",")
     );
     static KNOWN: OnceLock<Mutex<BTreeMap<String, ArmDescription>>> = OnceLock::new();
     let known = KNOWN.get_or_init(Default::default);

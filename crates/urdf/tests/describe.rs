@@ -18,7 +18,7 @@ fn options() -> GeometryOptions {
 fn fr3_arm_links_sit_in_their_frames() {
     let arm = UrdfArm::load(data("fr3.urdf").as_ref(), None, Some("fr3_link8")).unwrap();
     let held = [("fr3_joint3", 0.0)];
-    let d = describe_arm(&arm, &held, &options()).unwrap();
+    let d = describe_arm(&arm, &held, &[], &options()).unwrap();
     assert_eq!(d.ur, None);
     assert!(d.key.starts_with("urdf:"));
     let names: Vec<(&str, usize)> = d.geometry.links.iter().map(|l| (l.name, l.frame)).collect();
@@ -78,9 +78,34 @@ fn fr3_arm_links_sit_in_their_frames() {
 #[test]
 fn a_description_is_built_once() {
     let arm = UrdfArm::load(data("xarm6.urdf").as_ref(), None, None).unwrap();
-    let a = describe_arm(&arm, &[], &options()).unwrap();
-    let b = describe_arm(&arm, &[], &options()).unwrap();
+    let a = describe_arm(&arm, &[], &[], &options()).unwrap();
+    let b = describe_arm(&arm, &[], &[], &options()).unwrap();
     assert!(std::sync::Arc::ptr_eq(&a.geometry, &b.geometry));
     assert_eq!(a.joint_names[0], "joint1");
     assert_eq!(a.geometry.links.len(), 7);
+}
+
+/// An allowed pair is not checked; the same arm without it is another description.
+#[test]
+fn allowed_pairs_leave_the_self_collision_check() {
+    let arm = UrdfArm::load(data("fr3.urdf").as_ref(), None, Some("fr3_link8")).unwrap();
+    let held = [("fr3_joint3", 0.0)];
+    let plain = describe_arm(&arm, &held, &[], &options()).unwrap();
+    let name_pairs = |d: &pregrasp_robot::ArmDescription| -> Vec<(&str, &str)> {
+        let links = &d.geometry.links;
+        d.geometry
+            .self_collision_pairs
+            .iter()
+            .map(|&(a, b)| (links[a].name, links[b].name))
+            .collect()
+    };
+    let checked = name_pairs(&plain);
+    let (a, b) = checked[0];
+    let allowed = describe_arm(&arm, &held, &[(b, a)], &options()).unwrap();
+    assert_ne!(plain.key, allowed.key);
+    let left = name_pairs(&allowed);
+    assert_eq!(left.len() + 1, checked.len());
+    assert!(!left.contains(&(a, b)));
+    let err = describe_arm(&arm, &held, &[("fr3_link9", a)], &options()).unwrap_err();
+    assert!(err.to_string().contains("fr3_link9"), "{err}");
 }

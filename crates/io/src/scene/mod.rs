@@ -21,6 +21,7 @@
 //! a [`Scene`] (missing keys, spellings given twice, ranges), where [`Scene::load`] and
 //! [`Scene::from_str`] live.
 
+mod described;
 mod raw;
 mod validate;
 
@@ -142,6 +143,8 @@ pub struct UrdfRef {
     pub joint_names: Vec<String>,
     /// Joints held still (`hold`), with their values (rad), in chain order.
     pub held: Vec<(String, f64)>,
+    /// Link pairs not checked for self-collision (`allow_collisions`).
+    pub allowed: Vec<[String; 2]>,
 }
 
 /// `[planner]`, SI units (angles in radians). Paper symbols in code spans.

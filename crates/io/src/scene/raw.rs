@@ -62,6 +62,7 @@ pub struct RawRobot {
     pub base_link: Option<Str>,
     pub tool_link: Option<Str>,
     pub hold: Option<Table<std::collections::BTreeMap<String, Num>>>,
+    pub allow_collisions: Option<LinkPairs>,
     pub base: Option<Table<RawPose>>,
     pub start: Option<Nums<6>>,
     pub start_deg: Option<Nums<6>>,
@@ -116,6 +117,10 @@ pub struct Str(pub String);
 pub struct Flag(pub bool);
 /// An array of exactly `N` numbers.
 pub struct Nums<const N: usize>(pub [f64; N]);
+/// An array of `[link, link]` pairs (link names).
+pub struct LinkPairs(pub Vec<[String; 2]>);
+/// One `[link, link]` pair.
+pub struct LinkPair(pub [String; 2]);
 /// A table read as `T`.
 pub struct Table<T>(pub T);
 /// `grasps.power`: exactly two poses.
@@ -290,6 +295,29 @@ impl Accept for Flag {
     }
 }
 
+impl Accept for LinkPair {
+    fn expected() -> String {
+        "a pair of link names".into()
+    }
+    fn array<'de, A: SeqAccess<'de>>(seq: A) -> Result<Self, A::Error> {
+        let pair: [Str; 2] = fixed(seq, "2 link names")?;
+        Ok(LinkPair(pair.map(|Str(s)| s)))
+    }
+}
+
+impl Accept for LinkPairs {
+    fn expected() -> String {
+        "an array of [link, link] pairs".into()
+    }
+    fn array<'de, A: SeqAccess<'de>>(mut seq: A) -> Result<Self, A::Error> {
+        let mut pairs = Vec::new();
+        while let Some(LinkPair(p)) = seq.next_element()? {
+            pairs.push(p);
+        }
+        Ok(LinkPairs(pairs))
+    }
+}
+
 impl<const N: usize> Accept for Nums<N> {
     fn expected() -> String {
         format!("an array of {N} numbers")
@@ -374,6 +402,8 @@ deserialize_as_leaf!(
     [] Str,
     [] Flag,
     [const N: usize] Nums<N>,
+    [] LinkPair,
+    [] LinkPairs,
     [] PosePair,
     [] Robots,
     [T: DeserializeOwned] Table<T>,

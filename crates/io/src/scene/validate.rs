@@ -8,12 +8,10 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use pregrasp_robot::{ArmDescription, UrModel, JOINT_NAMES};
-use pregrasp_urdf::{describe_arm, GeometryOptions, UrdfArm, UrdfError, UR_MATCH_TOLERANCE};
 use toml::Value;
 
 use super::raw::{self, Flag, Int, Num, Nums, PosePair, RawError, RawScene, Robots, Str, Table};
 use super::raw::{RawGrasps, RawObject, RawPhysics, RawPlanner, RawPose, RawRobot};
-use super::UrdfRef;
 use super::{AutoGrasps, Grasps, ObjectSpec, PhysicsParams, PlannerParams, RobotSpec, Scene};
 use super::{SceneError, GRIPPERS, GRIPPER_POINT_RANGE, MAX_COORDINATE, ROBOT_MODELS};
 use super::{DEFAULT_POWER_POINT_Z, DEFAULT_PRECISION_POINT_Z};
@@ -61,10 +59,10 @@ impl Scene {
 }
 
 /// The validation, with the file name for its messages.
-struct Cx(String);
+pub(super) struct Cx(String);
 
 impl Cx {
-    fn err(&self, key: &str, message: impl Display) -> SceneError {
+    pub(super) fn err(&self, key: &str, message: impl Display) -> SceneError {
         SceneError::Key {
             file: self.0.clone(),
             key: key.to_string(),
@@ -241,16 +239,19 @@ impl Cx {
         let held: Vec<(String, f64)> = raw.hold.map_or_else(Vec::new, |Table(h)| {
             h.into_iter().map(|(joint, Num(v))| (joint, v)).collect()
         });
+        let allowed: Vec<[String; 2]> = raw.allow_collisions.map_or_else(Vec::new, |p| p.0);
         let described = match raw.urdf {
             Some(Str(entry)) => {
                 let links = (raw.base_link, raw.tool_link);
-                Some(self.urdf_arm(entry, links, &held, key, file)?)
+                let keep = (&held[..], &allowed[..]);
+                Some(self.urdf_arm(entry, links, keep, key, file)?)
             }
             None => {
                 for (given, name) in [
                     (raw.base_link.is_some(), "base_link"),
                     (raw.tool_link.is_some(), "tool_link"),
                     (!held.is_empty(), "hold"),
+                    (!allowed.is_empty(), "allow_collisions"),
                 ] {
                     let message = "only with `urdf` (the links of the robot description)";
                     self.ensure(!given, &at(name), message)?;
@@ -335,93 +336,6 @@ impl Cx {
             precision_point_z,
             power_point_z,
         })
-    }
-
-    /// The arm of robot description `entry` (relative to the scene's folder) from its base
-    /// link to its tool link, the joints `held` still: its reference, the arm, and the base
-    /// link → arm base transform. A Universal Robots arm is the built-in model (its base the
-    /// DH Base, the gripper at the DH flange); any other six-joint arm (or seven-joint arm
-    /// with one joint held) is taken from the description, its collision geometry from the
-    /// meshes (`pregrasp_urdf::describe_arm`), the gripper at the tool link.
-    fn urdf_arm(
-        &self,
-        entry: String,
-        (base_link, tool_link): (Option<Str>, Option<Str>),
-        held: &[(String, f64)],
-        key: &str,
-        file: &Path,
-    ) -> Result<(UrdfRef, ArmDescription, Isometry3<f64>), SceneError> {
-        let at = format!("{key}.urdf");
-        let path = match file.parent() {
-            Some(dir) if !dir.as_os_str().is_empty() => dir.join(&entry),
-            _ => PathBuf::from(&entry),
-        };
-        let arm = UrdfArm::load(
-            &path,
-            base_link.as_ref().map(|Str(b)| b.as_str()),
-            tool_link.as_ref().map(|Str(t)| t.as_str()),
-        )
-        .map_err(|e| self.err(&at, e.to_string()))?;
-        let Some(ur) = arm.ur else {
-            let held: Vec<(&str, f64)> = held.iter().map(|(j, v)| (j.as_str(), *v)).collect();
-            let options = GeometryOptions::default();
-            let described = describe_arm(&arm, &held, &options).map_err(|e| {
-                let at = if matches!(e, UrdfError::HeldJoint { .. }) {
-                    format!("{key}.hold")
-                } else {
-                    at.clone()
-                };
-                self.err(&at, e.to_string())
-            })?;
-            let urdf = UrdfRef {
-                path,
-                entry,
-                joint_names: described.joint_names.to_vec(),
-                held: held.iter().map(|(j, v)| (j.to_string(), *v)).collect(),
-                base_link: arm.base_link,
-                tool_link: arm.tool_link,
-            };
-            return Ok((urdf, described, Isometry3::identity()));
-        };
-        if let Some((joint, _)) = held.first() {
-            let message = format!(
-                "{}: {joint}: the arm is a {} (six joints, all driven): nothing to hold",
-                path.display(),
-                ur.model
-            );
-            return Err(self.err(&format!("{key}.hold"), message));
-        }
-        let flange_offset = ur
-            .tool
-            .translation
-            .vector
-            .norm()
-            .max(ur.tool.rotation.angle());
-        if flange_offset > UR_MATCH_TOLERANCE {
-            let message = format!(
-                "{}: the gripper goes on the flange (tool0), but tool link {} is {:.4} m / \
-                 {:.4} rad from it; give tool_link = \"tool0\"",
-                path.display(),
-                arm.tool_link,
-                ur.tool.translation.vector.norm(),
-                ur.tool.rotation.angle()
-            );
-            return Err(self.err(&at, message));
-        }
-        let urdf = UrdfRef {
-            path,
-            entry,
-            joint_names: arm
-                .chain
-                .joint_names()
-                .iter()
-                .map(|n| n.to_string())
-                .collect(),
-            held: Vec::new(),
-            base_link: arm.base_link,
-            tool_link: arm.tool_link,
-        };
-        Ok((urdf, ArmDescription::ur(ur.model), ur.base))
     }
 
     /// Refuses a start configuration outside `model`'s joint limits, naming the robot and the

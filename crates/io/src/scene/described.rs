@@ -1,0 +1,114 @@
+//! A `[[robot]]` given by its robot description (`urdf`): the arm as the planner uses it.
+
+use std::path::{Path, PathBuf};
+
+use nalgebra::Isometry3;
+use pregrasp_robot::ArmDescription;
+use pregrasp_urdf::{describe_arm, GeometryOptions, UrdfArm, UrdfError, UR_MATCH_TOLERANCE};
+
+use super::raw::Str;
+use super::validate::Cx;
+use super::{SceneError, UrdfRef};
+
+impl Cx {
+    /// The arm of robot description `entry` (relative to the scene's folder) from its base
+    /// link to its tool link, the joints `held` still: its reference, the arm, and the base
+    /// link → arm base transform. A Universal Robots arm is the built-in model (its base the
+    /// DH Base, the gripper at the DH flange); any other six-joint arm (or seven-joint arm
+    /// with one joint held) is taken from the description, its collision geometry from the
+    /// meshes (`pregrasp_urdf::describe_arm`), the gripper at the tool link.
+    pub(super) fn urdf_arm(
+        &self,
+        entry: String,
+        (base_link, tool_link): (Option<Str>, Option<Str>),
+        (held, allowed): (&[(String, f64)], &[[String; 2]]),
+        key: &str,
+        file: &Path,
+    ) -> Result<(UrdfRef, ArmDescription, Isometry3<f64>), SceneError> {
+        let at = format!("{key}.urdf");
+        let path = match file.parent() {
+            Some(dir) if !dir.as_os_str().is_empty() => dir.join(&entry),
+            _ => PathBuf::from(&entry),
+        };
+        let arm = UrdfArm::load(
+            &path,
+            base_link.as_ref().map(|Str(b)| b.as_str()),
+            tool_link.as_ref().map(|Str(t)| t.as_str()),
+        )
+        .map_err(|e| self.err(&at, e.to_string()))?;
+        let Some(ur) = arm.ur else {
+            let held: Vec<(&str, f64)> = held.iter().map(|(j, v)| (j.as_str(), *v)).collect();
+            let pairs: Vec<(&str, &str)> = allowed
+                .iter()
+                .map(|[a, b]| (a.as_str(), b.as_str()))
+                .collect();
+            let options = GeometryOptions::default();
+            let described = describe_arm(&arm, &held, &pairs, &options).map_err(|e| {
+                let at = match e {
+                    UrdfError::HeldJoint { .. } => format!("{key}.hold"),
+                    UrdfError::UnknownLink { .. } => format!("{key}.allow_collisions"),
+                    _ => at.clone(),
+                };
+                self.err(&at, e.to_string())
+            })?;
+            let urdf = UrdfRef {
+                path,
+                entry,
+                joint_names: described.joint_names.to_vec(),
+                held: held.iter().map(|(j, v)| (j.to_string(), *v)).collect(),
+                allowed: allowed.to_vec(),
+                base_link: arm.base_link,
+                tool_link: arm.tool_link,
+            };
+            return Ok((urdf, described, Isometry3::identity()));
+        };
+        if !allowed.is_empty() {
+            let message = format!(
+                "{}: the arm is a {}, whose self-collision pairs are built in",
+                path.display(),
+                ur.model
+            );
+            return Err(self.err(&format!("{key}.allow_collisions"), message));
+        }
+        if let Some((joint, _)) = held.first() {
+            let message = format!(
+                "{}: {joint}: the arm is a {} (six joints, all driven): nothing to hold",
+                path.display(),
+                ur.model
+            );
+            return Err(self.err(&format!("{key}.hold"), message));
+        }
+        let flange_offset = ur
+            .tool
+            .translation
+            .vector
+            .norm()
+            .max(ur.tool.rotation.angle());
+        if flange_offset > UR_MATCH_TOLERANCE {
+            let message = format!(
+                "{}: the gripper goes on the flange (tool0), but tool link {} is {:.4} m / \
+                 {:.4} rad from it; give tool_link = \"tool0\"",
+                path.display(),
+                arm.tool_link,
+                ur.tool.translation.vector.norm(),
+                ur.tool.rotation.angle()
+            );
+            return Err(self.err(&at, message));
+        }
+        let urdf = UrdfRef {
+            path,
+            entry,
+            joint_names: arm
+                .chain
+                .joint_names()
+                .iter()
+                .map(|n| n.to_string())
+                .collect(),
+            held: Vec::new(),
+            allowed: Vec::new(),
+            base_link: arm.base_link,
+            tool_link: arm.tool_link,
+        };
+        Ok((urdf, ArmDescription::ur(ur.model), ur.base))
+    }
+}
