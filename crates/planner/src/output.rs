@@ -8,7 +8,7 @@ use pregrasp_io::plan_file::{
     RobotJson, RobotModel, SceneRef, SegmentJson, SegmentName, UrdfJson, PLAN_FORMAT,
 };
 use pregrasp_io::scene::Scene;
-use pregrasp_robot::{Gripper2F85, GripperState, Joints, JOINT_NAMES};
+use pregrasp_robot::{Gripper2F85, GripperState, Joints};
 
 use crate::context::PlanningContext;
 use crate::paths::IntegratedPath;
@@ -30,7 +30,7 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
             base: PoseJson::from(&r.base),
             joint_names: match &r.urdf {
                 Some(u) => u.joint_names.clone(),
-                None => JOINT_NAMES.iter().map(|s| s.to_string()).collect(),
+                None => r.arm.joint_names.to_vec(),
             },
             start: r.start,
             precision_point: PoseJson::from(&gripper.precision_point()),

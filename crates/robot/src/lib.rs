@@ -40,5 +40,5 @@ pub use links::{
 pub use model::{DhParams, Joints, UnknownModel, UrModel, DEFAULT_JOINT_ACCEL, JOINT_NAMES};
 pub use sweep_radii::{
     flange_sweep_radii, flange_sweep_radii_of, group_sweep_radii, group_sweep_radii_of,
-    joint_sweep_radii, joint_sweep_radii_of,
+    joint_sweep_radii, largest_per_joint,
 };

@@ -16,7 +16,12 @@ use crate::model::{Joints, UrModel};
 ///
 /// The largest of [`group_sweep_radii`] over the shape groups.
 pub fn joint_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> Joints {
-    let groups = group_sweep_radii(model, gripper);
+    largest_per_joint(&group_sweep_radii(model, gripper))
+}
+
+/// Per joint, the largest of its group radii ([`group_sweep_radii`] →
+/// [`joint_sweep_radii`], for any arm's groups).
+pub fn largest_per_joint(groups: &[[f64; SHAPE_GROUPS]; 6]) -> Joints {
     std::array::from_fn(|i| groups[i].iter().copied().fold(0.0, f64::max))
 }
 
@@ -47,12 +52,6 @@ pub fn group_sweep_radii_of(
     cached(&arm.key, gripper, || {
         compute_group_sweep_radii(&arm.kin.frame_offsets(), &arm.geometry, gripper)
     })
-}
-
-/// [`joint_sweep_radii`] of any arm (see [`group_sweep_radii_of`]).
-pub fn joint_sweep_radii_of(arm: &ArmDescription, gripper: &Gripper2F85) -> Joints {
-    let groups = group_sweep_radii_of(arm, gripper);
-    std::array::from_fn(|i| groups[i].iter().copied().fold(0.0, f64::max))
 }
 
 /// The radii of the arm named `key` with `gripper`, computed by `compute` once per process

@@ -292,8 +292,7 @@ impl ArmModel {
     /// Per joint, an upper bound on the distance from its axis to any point of the arm beyond
     /// it with the gripper at any opening (m): [`pregrasp_robot::joint_sweep_radii`].
     pub fn joint_sweep_radii(&self) -> Joints {
-        let groups = &self.shapes.group_radii;
-        std::array::from_fn(|i| groups[i].iter().copied().fold(0.0, f64::max))
+        pregrasp_robot::largest_per_joint(&self.shapes.group_radii)
     }
 
     /// Flange pose in the world: `base · fk(q)`.

@@ -7,7 +7,7 @@ use std::fmt::Display;
 use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
-use pregrasp_robot::{ArmDescription, UrModel, JOINT_NAMES};
+use pregrasp_robot::{ArmDescription, UrModel};
 use toml::Value;
 
 use super::raw::{self, Flag, Int, Num, Nums, PosePair, RawError, RawScene, Robots, Str, Table};
@@ -363,10 +363,7 @@ impl Cx {
                     format!("{q} rad is outside the {model} joint limits [{lo:.3}, {hi:.3}]");
                 (what, "start")
             };
-            let joint = match arm.ur {
-                Some(_) => JOINT_NAMES[i],
-                None => arm.joint_names[i].as_str(),
-            };
+            let joint = &arm.joint_names[i];
             let message = format!("{what} ({joint} of robot {name:?})");
             return Err(self.err(&format!("{key}.{field}[{i}]"), message));
         }
