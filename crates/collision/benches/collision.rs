@@ -142,10 +142,28 @@ fn closing(c: &mut Criterion) {
     let power = at(0.0125, 0.118);
     let mut group = c.benchmark_group("closing");
     group.bench_function("pinch", |b| {
-        b.iter(|| black_box(close_on_part(&part, black_box(&pinch)).is_ok()))
+        b.iter(|| {
+            black_box(
+                close_on_part(
+                    &part,
+                    &pregrasp_robot::Gripper::default(),
+                    black_box(&pinch),
+                )
+                .is_ok(),
+            )
+        })
     });
     group.bench_function("power", |b| {
-        b.iter(|| black_box(close_on_part(&part, black_box(&power)).is_ok()))
+        b.iter(|| {
+            black_box(
+                close_on_part(
+                    &part,
+                    &pregrasp_robot::Gripper::default(),
+                    black_box(&power),
+                )
+                .is_ok(),
+            )
+        })
     });
     group.finish();
 }

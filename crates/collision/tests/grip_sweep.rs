@@ -16,8 +16,10 @@ fn grips() -> &'static [Grip; 2] {
         let part = ObjectGeometry::new(&frame_mesh(0.5, 0.3, 0.04, 0.025)).unwrap();
         let down = UnitQuaternion::from_euler_angles(PI, 0.0, FRAC_PI_2);
         let at = |z: f64| Isometry3::from_parts(Translation3::new(0.0, 0.13, z), down);
-        [at(0.018 + 0.150), at(0.0125 + 0.118)]
-            .map(|flange| close_on_part(&part, &flange).expect("the gripper closes on the bar"))
+        [at(0.018 + 0.150), at(0.0125 + 0.118)].map(|flange| {
+            close_on_part(&part, &pregrasp_robot::Gripper::default(), &flange)
+                .expect("the gripper closes on the bar")
+        })
     })
 }
 

@@ -32,7 +32,7 @@ fn a_pinch_bears_on_the_overlap_of_pad_and_bar() {
     for depth in [0.004, 0.010, 0.016] {
         let flange =
             Isometry3::from_parts(Translation3::new(0.0, 0.0, 0.025 - depth + 0.150), down);
-        let grip = close_on_part(&part, &flange).unwrap();
+        let grip = close_on_part(&part, &pregrasp_robot::Gripper::default(), &flange).unwrap();
         assert_eq!(grip.kinds, [ClosingKind::Pinch; 2], "depth {depth}");
         // The pads' meshes stand 0.3 mm proud of their nominal face plane on each side.
         assert!(
@@ -42,11 +42,11 @@ fn a_pinch_bears_on_the_overlap_of_pad_and_bar() {
         );
         // The pad face spans pad centre ± 18.75 mm along G's z; the bar's side spans
         // G z from (flange z − 0.025) to (flange z).
-        let pad_z = grip.fingers.configs()[0].pad_center(linkage()).y;
+        let pad_z = grip.fingers().configs()[0].pad_center(linkage()).y;
         let flange_z = flange.translation.z;
         let (bar_lo, bar_hi) = (flange_z - 0.025, flange_z);
         let overlap = (pad_z + 0.01875).min(bar_hi) - (pad_z - 0.01875).max(bar_lo);
-        let patches = pad_patches(&part, &flange, &grip);
+        let patches = pad_patches(&part, &pregrasp_robot::Gripper::default(), &flange, &grip);
         for (k, patch) in patches.iter().enumerate() {
             let patch = patch.expect("the pad bears on the bar");
             let area = 0.022 * overlap;

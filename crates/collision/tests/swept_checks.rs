@@ -352,7 +352,7 @@ fn a_base_joint_turn_is_not_vertical_motion() {
     let h = height(&q);
     let state = WorldState::new([q, q]);
     assert!(world.check(&state).is_ok());
-    let radii = group_sweep_radii(UrModel::Ur5e, &Gripper2F85::default());
+    let radii = group_sweep_radii(UrModel::Ur5e, &Gripper2F85::default().into());
     let pan = 0.06;
     let sweep = radii[0][7] * pan;
     assert!(

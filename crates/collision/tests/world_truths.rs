@@ -146,8 +146,8 @@ fn arm_through_a_frame_opening_is_free_through_its_bar_collides() {
 #[test]
 fn gripper_may_touch_the_bar_it_grasps_only_with_the_grasp_flag() {
     let mut arms = two_arms();
-    arms[0].gripper = Gripper2F85::default();
-    let g = arms[0].gripper;
+    arms[0].gripper = Gripper2F85::default().into();
+    let g = arms[0].gripper.clone();
     // A 30 mm square bar along the finger-width axis (flange y), centred on the power point.
     let bar = box_mesh(Point3::origin(), Vector3::new(0.015, 0.15, 0.015), 1);
     let world = CollisionWorld::new(-1.0, Some(&bar), arms);
@@ -277,7 +277,7 @@ fn arm_validity_rejects_limits_and_contacts() {
     assert!(!v.is_valid(&beyond));
     let space = joint_space(&world.arms()[0]);
     assert_eq!(space.upper[2], UrModel::Ur5e.joint_limits()[2].1);
-    let radii = pregrasp_robot::joint_sweep_radii(UrModel::Ur5e, &Gripper2F85::default());
+    let radii = pregrasp_robot::joint_sweep_radii(UrModel::Ur5e, &Gripper2F85::default().into());
     assert_eq!(space.weights, radii);
 }
 

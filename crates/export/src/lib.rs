@@ -249,9 +249,10 @@ pub fn export_at(
                 let arms = file
                     .arm_descriptions(plan_path)
                     .map_err(ExportError::Plan)?;
+                let grippers = file.grippers(plan_path).map_err(ExportError::Plan)?;
                 out.push(OutFile {
                     name: "plan.glb".into(),
-                    bytes: gltf::export(&timeline, mesh, &arms)?,
+                    bytes: gltf::export(&timeline, mesh, &arms, &grippers)?,
                 });
             }
         }

@@ -29,7 +29,8 @@ pub struct GripEvent {
     pub close: bool,
     /// For a close: the segment's `grip_width` (m), when the plan gives it.
     pub width: Option<f64>,
-    /// For a close: where the fingers stop on the part, when the plan gives it.
+    /// For a close: where the 2F-85's fingers stop on the part, when the plan gives it (a jaw
+    /// gripper's stop is its `width`).
     pub fingers: Option<GripperState>,
     /// The segment the command belongs to.
     pub segment: usize,
@@ -255,7 +256,12 @@ impl Timeline {
                     t: points.last().expect("non-empty").0,
                     close: true,
                     width: seg.grip_width,
-                    fingers: seg.held_fingers(),
+                    fingers: seg.fingers.as_ref().map(|f| {
+                        GripperState::Closed(pregrasp_robot::FingerPair {
+                            driver: f.driver,
+                            spring_link: f.spring_link,
+                        })
+                    }),
                     segment: si,
                 });
             }

@@ -4,8 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use pregrasp_robot::ArmDescription;
-use pregrasp_urdf::{describe_arm, GeometryOptions, UrdfArm};
+use pregrasp_robot::{ArmDescription, Gripper, Gripper2F85};
+use pregrasp_urdf::{describe_arm, describe_gripper, GeometryOptions, UrdfArm};
 
 use crate::plan_file::{PlanFile, RobotJson, RobotModel};
 
@@ -29,6 +29,64 @@ impl PlanFile {
             |i: usize| arm_of(&self.robots[i], &scene).map_err(|e| format!("robots[{i}]: {e}"));
         Ok([one(0)?, one(1)?])
     }
+
+    /// Both arms' grippers, with the file's tool points: the Robotiq 2F-85, or (`gripper =
+    /// "urdf"`) the jaws of the robot's description, found as [`PlanFile::arm_descriptions`]
+    /// finds it.
+    pub fn grippers(&self, plan_path: Option<&Path>) -> Result<[Gripper; 2], String> {
+        if self.robots.len() != 2 {
+            return Err(format!("expected 2 robots, found {}", self.robots.len()));
+        }
+        let scene = match plan_path {
+            Some(p) => self.scene_path(p),
+            None => PathBuf::from(&self.scene.file),
+        };
+        let one =
+            |i: usize| gripper_of(&self.robots[i], &scene).map_err(|e| format!("robots[{i}]: {e}"));
+        Ok([one(0)?, one(1)?])
+    }
+}
+
+/// The gripper of one `robots[]` entry; `scene` locates its description.
+pub fn gripper_of(robot: &RobotJson, scene: &Path) -> Result<Gripper, String> {
+    let (precision, power) = (robot.precision_point.xyz[2], robot.power_point.xyz[2]);
+    match robot.gripper.as_deref() {
+        None | Some("robotiq_2f85") => Ok(Gripper2F85 {
+            precision_point_z: precision,
+            power_point_z: power,
+        }
+        .into()),
+        Some("urdf") => {
+            let Some(urdf) = &robot.urdf else {
+                return Err("gripper is \"urdf\" but the robot names no description".into());
+            };
+            let arm = UrdfArm::load(
+                &description_path(scene, &urdf.file),
+                Some(&urdf.base_link),
+                Some(&urdf.tool_link),
+            )
+            .map_err(|e| e.to_string())?;
+            let jaws = describe_gripper(
+                &arm,
+                Some(precision),
+                Some(power),
+                &GeometryOptions::default(),
+            )
+            .map_err(|e| e.to_string())?;
+            Ok(Gripper::Jaws(std::sync::Arc::new(jaws)))
+        }
+        Some(other) => Err(format!(
+            "unknown gripper {other:?} (expected \"robotiq_2f85\" or \"urdf\")"
+        )),
+    }
+}
+
+/// The path of a description `file` named relative to the folder of `scene`.
+fn description_path(scene: &Path, file: &str) -> PathBuf {
+    match scene.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir.join(file),
+        _ => PathBuf::from(file),
+    }
 }
 
 /// The arm of one `robots[]` entry; `scene` locates its description.
@@ -39,10 +97,7 @@ fn arm_of(robot: &RobotJson, scene: &Path) -> Result<ArmDescription, String> {
             let Some(urdf) = &robot.urdf else {
                 return Err("model is \"urdf\" but the robot names no description (urdf)".into());
             };
-            let path = match scene.parent() {
-                Some(dir) if !dir.as_os_str().is_empty() => dir.join(&urdf.file),
-                _ => PathBuf::from(&urdf.file),
-            };
+            let path = description_path(scene, &urdf.file);
             let arm = UrdfArm::load(&path, Some(&urdf.base_link), Some(&urdf.tool_link))
                 .map_err(|e| e.to_string())?;
             let held: Vec<(&str, f64)> = urdf.held.iter().map(|(j, v)| (j.as_str(), *v)).collect();

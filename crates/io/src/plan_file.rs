@@ -141,6 +141,10 @@ pub struct RobotJson {
     /// The robot description the arm was read from, when the scene names one (extension).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub urdf: Option<UrdfJson>,
+    /// The gripper (extension): `"urdf"` for the jaw gripper of the description in `urdf`;
+    /// absent for the Robotiq 2F-85.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gripper: Option<String>,
 }
 
 /// `robots[].urdf`: the scene's robot description of the arm (paths as the scene wrote them,
@@ -323,16 +327,20 @@ pub struct PadContactJson {
 }
 
 impl SegmentJson {
-    /// The gripper state this segment holds the part with, as the file records it: its
-    /// `fingers`, else the parallel closing at its `grip_width`; `None` if it records neither.
-    pub fn held_fingers(&self) -> Option<pregrasp_robot::GripperState> {
+    /// The state `gripper` holds the part with in this segment, as the file records it: its
+    /// `fingers` (the 2F-85's), else `gripper` closed in parallel to its `grip_width`; `None`
+    /// if it records neither.
+    pub fn held_fingers(
+        &self,
+        gripper: &pregrasp_robot::Gripper,
+    ) -> Option<pregrasp_robot::GripperState> {
         use pregrasp_robot::{FingerPair, GripperState};
         match (&self.fingers, self.grip_width) {
             (Some(f), _) => Some(GripperState::Closed(FingerPair {
                 driver: f.driver,
                 spring_link: f.spring_link,
             })),
-            (None, Some(w)) => Some(GripperState::at_gap(w)),
+            (None, Some(w)) => Some(gripper.at_gap(w)),
             (None, None) => None,
         }
     }

@@ -13,7 +13,7 @@ use pregrasp_geometry::{ConvexHull, Mesh};
 use pregrasp_io::plan_file::PadContactJson;
 use pregrasp_io::scene::Scene;
 use pregrasp_motion::{JointSpace, MotionValidator};
-use pregrasp_robot::{wrap_angle, ArmKinematics, Gripper2F85, GripperState, Joints};
+use pregrasp_robot::{wrap_angle, ArmKinematics, GripperState, Joints};
 
 use crate::clock::StageClock;
 use crate::timeline::Moment;
@@ -211,8 +211,15 @@ impl<'a> PlanningContext<'a> {
         let world = world.with_held_fingers([&held(0), &held(1)]);
         let support_pad = |arm: usize| {
             let grip = grips.support[arm].as_ref().ok()?;
-            let point = world.arms()[arm].gripper.precision_point();
-            pad_contact(world.object()?, &scene.grasps.support, &point, grip)
+            let gripper = &world.arms()[arm].gripper;
+            let point = gripper.precision_point();
+            pad_contact(
+                world.object()?,
+                gripper,
+                &scene.grasps.support,
+                &point,
+                grip,
+            )
         };
         let first = support_pad(0);
         let same = holds_support_alike(world.arms());
@@ -236,7 +243,7 @@ impl<'a> PlanningContext<'a> {
     pub fn support_grip(&self, arm: usize) -> GripperState {
         self.grips.support[arm]
             .as_ref()
-            .map_or_else(|_| GripperState::fully_closed(), Grip::state)
+            .map_or_else(|_| self.arm(arm).gripper.fully_closed(), Grip::state)
     }
 
     /// The width arm `arm` holds G_s with (m; 0 where its grip does not close).
@@ -253,7 +260,7 @@ impl<'a> PlanningContext<'a> {
     pub fn power_grip(&self, arm: usize) -> GripperState {
         self.grips.power[arm]
             .as_ref()
-            .map_or_else(|_| GripperState::fully_closed(), Grip::state)
+            .map_or_else(|_| self.arm(arm).gripper.fully_closed(), Grip::state)
     }
 
     pub fn arm(&self, i: usize) -> &ArmModel {
@@ -380,10 +387,7 @@ pub fn distinct_ik(kin: &dyn ArmKinematics, flange: &Isometry3<f64>, seed: &Join
 /// The two arm models of a scene, in world.
 pub fn arm_models(scene: &Scene) -> [ArmModel; 2] {
     scene.robots.each_ref().map(|spec| {
-        let gripper = Gripper2F85 {
-            precision_point_z: spec.precision_point_z,
-            power_point_z: spec.power_point_z,
-        };
+        let gripper = spec.gripper_model();
         ArmModel::from_description(&spec.name, spec.arm.clone(), spec.base, gripper)
             .unwrap_or_else(|e| panic!("{e}"))
     })
@@ -404,19 +408,19 @@ pub fn grips(
 ) -> Grips {
     let object = world.object().expect("the world has the part");
     let gripper = |arm: usize| &world.arms()[arm].gripper;
-    let close = |grasp: &Isometry3<f64>, point: Isometry3<f64>| {
-        close_on_part(object, &(grasp * point.inverse()))
+    let close = |arm: usize, grasp: &Isometry3<f64>, point: Isometry3<f64>| {
+        close_on_part(object, gripper(arm), &(grasp * point.inverse()))
     };
     let support_at = |arm: usize| gripper(arm).precision_point();
     let alike = holds_support_alike(world.arms());
     // The closings are independent: run side by side (each answer is its own, so the result
     // does not depend on the threads).
-    let power_of = |arm: usize| close(&power[arm], gripper(arm).power_point());
+    let power_of = |arm: usize| close(arm, &power[arm], gripper(arm).power_point());
     let ((first, second), (p0, p1)) = rayon::join(
         || {
             rayon::join(
-                || close(support, support_at(0)),
-                || (!alike).then(|| close(support, support_at(1))),
+                || close(0, support, support_at(0)),
+                || (!alike).then(|| close(1, support, support_at(1))),
             )
         },
         || rayon::join(|| power_of(0), || power_of(1)),
@@ -433,12 +437,13 @@ pub fn grips(
 /// torsion radius, both areas. `None` unless both pads bear on it.
 pub fn pad_contact(
     object: &pregrasp_collision::ObjectGeometry,
+    gripper: &pregrasp_robot::Gripper,
     grasp: &Isometry3<f64>,
     point: &Isometry3<f64>,
     grip: &Grip,
 ) -> Option<PadContactJson> {
     let flange_in_object = grasp * point.inverse();
-    let [a, b] = pad_patches(object, &flange_in_object, grip);
+    let [a, b] = pad_patches(object, gripper, &flange_in_object, grip);
     let (a, b) = (a?, b?);
     let mid = point.inverse() * nalgebra::center(&a.center, &b.center);
     Some(PadContactJson {

@@ -8,7 +8,7 @@ use pregrasp_io::plan_file::{
     RobotJson, RobotModel, SceneRef, SegmentJson, SegmentName, UrdfJson, PLAN_FORMAT,
 };
 use pregrasp_io::scene::Scene;
-use pregrasp_robot::{Gripper2F85, GripperState, Joints};
+use pregrasp_robot::{GripperState, Joints};
 
 use crate::context::PlanningContext;
 use crate::paths::IntegratedPath;
@@ -20,10 +20,7 @@ use crate::timing::{scaled, time_along, CONTACT_SCALE};
 /// Everything of the plan file that does not depend on the planning result.
 pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String>) -> PlanFile {
     let robots = scene.robots.clone().map(|r| {
-        let gripper = Gripper2F85 {
-            precision_point_z: r.precision_point_z,
-            power_point_z: r.power_point_z,
-        };
+        let gripper = r.gripper_model();
         RobotJson {
             name: r.name.clone(),
             model: r.arm.ur.map_or(RobotModel::Described, RobotModel::Builtin),
@@ -42,6 +39,7 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
                 held: u.held.iter().cloned().collect(),
                 allow_collisions: u.allowed.clone(),
             }),
+            gripper: r.jaws.as_ref().map(|_| "urdf".to_string()),
         }
     });
     PlanFile {
@@ -88,13 +86,16 @@ fn points(q: &[Joints], t: &[f64]) -> Vec<PointJson> {
         .collect()
 }
 
-/// The fingers of a grip as the plan file records them.
-pub(crate) fn fingers_json(grip: GripperState) -> FingersJson {
-    let f = grip.fingers();
-    FingersJson {
+/// The fingers of a grip as the plan file records them: the 2F-85's joints (a jaw gripper's
+/// state is its `grip_width`).
+pub(crate) fn fingers_json(grip: GripperState) -> Option<FingersJson> {
+    let GripperState::Closed(f) = grip else {
+        return None;
+    };
+    Some(FingersJson {
         driver: f.driver,
         spring_link: f.spring_link,
-    }
+    })
 }
 
 pub(crate) fn reach_segment(
@@ -110,7 +111,7 @@ pub(crate) fn reach_segment(
         retreat_to: m.retreat_to,
         approach_from: Some(m.approach_from),
         grip_width: Some(grip_width),
-        fingers: Some(fingers_json(grip)),
+        fingers: fingers_json(grip),
         pad_contact: None,
         points: points(&m.q, &m.t),
     }
@@ -208,7 +209,7 @@ pub fn rot_segment(
         retreat_to: None,
         approach_from: None,
         grip_width: Some(ctx.support_width(pose.supportive)),
-        fingers: Some(fingers_json(ctx.support_grip(pose.supportive))),
+        fingers: fingers_json(ctx.support_grip(pose.supportive)),
         pad_contact: ctx.support_pads[pose.supportive],
         points,
     }

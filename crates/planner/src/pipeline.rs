@@ -192,7 +192,16 @@ pub fn plan(
     let hull = (!axes.hull.vertices.is_empty()).then_some(&axes.hull.vertices[..]);
     let arms = scene.robots.each_ref().map(|r| r.arm.clone());
     let part = ctx.world.part();
-    let checker = PlanChecker::sharing_part(&header, mesh, &arms, part, Some(&ctx.grips), hull);
+    let grippers = ctx.scene.robots.each_ref().map(|r| r.gripper_model());
+    let checker = PlanChecker::sharing_part(
+        &header,
+        mesh,
+        &arms,
+        &grippers,
+        part,
+        Some(&ctx.grips),
+        hull,
+    );
     let hold_check = HoldCheck::new(scene, &header, mesh, hull);
     let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose| {
         // The grip check reads μ_rot alone: Algorithm 3 asks it once a candidate's straight

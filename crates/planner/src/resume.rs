@@ -228,7 +228,7 @@ pub fn replan_remaining(
         }
     }
     rot_ran.grip_width = Some(ctx.support_width(sup));
-    rot_ran.fingers = Some(fingers_json(ctx.support_grip(sup)));
+    rot_ran.fingers = fingers_json(ctx.support_grip(sup));
     rot_ran.pad_contact = ctx.support_pads[sup];
     let mas1_segment: SegmentJson = match &mas1_motion {
         Some(m) => reach_segment(

@@ -1,6 +1,7 @@
 //! Arms that are not Universal Robots, read from their descriptions (issue 36): two Franka FR3
 //! (elbow joint `fr3_joint3` held at 0, the planner driving the other six) and two UFACTORY
-//! xArm6, each with the 2F-85 on its flange, plan the examples and pass the check; the plan
+//! xArm6, each with the 2F-85 on its flange, and two FR3 with the Franka Hand their description
+//! carries (`gripper = "urdf"`), plan the examples and pass the check; the plan
 //! file names the description, the held joint and the six driven joints; the same scene
 //! plans to the same bytes; μ_rot stays on one IK branch.
 
@@ -34,6 +35,13 @@ fn fr3() -> Arm {
     }
 }
 
+/// The FR3 with the Franka Hand its description carries (`gripper = "urdf"`).
+fn fr3_hand() -> Arm {
+    let mut arm = fr3();
+    arm.keys.push_str("\ngripper = \"urdf\"");
+    arm
+}
+
 fn xarm6() -> Arm {
     let urdf = root().join("data/robots/xarm6.urdf");
     Arm {
@@ -58,6 +66,12 @@ fn plan_with(name: &str, arm: &Arm, x: f64, y: f64) -> (PathBuf, Scene, PlanFile
                 "{}\nbase = {{ xyz = [{x}, {side}, 0.0] }}\nstart = {}\n",
                 arm.keys, arm.start
             ));
+        } else if arm.keys.contains("gripper =")
+            && ["gripper =", "precision_point_z", "power_point_z"]
+                .iter()
+                .any(|k| line.trim().starts_with(k))
+        {
+            // The arm brings its own gripper, and its tool points with it.
         } else {
             out.push_str(line);
             out.push('\n');
@@ -134,6 +148,41 @@ fn two_fr3_plan_the_three_examples_and_pass_the_check() {
         assert_eq!(urdf.held.get("fr3_joint3"), Some(&0.0));
         // The check finds the description from the plan file's scene, as `pregrasp check`.
         let path = std::env::temp_dir().join(format!("pregrasp-fr3-{name}.json"));
+        let check = pregrasp_planner::check::check_plan_at(&file, Some(&path), &mesh);
+        assert!(check.is_valid(), "{name}: {:?}", check.rules);
+    }
+}
+
+#[test]
+fn two_fr3_with_the_franka_hand_plan_the_three_examples_and_pass_the_check() {
+    // Where the UR5e stand, the stool's arms 10 cm nearer the part.
+    for (name, x) in [
+        ("chair_side", 0.0),
+        ("shelf_side", 0.0),
+        ("stool_side", 0.1),
+    ] {
+        let (_, _, file, mesh) = plan_with(name, &fr3_hand(), x, 0.45);
+        planned_and_valid(name, &file, &mesh, &FR3_JOINTS);
+        rotation_on_one_branch(name, &file);
+        for r in &file.robots {
+            assert_eq!(r.gripper.as_deref(), Some("urdf"));
+            // The tool points carry the hand's turn: x is the jaws' closing axis.
+            let q = r.precision_point.quat_xyzw;
+            let angle = 2.0 * q[2].atan2(q[3]);
+            assert!(
+                (angle - std::f64::consts::FRAC_PI_4).abs() < 1e-12,
+                "{angle}"
+            );
+        }
+        // Every closing is the jaws': a width, no 2F-85 finger joints.
+        for plan in &file.plans {
+            for seg in plan.segments.iter().filter(|s| s.grip_width.is_some()) {
+                assert!(seg.fingers.is_none(), "{name}: {}", seg.name);
+                let w = seg.grip_width.unwrap();
+                assert!(w > 0.0 && w < 0.08, "{name}: {} closes at {w} m", seg.name);
+            }
+        }
+        let path = std::env::temp_dir().join(format!("pregrasp-fr3-hand-{name}.json"));
         let check = pregrasp_planner::check::check_plan_at(&file, Some(&path), &mesh);
         assert!(check.is_valid(), "{name}: {:?}", check.rules);
     }

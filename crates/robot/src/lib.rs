@@ -1,10 +1,11 @@
 //! Robot models for pregrasp: Universal Robots arms (UR3e, UR5e, UR10e, UR16e, UR5) with
 //! standard-DH forward kinematics and analytic inverse kinematics, the Robotiq 2F-85
-//! gripper with its finger linkage, and collision shapes fitted to both (no margin in them).
+//! gripper with its finger linkage, parallel-jaw grippers from robot descriptions, and
+//! collision shapes fitted to them (no margin in them).
 //!
 //! Frames: every pose is in the arm's controller *Base* frame unless stated otherwise;
-//! the flange frame (tool0, DH frame 6) has z out of the flange, and the gripper frame is
-//! the flange frame. Units: metres, radians, seconds.
+//! the flange frame (tool0, DH frame 6) has z out of the flange; gripper shapes are given in
+//! it, and the tool points are frames in it whose x is the gripper's closing axis. Units: metres, radians, seconds.
 
 mod angle;
 mod arm;
@@ -30,7 +31,9 @@ pub use fingers::{
     linkage, FingerPair, FingerSolid, FingerSolids, FINGER_SHAPES, LINKS_PER_FINGER, SIDES,
 };
 pub use fk::UrKinematics;
-pub use gripper::{Gripper2F85, GripperState, GRIPPER_FRAME};
+pub use gripper::{
+    Gripper, Gripper2F85, GripperState, JawError, JawFace, JawGripper, JawPart, GRIPPER_FRAME,
+};
 pub use ik::{joint_distance, IkSolutions, IK_RESIDUAL_TOL};
 pub use linkage::{FingerConfig, FingerLinkage, LinkageLimits, PlanarPose, FINGER_LINKS};
 pub use links::{

@@ -5,7 +5,7 @@
 
 use crate::arm::{ArmDescription, ArmKinematics};
 use crate::fk::UrKinematics;
-use crate::gripper::Gripper2F85;
+use crate::gripper::Gripper;
 use crate::links::{arm_geometry, ArmGeometry, SHAPE_GROUPS};
 use crate::model::{Joints, UrModel};
 
@@ -15,7 +15,7 @@ use crate::model::{Joints, UrModel};
 /// `Σ radius_i·|Δq_i|` bounds any point's displacement.
 ///
 /// The largest of [`group_sweep_radii`] over the shape groups.
-pub fn joint_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> Joints {
+pub fn joint_sweep_radii(model: UrModel, gripper: &Gripper) -> Joints {
     largest_per_joint(&group_sweep_radii(model, gripper))
 }
 
@@ -35,7 +35,7 @@ pub fn largest_per_joint(groups: &[[f64; SHAPE_GROUPS]; 6]) -> Joints {
 /// frame f ≥ i is within `Σ_{j=i..f} √(a_j² + d_j²)` (origin-to-origin link offsets) plus
 /// the shape's largest distance from its own frame origin (its exact pieces' slack included).
 /// Frames a joint does not move get 0.
-pub fn group_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> [[f64; SHAPE_GROUPS]; 6] {
+pub fn group_sweep_radii(model: UrModel, gripper: &Gripper) -> [[f64; SHAPE_GROUPS]; 6] {
     cached(model.name(), gripper, || {
         let offsets = ArmKinematics::frame_offsets(&UrKinematics::new(model));
         compute_group_sweep_radii(&offsets, &arm_geometry(model), gripper)
@@ -45,10 +45,7 @@ pub fn group_sweep_radii(model: UrModel, gripper: &Gripper2F85) -> [[f64; SHAPE_
 /// [`group_sweep_radii`] of any arm: joint `i`'s axis passes through the origin of frame `i`
 /// ([`ArmKinematics`]'s frames), so the origin-to-origin distances
 /// [`ArmKinematics::frame_offsets`] take the place of the DH link offsets.
-pub fn group_sweep_radii_of(
-    arm: &ArmDescription,
-    gripper: &Gripper2F85,
-) -> [[f64; SHAPE_GROUPS]; 6] {
+pub fn group_sweep_radii_of(arm: &ArmDescription, gripper: &Gripper) -> [[f64; SHAPE_GROUPS]; 6] {
     cached(&arm.key, gripper, || {
         compute_group_sweep_radii(&arm.kin.frame_offsets(), &arm.geometry, gripper)
     })
@@ -56,14 +53,15 @@ pub fn group_sweep_radii_of(
 
 /// The radii of the arm named `key` with `gripper`, computed by `compute` once per process
 /// (every opening's shapes are posed).
-fn cached(key: &str, gripper: &Gripper2F85, compute: impl FnOnce() -> GroupRadii) -> GroupRadii {
-    type Key = (String, u64, u64);
+fn cached(key: &str, gripper: &Gripper, compute: impl FnOnce() -> GroupRadii) -> GroupRadii {
+    type Key = (String, String, u64, u64);
     static CACHE: std::sync::OnceLock<std::sync::Mutex<Vec<(Key, GroupRadii)>>> =
         std::sync::OnceLock::new();
     let key = (
         key.to_string(),
-        gripper.precision_point_z.to_bits(),
-        gripper.power_point_z.to_bits(),
+        gripper.shape_key().to_string(),
+        gripper.precision_point_z().to_bits(),
+        gripper.power_point_z().to_bits(),
     );
     let cache = CACHE.get_or_init(Default::default);
     if let Some((_, r)) = cache
@@ -88,7 +86,7 @@ type GroupRadii = [[f64; SHAPE_GROUPS]; 6];
 fn compute_group_sweep_radii(
     offsets: &[f64; 6],
     geometry: &ArmGeometry,
-    gripper: &Gripper2F85,
+    gripper: &Gripper,
 ) -> GroupRadii {
     let mut reach_in_group = [0.0f64; SHAPE_GROUPS];
     for shape in &geometry.links {
@@ -98,9 +96,9 @@ fn compute_group_sweep_radii(
     // Every finger pose (the fingers move on arcs: an intermediate one may reach farthest).
     let states = gripper.sample_states();
     let mut reach_gripper = gripper
-        .precision_point_z
+        .precision_point_z()
         .abs()
-        .max(gripper.power_point_z.abs());
+        .max(gripper.power_point_z().abs());
     for state in states {
         for shape in gripper.shapes(state) {
             let r = shape.primitive.max_origin_distance() + shape.pieces.map_or(0.0, |p| p.slack);

@@ -492,7 +492,7 @@ fn sweep_radii_bound_point_displacement() {
     let mut rng = ChaCha8Rng::seed_from_u64(9);
     for model in UrModel::ALL {
         let kin = UrKinematics::new(model);
-        let radii = joint_sweep_radii(model, &g);
+        let radii = joint_sweep_radii(model, &g.into());
         assert!(
             radii.windows(2).all(|w| w[0] >= w[1] - 1e-12),
             "{model}: {radii:?}"
@@ -549,7 +549,7 @@ fn sweep_radii_bound_point_displacement() {
                 }
             }
         }
-        let groups = group_sweep_radii(model, &g);
+        let groups = group_sweep_radii(model, &g.into());
         let flange = flange_sweep_radii(model);
         for _ in 0..200 {
             let q: Joints = std::array::from_fn(|_| rng.random_range(-PI..PI));

@@ -205,6 +205,16 @@ pub enum UrdfError {
         /// The links that could serve.
         candidates: Vec<String>,
     },
+    /// The links below the tool link are not a parallel-jaw gripper the planner can model.
+    #[error("{file}: below tool link `{tool_link}`: {reason}")]
+    NotAJawGripper {
+        /// The source.
+        file: String,
+        /// The tool link.
+        tool_link: String,
+        /// What is missing or not supported.
+        reason: String,
+    },
     /// No link of the arm has collision geometry: the planner cannot keep it clear.
     #[error(
         "{file}: no link of the arm {chain} has a <collision> element; the planner needs the \

@@ -37,6 +37,7 @@ pub mod chain;
 mod describe;
 mod error;
 pub mod geometry;
+mod gripper;
 pub mod ik;
 pub mod kinematics;
 mod lock;
@@ -55,6 +56,7 @@ pub use error::UrdfError;
 pub use geometry::{
     CacheDir, CacheOutcome, GeometryOptions, LinkPieces, Loaded, SelfCollisionOptions, UrdfGeometry,
 };
+pub use gripper::describe_gripper;
 pub use ik::{joint_distance, IkOptions, NearestOptions};
 pub use kinematics::{pose_distance, pose_error, rotation_vector};
 pub use model::{Mimic, UrdfModel};

@@ -5,7 +5,7 @@
 use pregrasp_geometry::{ConvexHull, Mesh};
 use pregrasp_io::plan_file::{GraspKind, PlanFile, PoseJson, RobotJson};
 use pregrasp_robot::{
-    arm_geometry, ArmDescription, Gripper2F85, GripperState, Joints, LinkShape, Primitive,
+    arm_geometry, ArmDescription, Gripper, Gripper2F85, GripperState, Joints, LinkShape, Primitive,
     UrKinematics,
 };
 use serde::Serialize;
@@ -189,10 +189,17 @@ impl<'a> ViewData<'a> {
             robots: {
                 // Arms from a robot description are loaded as `check` loads them.
                 let arms = plan.arm_descriptions(options.plan_path.as_deref()).ok();
+                let grippers = plan.grippers(options.plan_path.as_deref()).ok();
                 plan.robots
                     .iter()
                     .enumerate()
-                    .map(|(i, r)| robot_model(r, plan, arms.as_ref().map(|a| &a[i])))
+                    .map(|(i, r)| {
+                        let gripper = match &grippers {
+                            Some(g) => g[i].clone(),
+                            None => gripper_of(r),
+                        };
+                        robot_model(r, plan, arms.as_ref().map(|a| &a[i]), &gripper)
+                    })
                     .collect()
             },
         }
@@ -238,16 +245,22 @@ fn feature_edges(hull: &ConvexHull) -> Vec<[f32; 6]> {
         .collect()
 }
 
-/// The 2F-85 as the plan file configures it (precision and power points on flange z).
-pub fn gripper_of(robot: &RobotJson) -> Gripper2F85 {
+/// The 2F-85 as the plan file configures it (precision and power points on flange z): the
+/// gripper drawn when the file's own cannot be loaded.
+pub fn gripper_of(robot: &RobotJson) -> Gripper {
     Gripper2F85 {
         precision_point_z: robot.precision_point.xyz[2],
         power_point_z: robot.power_point.xyz[2],
     }
+    .into()
 }
 
-fn robot_model(robot: &RobotJson, plan: &PlanFile, arm: Option<&ArmDescription>) -> RobotModelJson {
-    let gripper = gripper_of(robot);
+fn robot_model(
+    robot: &RobotJson,
+    plan: &PlanFile,
+    arm: Option<&ArmDescription>,
+    gripper: &Gripper,
+) -> RobotModelJson {
     let shapes = |state| gripper.shapes(state).iter().map(ShapeJson::from).collect();
     // The fingers this robot holds the part with, as the plans record them.
     let held = |grasp: GraspKind| {
@@ -255,11 +268,11 @@ fn robot_model(robot: &RobotJson, plan: &PlanFile, arm: Option<&ArmDescription>)
             .iter()
             .flat_map(|p| &p.segments)
             .filter(|s| s.robot == robot.name && s.grasp == grasp)
-            .find_map(|s| s.held_fingers())
+            .find_map(|s| s.held_fingers(gripper))
     };
     let grippers = GripperShapesJson {
         open: shapes(GripperState::Open),
-        closed: shapes(GripperState::fully_closed()),
+        closed: shapes(gripper.fully_closed()),
         closed_precision: held(GraspKind::Support).map(shapes),
         closed_power: held(GraspKind::Power).map(shapes),
     };

@@ -109,6 +109,7 @@ fn robot(name: &str, x: f64, start: Joints) -> RobotJson {
         precision_point: PoseJson::from(&g.precision_point()),
         power_point: PoseJson::from(&g.power_point()),
         urdf: None,
+        gripper: None,
     }
 }
 

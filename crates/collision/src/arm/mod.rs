@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use nalgebra::Isometry3;
 use pregrasp_robot::{
-    flange_sweep_radii_of, group_sweep_radii_of, ArmDescription, ArmKinematics, Gripper2F85,
+    flange_sweep_radii_of, group_sweep_radii_of, ArmDescription, ArmKinematics, Gripper,
     GripperState, Joints, LinkShape, Primitive, UrModel, SHAPE_GROUPS,
 };
 
@@ -83,7 +83,7 @@ pub(crate) struct GripperPose {
 }
 
 impl GripperPose {
-    fn new(gripper: &Gripper2F85, state: GripperState) -> Self {
+    fn new(gripper: &Gripper, state: GripperState) -> Self {
         let mut prims = Vec::with_capacity(gripper.shape_count());
         gripper.for_each_shape(state, |_, _, p| prims.push(p));
         GripperPose {
@@ -103,7 +103,8 @@ use posed::place;
 pub(crate) use posed::{Local, PosedArm};
 
 /// An arm in the world: an arm ([`ArmDescription`]: a built-in UR model or one from a robot
-/// description) at `base` with a Robotiq 2F-85 on its flange.
+/// description) at `base` with a gripper on its flange (the Robotiq 2F-85, or a jaw gripper
+/// from a description).
 ///
 /// Frames: `base` maps the arm's base frame into the world; link primitives live in the
 /// frames of [`ArmKinematics::fk_frames`] (the DH frames of a UR) and gripper primitives in
@@ -119,7 +120,7 @@ pub struct ArmModel {
     /// Arm base frame in the world.
     pub base: Isometry3<f64>,
     /// The gripper on the flange.
-    pub gripper: Gripper2F85,
+    pub gripper: Gripper,
     shapes: ShapeSet,
 }
 
@@ -129,7 +130,12 @@ impl ArmModel {
     /// # Panics
     /// If the robot model has more than [`MAX_ARM_SHAPES`] primitives (a programming error in
     /// the built-in geometry); [`ArmModel::try_new`] reports it instead.
-    pub fn new(name: &str, model: UrModel, base: Isometry3<f64>, gripper: Gripper2F85) -> Self {
+    pub fn new(
+        name: &str,
+        model: UrModel,
+        base: Isometry3<f64>,
+        gripper: impl Into<Gripper>,
+    ) -> Self {
         match Self::try_new(name, model, base, gripper) {
             Ok(arm) => arm,
             Err(e) => panic!("{e}"),
@@ -141,7 +147,7 @@ impl ArmModel {
         name: &str,
         model: UrModel,
         base: Isometry3<f64>,
-        gripper: Gripper2F85,
+        gripper: impl Into<Gripper>,
     ) -> Result<Self, CollisionError> {
         Self::from_description(name, ArmDescription::ur(model), base, gripper)
     }
@@ -151,10 +157,11 @@ impl ArmModel {
         name: &str,
         description: ArmDescription,
         base: Isometry3<f64>,
-        gripper: Gripper2F85,
+        gripper: impl Into<Gripper>,
     ) -> Result<Self, CollisionError> {
+        let gripper: Gripper = gripper.into();
         let geometry = &*description.geometry;
-        let forbidden = Gripper2F85::forbidden_arm_links(geometry);
+        let forbidden = Gripper::forbidden_arm_links(geometry);
         let grip: Vec<LinkShape> = gripper.shapes(GripperState::Open);
         let n_links = geometry.links.len();
         let count = n_links + grip.len();

@@ -5,41 +5,58 @@ use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use nalgebra::Isometry3;
-use pregrasp_robot::{Gripper2F85, LinkShape};
+use pregrasp_robot::{Gripper, LinkShape};
 
 use crate::shape::Bounded;
 use crate::tight::Tight;
 
 use super::posed::place;
 
-/// The exact pieces of the gripper's shapes (shared by every arm).
-pub(super) fn gripper_tight(gripper: &Gripper2F85) -> Arc<Vec<Option<Tight>>> {
-    static TIGHT: OnceLock<Arc<Vec<Option<Tight>>>> = OnceLock::new();
-    TIGHT
-        .get_or_init(|| {
-            let mut tight: Vec<Option<Tight>> = (0..gripper.static_count()).map(|_| None).collect();
-            tight.extend(
-                gripper
-                    .finger_solids()
-                    .links
-                    .iter()
-                    .map(|s| Tight::new(&s.pieces)),
-            );
-            Arc::new(tight)
-        })
+/// The exact pieces of the gripper's shapes (shared by every arm with that gripper).
+pub(super) fn gripper_tight(gripper: &Gripper) -> Arc<Vec<Option<Tight>>> {
+    type ByGripper = BTreeMap<String, Arc<Vec<Option<Tight>>>>;
+    static TIGHT: OnceLock<Mutex<ByGripper>> = OnceLock::new();
+    let cache = TIGHT.get_or_init(Default::default);
+    let key = gripper.shape_key();
+    if let Some(t) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(key) {
+        return t.clone();
+    }
+    let tight: Arc<Vec<Option<Tight>>> = Arc::new(
+        gripper
+            .shape_pieces()
+            .into_iter()
+            .map(|p| p.and_then(Tight::new))
+            .collect(),
+    );
+    cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .entry(key.to_string())
+        .or_insert(tight)
         .clone()
 }
 
 /// A sphere around the gripper at every opening: centre on the flange axis, radius covering
 /// every shape's bounding sphere at 65 openings from closed to open, plus 1 mm for the motion
 /// between them (the fingers move less than that between neighbouring samples' spheres).
-pub(super) fn gripper_sphere(gripper: &Gripper2F85) -> (nalgebra::Point3<f64>, f64) {
-    // The shapes (not the precision and power points) decide it: the same for every gripper.
-    static SPHERE: OnceLock<(nalgebra::Point3<f64>, f64)> = OnceLock::new();
-    *SPHERE.get_or_init(|| gripper_sphere_of(gripper))
+pub(super) fn gripper_sphere(gripper: &Gripper) -> (nalgebra::Point3<f64>, f64) {
+    // The shapes (not the precision and power points) decide it.
+    type Sphere = (nalgebra::Point3<f64>, f64);
+    static SPHERE: OnceLock<Mutex<BTreeMap<String, Sphere>>> = OnceLock::new();
+    let cache = SPHERE.get_or_init(Default::default);
+    let key = gripper.shape_key();
+    if let Some(s) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(key) {
+        return *s;
+    }
+    let sphere = gripper_sphere_of(gripper);
+    cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(key.to_string(), sphere);
+    sphere
 }
 
-pub(super) fn gripper_sphere_of(gripper: &Gripper2F85) -> (nalgebra::Point3<f64>, f64) {
+pub(super) fn gripper_sphere_of(gripper: &Gripper) -> (nalgebra::Point3<f64>, f64) {
     let center = nalgebra::Point3::new(0.0, 0.0, 0.09);
     let mut radius: f64 = 0.0;
     let states = gripper.sample_states();

@@ -14,13 +14,14 @@ use std::sync::{Arc, OnceLock};
 
 use nalgebra::{Isometry3, Point3};
 use pregrasp_robot::{
-    close_fingers_traced, linkage, ClosingKind, FingerConfig, FingerPair, FingerSolids,
+    close_fingers_traced, linkage, ClosingKind, FingerConfig, FingerPair, FingerSolids, Gripper,
     GripperState, COUPLER, DRIVER, FINGER_LINKS, FOLLOWER, LINKS_PER_FINGER, PAD, SPRING_LINK,
 };
 
 use crate::closing::{FingerShapes, PartClosing};
 use crate::object::ObjectGeometry;
 
+mod jaws;
 mod patches;
 
 pub use patches::{pad_patches, PadPatch, PATCH_DEPTH, PATCH_STEP};
@@ -71,10 +72,13 @@ pub enum GripFailure {
 #[derive(Clone, Debug)]
 pub struct Grip {
     /// Where the fingers stopped.
-    pub fingers: FingerPair,
+    state: GripperState,
+    /// The width held: the pad (jaw) faces' distance (m).
+    width: f64,
     /// How each finger's closing ended, `[+x, −x]`.
     pub kinds: [ClosingKind; 2],
-    /// The finger links in every pose of the closing, by planes `y = const` (in G).
+    /// The finger links in every pose of the closing, by planes `y = const` (in G); for a
+    /// jaw gripper, its jaws open and closed (they translate: their hull holds every pose).
     swept: Arc<Vec<Level>>,
     /// The levels' points `(x, z)`, pose after pose ([`SweptPoints`]).
     points: Arc<SweptPoints>,
@@ -84,19 +88,24 @@ pub struct Grip {
 
 impl PartialEq for Grip {
     fn eq(&self, other: &Grip) -> bool {
-        self.fingers == other.fingers && self.kinds == other.kinds
+        self.state == other.state && self.kinds == other.kinds
     }
 }
 
 impl Grip {
     /// The gripper state holding the part.
     pub fn state(&self) -> GripperState {
-        GripperState::Closed(self.fingers)
+        self.state
+    }
+
+    /// The 2F-85's finger joints where they stopped (a jaw grip: the open pair).
+    pub fn fingers(&self) -> FingerPair {
+        self.state.fingers()
     }
 
     /// The width held: distance between the pad faces' centres (m).
     pub fn width(&self) -> f64 {
-        self.fingers.gap()
+        self.width
     }
 
     /// The grasp's kind: a pinch unless a finger wrapped the part.
@@ -512,9 +521,21 @@ fn link_name(link: usize) -> &'static str {
         .map_or(FINGER_LINKS[link.min(4)], |s| s.name)
 }
 
-/// Closes the gripper on the part with its flange at `flange_in_object` (flange → object
+/// Closes `gripper` on the part with its flange at `flange_in_object` (flange → object
 /// frame): the [`Grip`], or why it cannot hold the part there.
 pub fn close_on_part(
+    object: &ObjectGeometry,
+    gripper: &Gripper,
+    flange_in_object: &Isometry3<f64>,
+) -> Result<Grip, GripFailure> {
+    match gripper {
+        Gripper::Robotiq2F85(_) => close_2f85(object, flange_in_object),
+        Gripper::Jaws(jaws) => jaws::close_jaws(object, jaws, flange_in_object),
+    }
+}
+
+/// [`close_on_part`] for the 2F-85.
+fn close_2f85(
     object: &ObjectGeometry,
     flange_in_object: &Isometry3<f64>,
 ) -> Result<Grip, GripFailure> {
@@ -551,8 +572,10 @@ pub fn close_on_part(
     let configs = [result[0].config, result[1].config];
     sweep.add(&configs);
     let (swept, points) = sweep.finish();
+    let fingers = FingerPair::from_configs(&configs);
     Ok(Grip {
-        fingers: FingerPair::from_configs(&configs),
+        state: GripperState::Closed(fingers),
+        width: fingers.gap(),
         kinds: [result[0].kind, result[1].kind],
         links: Arc::new(link_sweeps(&swept)),
         swept: Arc::new(swept),

@@ -31,7 +31,7 @@ use json::validation::{Checked::Valid, USize64};
 use json::Index;
 use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
 use pregrasp_geometry::Mesh;
-use pregrasp_robot::{ArmDescription, Gripper2F85, GripperState};
+use pregrasp_robot::{ArmDescription, Gripper, GripperState};
 
 use crate::timeline::Timeline;
 use crate::ExportError;
@@ -227,8 +227,9 @@ pub fn export(
     timeline: &Timeline,
     mesh: &Mesh,
     arms: &[ArmDescription],
+    grippers: &[Gripper],
 ) -> Result<Vec<u8>, ExportError> {
-    if arms.len() != timeline.arms.len() {
+    if arms.len() != timeline.arms.len() || grippers.len() != arms.len() {
         return Err(ExportError::Plan(format!(
             "{} arm models for {} arms",
             arms.len(),
@@ -295,7 +296,6 @@ pub fn export(
     b.add_child(world, part);
 
     // Arms.
-    let gripper = Gripper2F85::default();
     let times = key_times(timeline);
     let input_data: Vec<f32> = times.iter().map(|x| *x as f32).collect();
     if input_data.windows(2).any(|w| w[1] <= w[0]) {
@@ -335,6 +335,7 @@ pub fn export(
 
     for (ai, arm) in timeline.arms.iter().enumerate() {
         let geometry = &arms[ai].geometry;
+        let gripper = &grippers[ai];
         let steps = arms[ai].kin.chain_steps();
         // A built-in arm's link shapes are what it looks like; an arm from a robot
         // description is drawn by its pieces (its shapes are their boxes).
@@ -410,7 +411,10 @@ pub fn export(
         // Grippers under the flange: open, and one per segment that closes it.
         let mut variants: Vec<(Option<usize>, GripperState)> = vec![(None, GripperState::Open)];
         for e in arm.grip.iter().filter(|e| e.close) {
-            let held = e.fingers.unwrap_or_else(GripperState::fully_closed);
+            let held = e
+                .fingers
+                .or_else(|| e.width.map(|w| gripper.at_gap(w)))
+                .unwrap_or_else(|| gripper.fully_closed());
             variants.push((Some(e.segment), held));
         }
         for (seg, state) in &variants {

@@ -4,7 +4,9 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::Isometry3;
 use pregrasp_robot::ArmDescription;
-use pregrasp_urdf::{describe_arm, GeometryOptions, UrdfArm, UrdfError, UR_MATCH_TOLERANCE};
+use pregrasp_urdf::{
+    describe_arm, describe_gripper, GeometryOptions, UrdfArm, UrdfError, UR_MATCH_TOLERANCE,
+};
 
 use super::raw::Str;
 use super::validate::Cx;
@@ -110,5 +112,21 @@ impl Cx {
             tool_link: arm.tool_link,
         };
         Ok((urdf, ArmDescription::ur(ur.model), ur.base))
+    }
+
+    /// The jaw gripper below the tool link of the description `urdf` names, its tool points at
+    /// `precision` and `power` (flange `z`; defaults: the jaws' faces' middle). Errors at `at`.
+    pub(super) fn urdf_jaws(
+        &self,
+        urdf: &UrdfRef,
+        precision: Option<f64>,
+        power: Option<f64>,
+        at: &str,
+    ) -> Result<std::sync::Arc<pregrasp_robot::JawGripper>, SceneError> {
+        let arm = UrdfArm::load(&urdf.path, Some(&urdf.base_link), Some(&urdf.tool_link))
+            .map_err(|e| self.err(at, e.to_string()))?;
+        describe_gripper(&arm, precision, power, &GeometryOptions::default())
+            .map(std::sync::Arc::new)
+            .map_err(|e| self.err(at, e.to_string()))
     }
 }

@@ -34,8 +34,9 @@ use crate::plan_file::PlannerJson;
 
 /// The robot models with built-in kinematics and geometry.
 pub const ROBOT_MODELS: [&str; 5] = ["ur3e", "ur5e", "ur10e", "ur16e", "ur5"];
-/// The grippers with built-in geometry.
-pub const GRIPPERS: [&str; 1] = ["robotiq_2f85"];
+/// The grippers: the built-in Robotiq 2F-85, or (`"urdf"`, only with `urdf`) the parallel-jaw
+/// gripper the robot description carries below its tool link.
+pub const GRIPPERS: [&str; 2] = ["robotiq_2f85", "urdf"];
 /// Flange-to-precision-point distance of the Robotiq 2F-85 (m).
 pub const DEFAULT_PRECISION_POINT_Z: f64 = 0.150;
 /// Flange-to-power-point distance of the Robotiq 2F-85 (m).
@@ -121,10 +122,26 @@ pub struct RobotSpec {
     pub start: [f64; 6],
     /// One of [`GRIPPERS`].
     pub gripper: String,
+    /// The description's jaw gripper (`gripper = "urdf"`), its tool points those below.
+    pub jaws: Option<std::sync::Arc<pregrasp_robot::JawGripper>>,
     /// Flange-to-precision-point distance along flange `z` (m).
     pub precision_point_z: f64,
     /// Flange-to-power-point distance along flange `z` (m).
     pub power_point_z: f64,
+}
+
+impl RobotSpec {
+    /// The gripper on the flange, with this robot's tool points.
+    pub fn gripper_model(&self) -> pregrasp_robot::Gripper {
+        match &self.jaws {
+            Some(j) => pregrasp_robot::Gripper::Jaws(j.clone()),
+            None => pregrasp_robot::Gripper2F85 {
+                precision_point_z: self.precision_point_z,
+                power_point_z: self.power_point_z,
+            }
+            .into(),
+        }
+    }
 }
 
 /// A `[[robot]]`'s robot description: the URDF and the links the arm runs between, resolved

@@ -105,6 +105,15 @@ impl Cx {
         let name = &robots[1].name;
         let message = format!("duplicate robot name {name:?}");
         self.ensure(robots[0].name != *name, "robot[1].name", message)?;
+        // The grasp search models the 2F-85's fingers (their sites and open links).
+        let jaws = robots.iter().position(|r| r.jaws.is_some());
+        if let (Some(i), Some(_)) = (jaws, &grasps.auto) {
+            let message = format!(
+                "mode = \"auto\" finds grasps for the Robotiq 2F-85 only, and robot[{i}] has \
+                 gripper = \"urdf\": give the grasps (power, support)"
+            );
+            return Err(self.err("grasps.mode", message));
+        }
         Ok(Scene {
             file: file.to_path_buf(),
             name: raw.name.map(|Str(s)| s),
@@ -303,10 +312,42 @@ impl Cx {
             &at("gripper"),
             message,
         )?;
+        // The jaws a description carries below its tool link (`gripper = "urdf"`).
+        let jaws = match (gripper.as_str(), &urdf) {
+            ("urdf", Some(urdf)) => {
+                let given = |z: &Option<Num>| z.as_ref().map(|Num(z)| *z);
+                Some(self.urdf_jaws(
+                    urdf,
+                    given(&raw.precision_point_z),
+                    given(&raw.power_point_z),
+                    &at("gripper"),
+                )?)
+            }
+            ("urdf", None) => {
+                let message = "\"urdf\" takes the gripper from the robot description: give `urdf`";
+                return Err(self.err(&at("gripper"), message));
+            }
+            _ => None,
+        };
+        let (range, (default_precision, default_power)) = match &jaws {
+            // Along the jaws' inner faces, where a jaw gripper can hold anything.
+            Some(j) => {
+                let f = j.faces();
+                let range = (f[0].z.0.min(f[1].z.0), f[0].z.1.max(f[1].z.1));
+                (range, (j.precision_point_z, j.power_point_z))
+            }
+            None => (
+                GRIPPER_POINT_RANGE,
+                (DEFAULT_PRECISION_POINT_Z, DEFAULT_POWER_POINT_Z),
+            ),
+        };
         let point_z = |name: &str, z: Option<Num>, default: f64| {
             let z = z.map_or(default, |Num(z)| z);
-            let (lo, hi) = GRIPPER_POINT_RANGE;
-            let span = format!("the {gripper}'s palm-to-fingertip span");
+            let (lo, hi) = range;
+            let span = match jaws {
+                Some(_) => "the jaws' inner faces".to_string(),
+                None => format!("the {gripper}'s palm-to-fingertip span"),
+            };
             let message = format!("{z} m is outside [{lo}, {hi}] m, {span}");
             self.ensure((lo..=hi).contains(&z), &at(name), message)?;
             Ok(z)
@@ -314,9 +355,9 @@ impl Cx {
         let precision_point_z = point_z(
             "precision_point_z",
             raw.precision_point_z,
-            DEFAULT_PRECISION_POINT_Z,
+            default_precision,
         )?;
-        let power_point_z = point_z("power_point_z", raw.power_point_z, DEFAULT_POWER_POINT_Z)?;
+        let power_point_z = point_z("power_point_z", raw.power_point_z, default_power)?;
         let message = format!(
             "{power_point_z} m is beyond precision_point_z = {precision_point_z} m: \
              the power point lies deeper in the hand (nearer the palm)"
@@ -333,6 +374,7 @@ impl Cx {
             urdf,
             start,
             gripper,
+            jaws,
             precision_point_z,
             power_point_z,
         })

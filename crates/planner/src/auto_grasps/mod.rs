@@ -179,12 +179,12 @@ pub fn grasp_sets(
     let power_fingers = Memo::new(sites.len(), &power_fn);
     let support_fingers = Memo::new(sites.len(), &support_fn);
     // Arms with the same tool point share one test.
-    let same = |p: fn(&pregrasp_robot::Gripper2F85) -> Isometry3<f64>| {
+    let same = |p: fn(&pregrasp_robot::Gripper) -> Isometry3<f64>| {
         p(&arms[0].gripper) == p(&arms[1].gripper)
     };
     let (power_same, support_same) = (
-        same(pregrasp_robot::Gripper2F85::power_point),
-        same(pregrasp_robot::Gripper2F85::precision_point),
+        same(pregrasp_robot::Gripper::power_point),
+        same(pregrasp_robot::Gripper::precision_point),
     );
     let power_fingers =
         |i: usize, arm: usize| power_fingers.get(i, if power_same { 0 } else { arm });

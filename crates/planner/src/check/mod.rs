@@ -19,7 +19,7 @@ use pregrasp_collision::{ArmModel, CollisionWorld, Grip, GripFailure, ObjectGeom
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{PlanFile, PlanJson, PlanStatus, PoseJson};
 use pregrasp_io::scene::{DEFAULT_FINGER_SUPPORT_CLEARANCE, DEFAULT_LINK_CLEARANCE};
-use pregrasp_robot::{ArmDescription, Gripper2F85};
+use pregrasp_robot::{ArmDescription, Gripper};
 
 use crate::context::{grips as close_grips, Grips};
 
@@ -160,9 +160,10 @@ pub fn check_plan_at(file: &PlanFile, plan_path: Option<&Path>, mesh: &Mesh) -> 
             malformed: Some(e),
         };
     }
-    let checker = file
-        .arm_descriptions(plan_path)
-        .and_then(|arms| PlanChecker::sharing_part(file, mesh, &arms, None, None, None));
+    let checker = file.arm_descriptions(plan_path).and_then(|arms| {
+        let grippers = file.grippers(plan_path)?;
+        PlanChecker::sharing_part(file, mesh, &arms, &grippers, None, None, None)
+    });
     match checker {
         Ok(checker) => checker.check(file),
         Err(e) => {
@@ -192,7 +193,8 @@ impl PlanChecker {
     /// The models of `file`'s header; an error when its robots cannot be modelled.
     pub fn new(file: &PlanFile, mesh: &Mesh) -> Result<PlanChecker, String> {
         let arms = file.arm_descriptions(None)?;
-        Self::sharing_part(file, mesh, &arms, None, None, None)
+        let grippers = file.grippers(None)?;
+        Self::sharing_part(file, mesh, &arms, &grippers, None, None, None)
     }
 
     /// [`PlanChecker::new`] with the part's collision geometry (its mesh `mesh`, with the BVH)
@@ -202,16 +204,18 @@ impl PlanChecker {
     /// on the same part (the planner verifying its own plans); closed again otherwise. `hull`:
     /// the vertices of the mesh's convex hull, when the caller has them (Algorithm 1's).
     ///
-    /// `arms`: the file's arms ([`PlanFile::arm_descriptions`], or the scene's).
+    /// `arms`, `grippers`: the file's ([`PlanFile::arm_descriptions`], [`PlanFile::grippers`],
+    /// or the scene's).
     pub fn sharing_part(
         file: &PlanFile,
         mesh: &Mesh,
         arms: &[ArmDescription; 2],
+        grippers: &[Gripper; 2],
         part: Option<Arc<ObjectGeometry>>,
         grips: Option<&Grips>,
         hull: Option<&[Point3<f64>]>,
     ) -> Result<PlanChecker, String> {
-        let arms = arm_models(file, arms)?;
+        let arms = arm_models(file, arms, grippers)?;
         let link_clearance = file
             .planner
             .link_clearance
@@ -427,7 +431,11 @@ fn collision_result(
 }
 
 /// The file's arms, `arms` their models (one per robot, scene order).
-fn arm_models(file: &PlanFile, arms: &[ArmDescription; 2]) -> Result<[ArmModel; 2], String> {
+fn arm_models(
+    file: &PlanFile,
+    arms: &[ArmDescription; 2],
+    grippers: &[Gripper; 2],
+) -> Result<[ArmModel; 2], String> {
     if file.robots.len() != 2 {
         return Err(format!("expected 2 robots, found {}", file.robots.len()));
     }
@@ -440,10 +448,7 @@ fn arm_models(file: &PlanFile, arms: &[ArmDescription; 2]) -> Result<[ArmModel; 
                 arms[i].name()
             ));
         }
-        let gripper = Gripper2F85 {
-            precision_point_z: r.precision_point.xyz[2],
-            power_point_z: r.power_point.xyz[2],
-        };
+        let gripper = grippers[i].clone();
         ArmModel::from_description(&r.name, arms[i].clone(), r.base.to_isometry(), gripper)
             .map_err(|e| e.to_string())
     };

@@ -13,60 +13,10 @@
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
+use super::{GripperState, GRIPPER_FRAME};
 use crate::finger::{BoxJson, FingerKinematics};
 use crate::fingers::{FingerPair, FingerSolids, FINGER_SHAPES, LINKS_PER_FINGER};
 use crate::links::{ArmGeometry, LinkShape, Primitive};
-
-/// Frame index of the gripper shapes (the flange, DH frame 6).
-pub const GRIPPER_FRAME: usize = 6;
-
-/// Finger state of the gripper.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum GripperState {
-    /// Fingers fully open (the driver at its lower limit, pads 85.4 mm apart).
-    Open,
-    /// Fingers closed to `FingerPair`: on a part, where its closing stopped.
-    Closed(FingerPair),
-}
-
-impl GripperState {
-    /// Parallel fingers with their pad faces `gap` (m) apart.
-    pub fn at_gap(gap: f64) -> GripperState {
-        GripperState::Closed(FingerPair::at_gap(gap))
-    }
-
-    /// Fully closed in the parallel mode (pads touching).
-    pub fn fully_closed() -> GripperState {
-        static CLOSED: std::sync::OnceLock<GripperState> = std::sync::OnceLock::new();
-        *CLOSED.get_or_init(|| GripperState::at_gap(0.0))
-    }
-
-    /// The fingers' joint state.
-    pub fn fingers(&self) -> FingerPair {
-        match self {
-            GripperState::Open => FingerPair::open(),
-            GripperState::Closed(pair) => *pair,
-        }
-    }
-
-    /// The gap between the pad faces' centres in this state (m).
-    pub fn gap(&self) -> f64 {
-        self.fingers().gap()
-    }
-
-    /// Whether the fingers are closed (on a part or fully).
-    pub fn is_closed(&self) -> bool {
-        matches!(self, GripperState::Closed(_))
-    }
-
-    /// Bits identifying the state, for caches (`Open` is its own key).
-    pub fn key(&self) -> [u64; 3] {
-        match self {
-            GripperState::Open => [u64::MAX; 3],
-            GripperState::Closed(pair) => pair.key(),
-        }
-    }
-}
 
 /// Robotiq 2F-85 mounted on the flange (gripper frame = flange frame).
 #[derive(Clone, Copy, Debug, PartialEq)]

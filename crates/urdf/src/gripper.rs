@@ -1,0 +1,141 @@
+//! The parallel-jaw gripper a robot description carries below its tool link (the Franka
+//! Hand of `fr3.urdf`): [`describe_gripper`] turns it into a `pregrasp_robot::JawGripper`.
+//!
+//! # What counts as a jaw gripper
+//!
+//! Below the tool link, every joint is fixed except two prismatic ones, one a `<mimic>` of
+//! the other: each moves a jaw (its child link and what is fixed below it). The links fixed to
+//! the tool link are the hand. Pieces come from the description's collision geometry
+//! ([`UrdfGeometry`]): the hand's in the tool-link (flange) frame, each jaw's in its joint's
+//! child frame. A mimic's `offset` shifts its jaw's zero, its `multiplier` scales its motion.
+
+use nalgebra::{Isometry3, Point3, Translation3, Vector3};
+use pregrasp_robot::{JawGripper, JawPart};
+use urdf_rs::JointType;
+
+use crate::arm::UrdfArm;
+use crate::chain::origin_isometry;
+use crate::error::UrdfError;
+use crate::geometry::{GeometryOptions, UrdfGeometry};
+
+/// Where a link below the tool link hangs: fixed to the hand (`None`) or on jaw `k`, with its
+/// pose in the hand's or the jaw's frame.
+type Hanging = (Option<usize>, Isometry3<f64>);
+
+/// The jaw gripper below `arm`'s tool link with its tool points on flange `z` (defaults: the
+/// middle of the jaws' inner faces, for both), its pieces loaded (and cached) per `opts`.
+pub fn describe_gripper(
+    arm: &UrdfArm,
+    precision_point_z: Option<f64>,
+    power_point_z: Option<f64>,
+    opts: &GeometryOptions,
+) -> Result<JawGripper, UrdfError> {
+    let model = &arm.model;
+    let fail = |reason: String| UrdfError::NotAJawGripper {
+        file: model.source().to_string(),
+        tool_link: arm.tool_link.clone(),
+        reason,
+    };
+    // Walk the tree below the tool link: every link's place, and the two jaw joints.
+    let mut hanging: Vec<(String, Hanging)> =
+        vec![(arm.tool_link.clone(), (None, Isometry3::identity()))];
+    let mut jaw_joints: Vec<(String, Isometry3<f64>, Vector3<f64>)> = Vec::new();
+    let mut k = 0;
+    while k < hanging.len() {
+        let (link, (jaw, pose)) = hanging[k].clone();
+        k += 1;
+        for joint in model
+            .robot()
+            .joints
+            .iter()
+            .filter(|j| j.parent.link == link)
+        {
+            let origin = pose * origin_isometry(&joint.origin);
+            let child = joint.child.link.clone();
+            match joint.joint_type {
+                JointType::Fixed => hanging.push((child, (jaw, origin))),
+                JointType::Prismatic if jaw.is_none() => {
+                    let axis = origin.rotation * Vector3::from(joint.axis.xyz.0);
+                    hanging.push((child, (Some(jaw_joints.len()), Isometry3::identity())));
+                    jaw_joints.push((joint.name.clone(), origin, axis));
+                }
+                _ => {
+                    return Err(fail(format!(
+                        "joint `{}` is {:?}; a jaw gripper has two prismatic jaws and fixed \
+                         joints only",
+                        joint.name, joint.joint_type
+                    )))
+                }
+            }
+        }
+    }
+    let [(a_name, a_origin, a_axis), (b_name, b_origin, b_axis)] =
+        <[_; 2]>::try_from(jaw_joints)
+            .map_err(|j: Vec<_>| fail(format!("{} prismatic joints, not two jaws", j.len())))?;
+    // The master joint and the mimic's multiplier and offset.
+    let mimic_of = |name: &str| model.mimic_joints().into_iter().find(|m| m.joint == name);
+    let (master, rates, zeros) = match (mimic_of(&a_name), mimic_of(&b_name)) {
+        (None, Some(m)) if m.master == a_name => (
+            a_name.clone(),
+            [a_axis, b_axis * m.multiplier],
+            [a_origin, Translation3::from(b_axis * m.offset) * b_origin],
+        ),
+        (Some(m), None) if m.master == b_name => (
+            b_name.clone(),
+            [a_axis * m.multiplier, b_axis],
+            [Translation3::from(a_axis * m.offset) * a_origin, b_origin],
+        ),
+        _ => {
+            return Err(fail(format!(
+                "jaw joints `{a_name}` and `{b_name}`: one must mimic the other"
+            )))
+        }
+    };
+    let limit = &model.joint(&master).expect("a joint of the tree").limit;
+    let joint = (limit.lower, limit.upper);
+    let geometry = UrdfGeometry::load(model, opts)?.geometry;
+    // Parts: each link with collision pieces, moved into its hand or jaw frame.
+    let mut statics = Vec::new();
+    let mut jaws: [Vec<JawPart>; 2] = [Vec::new(), Vec::new()];
+    for (link, (jaw, pose)) in &hanging {
+        let Some(lp) = geometry.links.iter().find(|l| &l.link == link) else {
+            continue;
+        };
+        let pieces: Vec<Vec<Point3<f64>>> = lp
+            .pieces
+            .iter()
+            .map(|p| p.iter().map(|v| pose * v).collect())
+            .collect();
+        let Some(part) = JawPart::new(link, pieces) else {
+            continue;
+        };
+        match jaw {
+            None => statics.push(part),
+            Some(k) => jaws[*k].push(part),
+        }
+    }
+    let key = format!("jaws:{}:{}", geometry.key, arm.tool_link);
+    let build = |precision: f64, power: f64| {
+        JawGripper::new(
+            key.clone(),
+            statics.clone(),
+            jaws.clone(),
+            zeros,
+            rates,
+            joint,
+            precision,
+            power,
+        )
+        .map_err(|e| fail(e.to_string()))
+    };
+    // The faces' middle, for the tool points not given.
+    let probe = build(0.0, 0.0)?;
+    let middle = probe
+        .faces()
+        .iter()
+        .map(|f| 0.5 * (f.z.0 + f.z.1))
+        .sum::<f64>()
+        / 2.0;
+    let precision = precision_point_z.unwrap_or(middle);
+    build(precision, power_point_z.unwrap_or(precision))
+}
