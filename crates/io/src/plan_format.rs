@@ -114,7 +114,13 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
             }
         }
         if let Some(p) = &plan.physics {
-            physics(&format!("plans[{k}].physics"), p)?;
+            // The 2F-85's force range binds its plans; a jaw gripper's is its description's.
+            let robotiq = file
+                .robots
+                .iter()
+                .find(|r| r.name == plan.supportive)
+                .is_none_or(|r| r.gripper.as_deref().is_none_or(|g| g == "robotiq_2f85"));
+            physics(&format!("plans[{k}].physics"), p, robotiq)?;
         }
         if let Some(r) = &plan.robustness {
             for (l, level) in r.levels.iter().enumerate() {
@@ -133,8 +139,9 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
 /// Largest force (N) a plan's `physics` object may name.
 const MAX_FORCE: f64 = 1.0e6;
 
-/// The `physics` extension: finite non-negative numbers in range (its verdict is typed).
-fn physics(path: &str, p: &PhysicsJson) -> Result<(), String> {
+/// The `physics` extension: finite non-negative numbers in range (its verdict is typed); the
+/// recommended force within the 2F-85's range when `robotiq` (its supportive gripper is one).
+fn physics(path: &str, p: &PhysicsJson, robotiq: bool) -> Result<(), String> {
     let optional = [
         ("grip_force_min", p.grip_force_min),
         ("grip_force_required", p.grip_force_required),
@@ -159,7 +166,7 @@ fn physics(path: &str, p: &PhysicsJson) -> Result<(), String> {
         }
     }
     number(&format!("{path}.worst_theta_deg"), p.worst_theta_deg, 360.0)?;
-    if let Some(f) = p.grip_force_recommended {
+    if let Some(f) = p.grip_force_recommended.filter(|_| robotiq) {
         if !(20.0..=235.0).contains(&f) {
             return Err(format!(
                 "{path}.grip_force_recommended: {f} N is outside the 2F-85's 20–235 N"

@@ -8,7 +8,7 @@ use crate::error::PhysicsError;
 use crate::grip_force::{min_grip_force_from, WarmStart};
 use crate::part_mass::PartMass;
 use crate::plan_report::{PlanPhysics, StateReport, StateStatus, Verdict};
-use crate::settings::{PhysicsSettings, GRAVITY, GRIP_FORCE_RANGE};
+use crate::settings::{PhysicsSettings, GRAVITY};
 use crate::statics::{Pads, StaticOutcome, StaticProblem};
 
 /// Support contacts are the rotation axis' endpoints (at each state's pose) that lie at most
@@ -321,7 +321,7 @@ fn run(
     let all_held = states.iter().all(|s| s.status == StateStatus::Held);
     let n_max = all_held.then(|| states.iter().filter_map(|s| s.n_min).fold(0.0, f64::max));
     let required = n_max.map(|n| settings.safety_factor * n);
-    let (lo, hi) = GRIP_FORCE_RANGE;
+    let (lo, hi) = settings.grip_force;
     let verdict = match (states.get(worst).map(|s| s.status), required) {
         (Some(StateStatus::CannotHold), _) => Verdict::CannotHold,
         (Some(StateStatus::Slides), _) => Verdict::SlidesAtSupport,

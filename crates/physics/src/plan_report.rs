@@ -4,7 +4,7 @@
 use pregrasp_io::plan_file::PhysicsJson;
 
 use crate::part_mass::PartMass;
-use crate::settings::{PhysicsSettings, GRIP_FORCE_RANGE};
+use crate::settings::PhysicsSettings;
 use crate::statics::Equilibrium;
 
 /// How one state ends.
@@ -39,7 +39,7 @@ pub struct StateReport {
     /// Largest |t|/(μ n) at the support contacts.
     pub support_friction_use: Option<f64>,
     /// Largest |t|/(μ N) at the pads when they squeeze with the recommended force (with the
-    /// largest safe force, 235 N, when the part cannot be held).
+    /// gripper's largest force, 235 N for the 2F-85, when the part cannot be held).
     pub pad_friction_use: Option<f64>,
     #[serde(skip)]
     pub equilibrium: Option<Equilibrium>,
@@ -67,7 +67,8 @@ pub struct PlanPhysics {
     pub n_max: Option<f64>,
     /// `safety_factor × n_max` (N).
     pub required: Option<f64>,
-    /// The grip force to set: `clamp(required, 20, 235)` N, when it holds.
+    /// The grip force to set: `required` clamped into the gripper's range (the 2F-85's 20–235
+    /// N by default, [`PhysicsSettings::grip_force`]), when it holds.
     pub recommended: Option<f64>,
     pub verdict: Verdict,
     /// Things the verdict alone does not say (axis off the support, ...).
@@ -138,7 +139,7 @@ impl PlanPhysics {
                      more than the gripper's {:.0} N",
                     self.settings.safety_factor,
                     self.n_max.unwrap_or(0.0),
-                    GRIP_FORCE_RANGE.1
+                    self.settings.grip_force.1
                 ),
                 None => format!("physics: cannot hold the part with any grip force {at}"),
             }),

@@ -30,8 +30,9 @@ pub const DEFAULT_SAFETY_FACTOR: f64 = 2.0;
 pub const DEFAULT_DENSITY: f64 = 700.0;
 /// Standard gravity (m/s²).
 pub const GRAVITY: f64 = 9.81;
-/// The Robotiq 2F-85's rated grip force range (N), `docs/hardware-facts.md`.
-pub const GRIP_FORCE_RANGE: (f64, f64) = (20.0, 235.0);
+/// The Robotiq 2F-85's rated grip force range (N), `docs/hardware-facts.md`: the default of
+/// [`PhysicsSettings::grip_force`].
+pub const GRIP_FORCE_RANGE: (f64, f64) = pregrasp_robot::ROBOTIQ_2F85_GRIP_FORCE;
 /// Effective torsion radius (m) of one 2F-85 pad in full contact (22 mm × 37.5 mm, uniform
 /// pressure): the mean distance of the patch from its centre. The default model does not use
 /// it as such: with `pad_torsion_radius = 0` the patches the pads really make on the part (the
@@ -54,6 +55,9 @@ pub struct PhysicsSettings {
     /// (next to a local maximum of the grip force, or where the status or the support contacts
     /// change).
     pub refine_all: bool,
+    /// The supportive gripper's grip force range (N): a pinch needing more cannot be held,
+    /// the recommended force is clamped into it (default: the 2F-85's, [`GRIP_FORCE_RANGE`]).
+    pub grip_force: (f64, f64),
 }
 
 impl Default for PhysicsSettings {
@@ -66,6 +70,7 @@ impl Default for PhysicsSettings {
             density: DEFAULT_DENSITY,
             substeps: 4,
             refine_all: false,
+            grip_force: GRIP_FORCE_RANGE,
         }
     }
 }

@@ -19,6 +19,8 @@ use pregrasp_physics::{analyse_one, screen_one, PartMass, PhysicsSettings};
 pub struct HoldCheck {
     part: Result<PartMass, String>,
     settings: PhysicsSettings,
+    /// Each robot's name and its gripper's grip force range (N).
+    grip_force: [(String, (f64, f64)); 2],
     reject: bool,
 }
 
@@ -45,6 +47,10 @@ impl HoldCheck {
         HoldCheck {
             part,
             settings,
+            grip_force: scene
+                .robots
+                .each_ref()
+                .map(|r| (r.name.clone(), r.gripper_model().grip_force_range())),
             reject: scene.physics.reject,
         }
     }
@@ -61,7 +67,12 @@ impl HoldCheck {
         let part = self.part.as_ref().ok()?;
         // A rotation that will be refused needs no more than its first failing state.
         let analyse = if self.reject { screen_one } else { analyse_one };
-        let report = analyse(header, plan, 0, part, &self.settings).ok()?;
+        // The supportive arm's gripper pinches: its force range.
+        let mut settings = self.settings;
+        if let Some((_, range)) = self.grip_force.iter().find(|(n, _)| *n == plan.supportive) {
+            settings.grip_force = *range;
+        }
+        let report = analyse(header, plan, 0, part, &settings).ok()?;
         Some(HoldResult {
             json: report.to_json(),
             rejection: if self.reject {

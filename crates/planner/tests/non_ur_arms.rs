@@ -50,9 +50,9 @@ fn xarm6() -> Arm {
     }
 }
 
-/// Example `name` with `arm` for each UR5e, the arms' bases at `x` (and y = ±`y`) in the
-/// world, planned: (scene path, scene, plan file, mesh).
-fn plan_with(name: &str, arm: &Arm, x: f64, y: f64) -> (PathBuf, Scene, PlanFile, Mesh) {
+/// The text of example `name` with `arm` for each UR5e, the arms' bases at `x` (and y = ±`y`)
+/// in the world, and the example's path.
+fn scene_text(name: &str, arm: &Arm, x: f64, y: f64) -> (PathBuf, String) {
     let scene_path = root().join(format!("examples/{name}.toml"));
     let text = std::fs::read_to_string(&scene_path).unwrap();
     let mut out = String::new();
@@ -77,6 +77,13 @@ fn plan_with(name: &str, arm: &Arm, x: f64, y: f64) -> (PathBuf, Scene, PlanFile
             out.push('\n');
         }
     }
+    (scene_path, out)
+}
+
+/// Example `name` with `arm` for each UR5e, the arms' bases at `x` (and y = ±`y`) in the
+/// world, planned: (scene path, scene, plan file, mesh).
+fn plan_with(name: &str, arm: &Arm, x: f64, y: f64) -> (PathBuf, Scene, PlanFile, Mesh) {
+    let (scene_path, out) = scene_text(name, arm, x, y);
     let scene = Scene::from_str(&out, &scene_path).unwrap();
     let mesh = load_mesh(&scene.object.mesh_path, scene.object.scale)
         .unwrap()
@@ -174,8 +181,12 @@ fn two_fr3_with_the_franka_hand_plan_the_three_examples_and_pass_the_check() {
                 "{angle}"
             );
         }
-        // Every closing is the jaws': a width, no 2F-85 finger joints.
+        // Every closing is the jaws': a width, no 2F-85 finger joints. The pinch holds within
+        // the hand's 100 N (its description's jaw effort), not the 2F-85's 235 N.
         for plan in &file.plans {
+            let physics = plan.physics.as_ref().expect("the part's mass is known");
+            let force = physics.grip_force_recommended.expect("the rotation holds");
+            assert!(force <= 100.0, "{name}: {force} N");
             for seg in plan.segments.iter().filter(|s| s.grip_width.is_some()) {
                 assert!(seg.fingers.is_none(), "{name}: {}", seg.name);
                 let w = seg.grip_width.unwrap();
@@ -262,6 +273,50 @@ fn a_seven_joint_arm_needs_a_held_joint_and_a_ur_none() {
     ));
     assert!(
         err.contains("robot[0].hold") && err.contains("nothing to hold"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_urdf_gripper_needs_a_description_with_jaws() {
+    let scene_path = root().join("examples/chair_side.toml");
+    let text = std::fs::read_to_string(&scene_path).unwrap();
+    let error_with = |from: &str, to: String| {
+        let text = text.replacen(from, &to, 1);
+        Scene::from_str(&text, &scene_path).unwrap_err().to_string()
+    };
+    // A built-in arm has no description to take the gripper from.
+    let err = error_with(
+        "gripper = \"robotiq_2f85\"",
+        "gripper = \"urdf\"".to_string(),
+    );
+    assert!(
+        err.contains("robot[0].gripper") && err.contains("give `urdf`"),
+        "{err}"
+    );
+    // The UR5e's description ends at tool0: no jaws below it.
+    let ur5e = root().join("data/robots/ur5e.urdf");
+    let keys = format!("urdf = {:?}", ur5e.display().to_string());
+    let described = text.replacen("model = \"ur5e\"", &keys, 1);
+    let err = Scene::from_str(
+        &described.replacen("gripper = \"robotiq_2f85\"", "gripper = \"urdf\"", 1),
+        &scene_path,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("robot[0].gripper") && err.contains("0 prismatic joints"),
+        "{err}"
+    );
+}
+
+#[test]
+fn the_grasp_search_refuses_a_jaw_gripper() {
+    let (path, text) = scene_text("chair_side", &fr3_hand(), 0.0, 0.45);
+    let text = text.replacen("[grasps]", "[grasps]\nmode = \"auto\"", 1);
+    let err = Scene::from_str(&text, &path).unwrap_err().to_string();
+    assert!(
+        err.contains("grasps.mode") && err.contains("give the grasps"),
         "{err}"
     );
 }

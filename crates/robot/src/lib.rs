@@ -33,6 +33,7 @@ pub use fingers::{
 pub use fk::UrKinematics;
 pub use gripper::{
     Gripper, Gripper2F85, GripperState, JawError, JawFace, JawGripper, JawPart, GRIPPER_FRAME,
+    ROBOTIQ_2F85_GRIP_FORCE,
 };
 pub use ik::{joint_distance, IkSolutions, IK_RESIDUAL_TOL};
 pub use linkage::{FingerConfig, FingerLinkage, LinkageLimits, PlanarPose, FINGER_LINKS};

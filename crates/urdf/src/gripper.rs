@@ -8,6 +8,8 @@
 //! the tool link are the hand. Pieces come from the description's collision geometry
 //! ([`UrdfGeometry`]): the hand's in the tool-link (flange) frame, each jaw's in its joint's
 //! child frame. A mimic's `offset` shifts its jaw's zero, its `multiplier` scales its motion.
+//! The master joint's `<limit effort>` is the grip force (N) the jaws can be set to (the Franka
+//! Hand's description says 100 N; its datasheet 70 N continuous, 140 N peak).
 
 use nalgebra::{Isometry3, Point3, Translation3, Vector3};
 use pregrasp_robot::{JawGripper, JawPart};
@@ -93,6 +95,8 @@ pub fn describe_gripper(
     };
     let limit = &model.joint(&master).expect("a joint of the tree").limit;
     let joint = (limit.lower, limit.upper);
+    // The jaw joint's effort limit is the force a jaw can press with.
+    let force = (0.0, limit.effort);
     let geometry = UrdfGeometry::load(model, opts)?.geometry;
     // Parts: each link with collision pieces, moved into its hand or jaw frame.
     let mut statics = Vec::new();
@@ -126,6 +130,7 @@ pub fn describe_gripper(
             precision,
             power,
         )
+        .map(|j| j.with_grip_force(force))
         .map_err(|e| fail(e.to_string()))
     };
     // The faces' middle, for the tool points not given.

@@ -9,7 +9,7 @@ use anyhow::Context;
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_physics::{
-    analyse_plan, PartMass, PhysicsSettings, PlanPhysics, StateStatus, Verdict, GRIP_FORCE_RANGE,
+    analyse_plan, PartMass, PhysicsSettings, PlanPhysics, StateStatus, Verdict,
 };
 
 use super::{EXIT_NO_PLAN, EXIT_OK};
@@ -103,9 +103,24 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         None => (0..file.plans.len()).collect(),
     };
+    // The supportive arm's gripper decides the force range (a jaw gripper's is its own).
+    let grippers = file
+        .grippers(Some(&args.plan))
+        .map_err(anyhow::Error::msg)
+        .with_context(|| format!("{}", args.plan.display()))?;
+    let settings_of = |k: usize| {
+        let sup = file
+            .robots
+            .iter()
+            .position(|r| r.name == file.plans[k].supportive);
+        PhysicsSettings {
+            grip_force: sup.map_or(settings.grip_force, |i| grippers[i].grip_force_range()),
+            ..settings
+        }
+    };
     let reports = indices
         .iter()
-        .map(|&k| analyse_plan(&file, k, &part, &settings))
+        .map(|&k| analyse_plan(&file, k, &part, &settings_of(k)))
         .collect::<Result<Vec<_>, _>>()
         .with_context(|| format!("{}", args.plan.display()))?;
     let all_hold = reports.iter().all(|r| r.verdict == Verdict::Holds);
@@ -173,7 +188,7 @@ fn print_report(r: &PlanPhysics) {
         );
     }
     let w = &r.states[r.worst];
-    let (lo, hi) = GRIP_FORCE_RANGE;
+    let (lo, hi) = r.settings.grip_force;
     match (r.verdict, r.n_max, r.required, r.recommended) {
         (Verdict::Holds, Some(n), Some(req), Some(rec)) => println!(
             "  worst θ {:.2}°: N_min {n:.2} N; set the grip force to {rec:.1} N ({} × {n:.2} = {req:.2} N, within {lo}–{hi} N): holds",

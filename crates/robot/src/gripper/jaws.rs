@@ -84,6 +84,8 @@ pub struct JawGripper {
     pub precision_point_z: f64,
     /// Power point on flange `z` (m): where a bar held deep between the jaws has its axis.
     pub power_point_z: f64,
+    /// The grip force the jaws can be set to (N), least and greatest.
+    pub grip_force: (f64, f64),
     statics: Vec<JawPart>,
     /// `[+x jaw, −x jaw]` parts.
     jaws: [Vec<JawPart>; 2],
@@ -189,6 +191,7 @@ impl JawGripper {
             key,
             precision_point_z,
             power_point_z,
+            grip_force: (0.0, f64::INFINITY),
             statics,
             jaws,
             jaw_zero,
@@ -199,6 +202,12 @@ impl JawGripper {
             gap_rate,
             faces,
         })
+    }
+
+    /// The gripper with its grip force range `(least, greatest)` (N); unbounded until set.
+    pub fn with_grip_force(mut self, range: (f64, f64)) -> JawGripper {
+        self.grip_force = range;
+        self
     }
 
     /// The closing frame C in the flange frame (a turn about flange `z`).

@@ -18,6 +18,9 @@ mod robotiq;
 pub use jaws::{JawError, JawFace, JawGripper, JawPart};
 pub use robotiq::Gripper2F85;
 
+/// The Robotiq 2F-85's rated grip force range (N), `docs/hardware-facts.md`.
+pub const ROBOTIQ_2F85_GRIP_FORCE: (f64, f64) = (20.0, 235.0);
+
 /// Frame index of the gripper shapes (the flange, DH frame 6).
 pub const GRIPPER_FRAME: usize = 6;
 
@@ -146,6 +149,15 @@ impl Gripper {
         match self {
             Gripper::Robotiq2F85(g) => g.power_point(),
             Gripper::Jaws(j) => j.power_point(),
+        }
+    }
+
+    /// The grip force it can be set to (N), least and greatest: the 2F-85's rated 20–235 N
+    /// (`docs/hardware-facts.md`), a jaw gripper's from its description.
+    pub fn grip_force_range(&self) -> (f64, f64) {
+        match self {
+            Gripper::Robotiq2F85(_) => ROBOTIQ_2F85_GRIP_FORCE,
+            Gripper::Jaws(j) => j.grip_force,
         }
     }
 
