@@ -261,7 +261,7 @@ fn robot_model(
     arm: Option<&ArmDescription>,
     gripper: &Gripper,
 ) -> RobotModelJson {
-    let shapes = |state| gripper.shapes(state).iter().map(ShapeJson::from).collect();
+    let shapes = |state| gripper_shapes(gripper, state);
     // The fingers this robot holds the part with, as the plans record them.
     let held = |grasp: GraspKind| {
         plan.plans
@@ -356,6 +356,32 @@ pub struct ChainJson {
     pub frame0: PoseJson,
     pub axes: [[f64; 3]; 6],
     pub links: [PoseJson; 6],
+}
+
+/// The gripper's shapes in `state` as the page draws them (flange frame): the 2F-85's boxes, a
+/// jaw gripper's convex pieces (placed by the jaws' state).
+fn gripper_shapes(gripper: &Gripper, state: GripperState) -> Vec<ShapeJson> {
+    if gripper.jaws().is_none() {
+        return gripper.shapes(state).iter().map(ShapeJson::from).collect();
+    }
+    let frames = gripper.shape_frames(state);
+    let pieces = gripper.shape_pieces();
+    let mut out = Vec::new();
+    gripper.for_each_shape(state, |k, name, _| {
+        let Some(p) = pieces[k] else { return };
+        for piece in &p.pieces {
+            let placed: Vec<_> = piece.iter().map(|v| frames[k] * v).collect();
+            if let Ok(hull) = ConvexHull::from_points(&placed) {
+                out.push(ShapeJson::Hull {
+                    name: name.to_string(),
+                    frame: pregrasp_robot::GRIPPER_FRAME,
+                    positions: hull.vertices.iter().map(|v| v.coords.into()).collect(),
+                    triangles: hull.triangles.clone(),
+                });
+            }
+        }
+    });
+    out
 }
 
 /// The page's model of `robot`, an arm from its description `arm`.
