@@ -18,22 +18,22 @@ impl PlanFile {
         &self,
         plan_path: Option<&Path>,
     ) -> Result<[ArmDescription; 2], String> {
-        if self.robots.len() != 2 {
-            return Err(format!("expected 2 robots, found {}", self.robots.len()));
-        }
-        let scene = match plan_path {
-            Some(p) => self.scene_path(p),
-            None => PathBuf::from(&self.scene.file),
-        };
-        let one =
-            |i: usize| arm_of(&self.robots[i], &scene).map_err(|e| format!("robots[{i}]: {e}"));
-        Ok([one(0)?, one(1)?])
+        self.per_robot(plan_path, arm_of)
     }
 
     /// Both arms' grippers, with the file's tool points: the Robotiq 2F-85, or (`gripper =
     /// "urdf"`) the jaws of the robot's description, found as [`PlanFile::arm_descriptions`]
     /// finds it.
     pub fn grippers(&self, plan_path: Option<&Path>) -> Result<[Gripper; 2], String> {
+        self.per_robot(plan_path, gripper_of)
+    }
+
+    /// `build(robot, scene path)` of both robots, errors prefixed by the robot.
+    fn per_robot<T>(
+        &self,
+        plan_path: Option<&Path>,
+        build: impl Fn(&RobotJson, &Path) -> Result<T, String>,
+    ) -> Result<[T; 2], String> {
         if self.robots.len() != 2 {
             return Err(format!("expected 2 robots, found {}", self.robots.len()));
         }
@@ -42,7 +42,7 @@ impl PlanFile {
             None => PathBuf::from(&self.scene.file),
         };
         let one =
-            |i: usize| gripper_of(&self.robots[i], &scene).map_err(|e| format!("robots[{i}]: {e}"));
+            |i: usize| build(&self.robots[i], &scene).map_err(|e| format!("robots[{i}]: {e}"));
         Ok([one(0)?, one(1)?])
     }
 }

@@ -60,8 +60,9 @@ fn moved(frame: &Isometry3<f64>, prim: &Primitive) -> Primitive {
     }
 }
 
-/// A jaw's inner face: the rectangle of the closing frame's `y`, `z` over which its innermost
-/// vertices lie, at `x` (in C, the jaw fully closed is not assumed: `x` is at joint value 0).
+/// A jaw's inner face in the closing frame C: the rectangle in `y`, `z` over which its
+/// innermost vertices lie, at `x` (as placed at joint value 0, or in a state:
+/// [`JawGripper::faces_at`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JawFace {
     /// `x_C` of the face at joint value 0 (m).
