@@ -10,7 +10,7 @@ import pytest
 
 import pregrasp
 from pregrasp import _pregrasp
-from conftest import run_cli
+from conftest import REPO, run_cli
 
 TIMING = re.compile(r'\n  "timing_ms": \{[^}]*\}')
 
@@ -249,3 +249,37 @@ def test_replanner_resumes_after_the_rotation(examples):
         cell.replan(floating, start="mas1")
     with pytest.raises(ValueError, match="start"):
         cell.replan(held, start="mas2")
+
+
+def test_two_fr3_with_the_franka_hand_plan_and_pass_check(examples):
+    """Arms and gripper from a robot description (`urdf`, `gripper = "urdf"`), from Python."""
+    fr3 = (REPO / "data" / "robots" / "fr3.urdf").as_posix()
+    text = examples[0].read_text(encoding="utf-8")
+    out = []
+    lines = iter(text.splitlines())
+    for line in lines:
+        key = line.strip()
+        if key == 'model = "ur5e"':
+            side = "-0.45" if "-0.450" in next(lines) else "0.45"
+            next(lines)  # the start line
+            out += [
+                f'urdf = "{fr3}"',
+                'tool_link = "fr3_link8"',
+                "hold = { fr3_joint3 = 0.0 }",
+                'gripper = "urdf"',
+                f"base = {{ xyz = [0.0, {side}, 0.0] }}",
+                "start = [0.0, -0.7854, -2.3562, 0.0, 1.5708, 0.7854]",
+            ]
+        elif not key.startswith(("gripper =", "precision_point_z", "power_point_z")):
+            out.append(line)
+    scene = examples[0].with_name("fr3_hand.toml")
+    scene.write_text("\n".join(out) + "\n", encoding="utf-8")
+    robots = pregrasp.Scene.load(scene).robots
+    assert [r["gripper"] for r in robots] == ["urdf", "urdf"]
+    plan = pregrasp.plan(str(scene))
+    assert plan.status == "planned", plan.reason
+    assert [r["gripper"] for r in plan.to_dict()["robots"]] == ["urdf", "urdf"]
+    entry = plan.plans[0]
+    assert 0.0 < entry.segment("rot").grip_width < 0.08  # within the hand's 80 mm
+    assert entry.physics["grip_force_recommended"] <= 100.0  # the hand's 100 N
+    assert pregrasp.check(plan).valid
