@@ -111,12 +111,31 @@ fn animation_is_on_the_plan_time_line_and_nodes_follow_fk() {
 /// nodes follow its kinematics as they follow the UR's.
 #[test]
 fn an_arm_from_its_description_is_animated_by_its_own_chain() {
+    let (file, bytes) = fr3_chair("");
+    nodes_follow_fk(&file, &bytes);
+}
+
+/// The same with the Franka Hand the description carries: its jaws are the gripper variants,
+/// placed where each segment's `grip_width` says they stop.
+#[test]
+fn a_jaw_gripper_from_the_description_is_exported() {
+    let (file, bytes) = fr3_chair("gripper = \"urdf\"");
+    assert!(file
+        .robots
+        .iter()
+        .all(|r| r.gripper.as_deref() == Some("urdf")));
+    nodes_follow_fk(&file, &bytes);
+}
+
+/// The chair planned with two FR3 (`extra`: more `[[robot]]` keys), and its glTF export.
+fn fr3_chair(extra: &str) -> (pregrasp_io::plan_file::PlanFile, Vec<u8>) {
     let ex = pregrasp_examples::by_name("chair_side").unwrap();
     let urdf = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/robots/fr3.urdf");
     let arm = format!(
-        "urdf = {:?}\ntool_link = \"fr3_link8\"\nhold = {{ fr3_joint3 = 0.0 }}",
+        "urdf = {:?}\ntool_link = \"fr3_link8\"\nhold = {{ fr3_joint3 = 0.0 }}\n{extra}",
         urdf.display().to_string()
     );
+    let own_gripper = !extra.is_empty();
     let mut text = String::new();
     for line in ex.scene_toml.lines() {
         match line {
@@ -124,6 +143,11 @@ fn an_arm_from_its_description_is_animated_by_its_own_chain() {
             l if l.starts_with("start = ") => {
                 text.push_str("start = [0.0, -0.7854, -2.3562, 0.0, 1.5708, 0.7854]")
             }
+            // The description's gripper comes with its own tool points.
+            l if own_gripper
+                && ["gripper =", "precision_point_z", "power_point_z"]
+                    .iter()
+                    .any(|k| l.trim().starts_with(k)) => {}
             l => text.push_str(l),
         }
         text.push('\n');
@@ -144,7 +168,8 @@ fn an_arm_from_its_description_is_animated_by_its_own_chain() {
         Some(&ex.mesh),
     )
     .unwrap();
-    nodes_follow_fk(&file, &out[0].bytes);
+    let bytes = out[0].bytes.clone();
+    (file, bytes)
 }
 
 /// The animation runs on the plan's time line; every arm frame node is at `base · fk_frames`,
