@@ -195,6 +195,25 @@ pub struct ConvexPieces {
     pub slack: f64,
 }
 
+impl ConvexPieces {
+    /// `pieces` (vertices in their owning frame) kept for the life of the process, with the box
+    /// about the frame's axes that holds them (slack 0); `None` when they have no vertex. Shapes
+    /// hold `&'static` pieces: a description's links and parts are made this way, once each.
+    pub fn leak_boxed(pieces: Vec<Vec<Point3<f64>>>) -> Option<(&'static ConvexPieces, Primitive)> {
+        let mut lo = Vector3::repeat(f64::INFINITY);
+        let mut hi = Vector3::repeat(f64::NEG_INFINITY);
+        for v in pieces.iter().flatten() {
+            lo = lo.inf(&v.coords);
+            hi = hi.sup(&v.coords);
+        }
+        if !lo.iter().all(|c| c.is_finite()) {
+            return None;
+        }
+        let pieces = Box::leak(Box::new(ConvexPieces { pieces, slack: 0.0 }));
+        Some((pieces, Primitive::aabb(lo, hi)))
+    }
+}
+
 /// Collision model of an arm: shapes that contain its links, and the pairs checked.
 #[derive(Clone, Debug)]
 pub struct ArmGeometry {

@@ -25,10 +25,8 @@
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use nalgebra::{Isometry3, Point3, Vector3};
-use pregrasp_robot::{
-    ArmDescription, ArmGeometry, ArmKinematics, ConvexPieces, LinkShape, Primitive,
-};
+use nalgebra::{Isometry3, Point3};
+use pregrasp_robot::{ArmDescription, ArmGeometry, ArmKinematics, ConvexPieces, LinkShape};
 
 use crate::arm::UrdfArm;
 use crate::chain::origin_isometry;
@@ -115,22 +113,14 @@ fn arm_shapes(
             .iter()
             .map(|p| p.iter().map(|v| in_frame * v).collect())
             .collect();
-        let mut lo = Vector3::repeat(f64::INFINITY);
-        let mut hi = Vector3::repeat(f64::NEG_INFINITY);
-        for v in pieces.iter().flatten() {
-            lo = lo.inf(&v.coords);
-            hi = hi.sup(&v.coords);
-        }
-        if !lo.iter().all(|c| c.is_finite()) {
+        let Some((pieces, primitive)) = ConvexPieces::leak_boxed(pieces) else {
             continue;
-        }
-        let pieces: &'static ConvexPieces =
-            Box::leak(Box::new(ConvexPieces { pieces, slack: 0.0 }));
+        };
         index_of_piece_link[g] = Some(links.len());
         links.push(LinkShape {
             name: Box::leak(lp.link.clone().into_boxed_str()),
             frame,
-            primitive: Primitive::aabb(lo, hi),
+            primitive,
             pieces: Some(pieces),
         });
     }

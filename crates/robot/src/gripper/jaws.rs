@@ -29,21 +29,11 @@ pub struct JawPart {
 impl JawPart {
     /// A part from its pieces; `None` when they have no vertex.
     pub fn new(name: &str, pieces: Vec<Vec<Point3<f64>>>) -> Option<JawPart> {
-        let (mut lo, mut hi) = (
-            Vector3::repeat(f64::INFINITY),
-            Vector3::repeat(f64::NEG_INFINITY),
-        );
-        for v in pieces.iter().flatten() {
-            lo = lo.inf(&v.coords);
-            hi = hi.sup(&v.coords);
-        }
-        if !lo.iter().all(|c| c.is_finite()) {
-            return None;
-        }
+        let (pieces, bounds) = ConvexPieces::leak_boxed(pieces)?;
         Some(JawPart {
             name: Box::leak(format!("gripper_{name}").into_boxed_str()),
-            pieces: Box::leak(Box::new(ConvexPieces { pieces, slack: 0.0 })),
-            bounds: Primitive::aabb(lo, hi),
+            pieces,
+            bounds,
         })
     }
 }
