@@ -246,10 +246,9 @@ pub fn export_at(
             Format::Ros2 => out.extend(ros2::export(&timeline, options)),
             Format::Gltf => {
                 let mesh = mesh.ok_or(ExportError::NoMesh)?;
-                let arms = file
-                    .arm_descriptions(plan_path)
+                let (arms, grippers) = file
+                    .arms_and_grippers(plan_path)
                     .map_err(ExportError::Plan)?;
-                let grippers = file.grippers(plan_path).map_err(ExportError::Plan)?;
                 out.push(OutFile {
                     name: "plan.glb".into(),
                     bytes: gltf::export(&timeline, mesh, &arms, &grippers)?,

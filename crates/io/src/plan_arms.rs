@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use pregrasp_robot::{ArmDescription, Gripper, Gripper2F85};
-use pregrasp_urdf::{describe_arm, describe_gripper, GeometryOptions, UrdfArm};
+use pregrasp_urdf::{describe_arm_from, describe_gripper, GeometryOptions, LazyGeometry, UrdfArm};
 
 use crate::plan_file::{PlanFile, RobotJson, RobotModel};
 
@@ -18,14 +18,35 @@ impl PlanFile {
         &self,
         plan_path: Option<&Path>,
     ) -> Result<[ArmDescription; 2], String> {
-        self.per_robot(plan_path, arm_of)
+        self.per_robot(plan_path, |robot, scene| {
+            arm_of(robot, &Source::read(robot, scene, arm_described(robot))?)
+        })
     }
 
     /// Both arms' grippers, with the file's tool points: the Robotiq 2F-85, or (`gripper =
     /// "urdf"`) the jaws of the robot's description, found as [`PlanFile::arm_descriptions`]
     /// finds it.
     pub fn grippers(&self, plan_path: Option<&Path>) -> Result<[Gripper; 2], String> {
-        self.per_robot(plan_path, gripper_of)
+        self.per_robot(plan_path, |robot, scene| {
+            gripper_of(
+                robot,
+                &Source::read(robot, scene, gripper_described(robot))?,
+            )
+        })
+    }
+
+    /// Both robots' arms and grippers ([`PlanFile::arm_descriptions`], [`PlanFile::grippers`]),
+    /// each robot's description read once for both.
+    pub fn arms_and_grippers(
+        &self,
+        plan_path: Option<&Path>,
+    ) -> Result<([ArmDescription; 2], [Gripper; 2]), String> {
+        let [a, b] = self.per_robot(plan_path, |robot, scene| {
+            let wanted = arm_described(robot) || gripper_described(robot);
+            let source = Source::read(robot, scene, wanted)?;
+            Ok((arm_of(robot, &source)?, gripper_of(robot, &source)?))
+        })?;
+        Ok(([a.0, b.0], [a.1, b.1]))
     }
 
     /// `build(robot, scene path)` of both robots, errors prefixed by the robot.
@@ -47,8 +68,45 @@ impl PlanFile {
     }
 }
 
-/// The gripper of one `robots[]` entry; `scene` locates its description.
-pub fn gripper_of(robot: &RobotJson, scene: &Path) -> Result<Gripper, String> {
+/// The robot description a `robots[]` entry names, read when its arm or its gripper comes
+/// from it: the arm from its base link to its tool link, where it was found, and its collision
+/// geometry (loaded once, when first needed).
+struct Source {
+    described: Option<(UrdfArm, PathBuf)>,
+    geometry: LazyGeometry,
+}
+
+impl Source {
+    /// `robot`'s description, located from the scene at `scene`, when `wanted` (it names one).
+    fn read(robot: &RobotJson, scene: &Path, wanted: bool) -> Result<Source, String> {
+        let described = match (&robot.urdf, wanted) {
+            (Some(urdf), true) => {
+                let path = description_path(scene, &urdf.file);
+                let arm = UrdfArm::load(&path, Some(&urdf.base_link), Some(&urdf.tool_link))
+                    .map_err(|e| e.to_string())?;
+                Some((arm, path))
+            }
+            _ => None,
+        };
+        Ok(Source {
+            described,
+            geometry: LazyGeometry::new(GeometryOptions::default()),
+        })
+    }
+}
+
+/// Whether `robot`'s arm comes from its description.
+fn arm_described(robot: &RobotJson) -> bool {
+    robot.model == RobotModel::Described
+}
+
+/// Whether `robot`'s gripper comes from its description.
+fn gripper_described(robot: &RobotJson) -> bool {
+    robot.gripper.as_deref() == Some("urdf")
+}
+
+/// The gripper of one `robots[]` entry, its description (if any) read into `source`.
+fn gripper_of(robot: &RobotJson, source: &Source) -> Result<Gripper, String> {
     let (precision, power) = (robot.precision_point.xyz[2], robot.power_point.xyz[2]);
     match robot.gripper.as_deref() {
         None | Some("robotiq_2f85") => Ok(Gripper2F85 {
@@ -57,22 +115,11 @@ pub fn gripper_of(robot: &RobotJson, scene: &Path) -> Result<Gripper, String> {
         }
         .into()),
         Some("urdf") => {
-            let Some(urdf) = &robot.urdf else {
+            let Some((arm, _)) = &source.described else {
                 return Err("gripper is \"urdf\" but the robot names no description".into());
             };
-            let arm = UrdfArm::load(
-                &description_path(scene, &urdf.file),
-                Some(&urdf.base_link),
-                Some(&urdf.tool_link),
-            )
-            .map_err(|e| e.to_string())?;
-            let jaws = describe_gripper(
-                &arm,
-                Some(precision),
-                Some(power),
-                &GeometryOptions::default(),
-            )
-            .map_err(|e| e.to_string())?;
+            let jaws = describe_gripper(arm, Some(precision), Some(power), &source.geometry)
+                .map_err(|e| e.to_string())?;
             Ok(Gripper::Jaws(std::sync::Arc::new(jaws)))
         }
         Some(other) => Err(format!(
@@ -89,24 +136,21 @@ fn description_path(scene: &Path, file: &str) -> PathBuf {
     }
 }
 
-/// The arm of one `robots[]` entry; `scene` locates its description.
-fn arm_of(robot: &RobotJson, scene: &Path) -> Result<ArmDescription, String> {
+/// The arm of one `robots[]` entry, its description (if any) read into `source`.
+fn arm_of(robot: &RobotJson, source: &Source) -> Result<ArmDescription, String> {
     match robot.model {
         RobotModel::Builtin(model) => Ok(ArmDescription::ur(model)),
         RobotModel::Described => {
-            let Some(urdf) = &robot.urdf else {
+            let (Some(urdf), Some((arm, path))) = (&robot.urdf, &source.described) else {
                 return Err("model is \"urdf\" but the robot names no description (urdf)".into());
             };
-            let path = description_path(scene, &urdf.file);
-            let arm = UrdfArm::load(&path, Some(&urdf.base_link), Some(&urdf.tool_link))
-                .map_err(|e| e.to_string())?;
             let held: Vec<(&str, f64)> = urdf.held.iter().map(|(j, v)| (j.as_str(), *v)).collect();
             let allowed: Vec<(&str, &str)> = urdf
                 .allow_collisions
                 .iter()
                 .map(|[a, b]| (a.as_str(), b.as_str()))
                 .collect();
-            let described = describe_arm(&arm, &held, &allowed, &GeometryOptions::default())
+            let described = describe_arm_from(arm, &held, &allowed, &source.geometry)
                 .map_err(|e| e.to_string())?;
             if described.joint_names.as_slice() != robot.joint_names.as_slice() {
                 return Err(format!(

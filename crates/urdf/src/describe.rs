@@ -31,7 +31,7 @@ use pregrasp_robot::{ArmDescription, ArmGeometry, ArmKinematics, ConvexPieces, L
 use crate::arm::UrdfArm;
 use crate::chain::origin_isometry;
 use crate::error::UrdfError;
-use crate::geometry::{GeometryOptions, UrdfGeometry};
+use crate::geometry::{GeometryOptions, LazyGeometry, UrdfGeometry};
 use crate::six::SixJointArm;
 
 /// The arm `arm` with the joints `held` fixed at their values, as the planner uses it, with
@@ -45,8 +45,19 @@ pub fn describe_arm(
     allowed: &[(&str, &str)],
     opts: &GeometryOptions,
 ) -> Result<ArmDescription, UrdfError> {
+    describe_arm_from(arm, held, allowed, &LazyGeometry::new(opts.clone()))
+}
+
+/// [`describe_arm`] with the description's geometry from `geometry` (loaded there once for
+/// the arm and its gripper, [`crate::describe_gripper`]).
+pub fn describe_arm_from(
+    arm: &UrdfArm,
+    held: &[(&str, f64)],
+    allowed: &[(&str, &str)],
+    geometry: &LazyGeometry,
+) -> Result<ArmDescription, UrdfError> {
     let kin = SixJointArm::new(arm.model.name(), &arm.chain, held)?;
-    let mut geometry = UrdfGeometry::load(&arm.model, opts)?.geometry;
+    let mut geometry = geometry.get(&arm.model)?.clone();
     geometry.allow_all(allowed.iter().copied())?;
     let mut allowed_key: Vec<String> = allowed
         .iter()

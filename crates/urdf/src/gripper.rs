@@ -18,19 +18,20 @@ use urdf_rs::JointType;
 use crate::arm::UrdfArm;
 use crate::chain::origin_isometry;
 use crate::error::UrdfError;
-use crate::geometry::{GeometryOptions, UrdfGeometry};
+use crate::geometry::LazyGeometry;
 
 /// Where a link below the tool link hangs: fixed to the hand (`None`) or on jaw `k`, with its
 /// pose in the hand's or the jaw's frame.
 type Hanging = (Option<usize>, Isometry3<f64>);
 
 /// The jaw gripper below `arm`'s tool link with its tool points on flange `z` (defaults: the
-/// middle of the jaws' inner faces, for both), its pieces loaded (and cached) per `opts`.
+/// middle of the jaws' inner faces, for both), its pieces from `geometry` (the description's,
+/// loaded only once the links below the tool link are found to be jaws).
 pub fn describe_gripper(
     arm: &UrdfArm,
     precision_point_z: Option<f64>,
     power_point_z: Option<f64>,
-    opts: &GeometryOptions,
+    geometry: &LazyGeometry,
 ) -> Result<JawGripper, UrdfError> {
     let model = &arm.model;
     let fail = |reason: String| UrdfError::NotAJawGripper {
@@ -97,7 +98,7 @@ pub fn describe_gripper(
     let joint = (limit.lower, limit.upper);
     // The jaw joint's effort limit is the force a jaw can press with.
     let force = (0.0, limit.effort);
-    let geometry = UrdfGeometry::load(model, opts)?.geometry;
+    let geometry = geometry.get(model)?;
     // Parts: each link with collision pieces, moved into its hand or jaw frame.
     let mut statics = Vec::new();
     let mut jaws: [Vec<JawPart>; 2] = [Vec::new(), Vec::new()];

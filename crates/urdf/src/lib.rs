@@ -51,10 +51,11 @@ pub use arm::{UrdfArm, DEFAULT_TOOL_LINKS};
 pub use chain::{
     origin_isometry, ChainJoint, ChainLink, Drive, JointKind, JointLimits, SerialChain,
 };
-pub use describe::describe_arm;
+pub use describe::{describe_arm, describe_arm_from};
 pub use error::UrdfError;
 pub use geometry::{
-    CacheDir, CacheOutcome, GeometryOptions, LinkPieces, Loaded, SelfCollisionOptions, UrdfGeometry,
+    CacheDir, CacheOutcome, GeometryOptions, LazyGeometry, LinkPieces, Loaded,
+    SelfCollisionOptions, UrdfGeometry,
 };
 pub use gripper::describe_gripper;
 pub use ik::{joint_distance, IkOptions, NearestOptions};

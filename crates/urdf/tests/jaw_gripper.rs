@@ -8,7 +8,9 @@ mod common;
 use common::data;
 use nalgebra::{Point3, Vector3};
 use pregrasp_robot::{Gripper, GripperState};
-use pregrasp_urdf::{describe_gripper, CacheDir, GeometryOptions, UrdfArm, UrdfError};
+use pregrasp_urdf::{
+    describe_gripper, CacheDir, GeometryOptions, LazyGeometry, UrdfArm, UrdfError,
+};
 
 fn options() -> GeometryOptions {
     GeometryOptions {
@@ -19,7 +21,7 @@ fn options() -> GeometryOptions {
 
 fn hand() -> pregrasp_robot::JawGripper {
     let arm = UrdfArm::load(data("fr3.urdf").as_ref(), None, Some("fr3_link8")).unwrap();
-    describe_gripper(&arm, None, None, &options()).unwrap()
+    describe_gripper(&arm, None, None, &LazyGeometry::new(options())).unwrap()
 }
 
 #[test]
@@ -96,7 +98,8 @@ fn shapes_hold_their_pieces_at_every_opening() {
 #[test]
 fn an_arm_without_a_hand_is_no_jaw_gripper() {
     let arm = UrdfArm::load(data("ur5e.urdf").as_ref(), None, Some("tool0")).unwrap();
-    let err = describe_gripper(&arm, None, None, &options()).unwrap_err();
+    let geometry = LazyGeometry::new(options());
+    let err = describe_gripper(&arm, None, None, &geometry).unwrap_err();
     assert!(matches!(err, UrdfError::NotAJawGripper { .. }), "{err}");
     assert!(err.to_string().contains("0 prismatic joints"), "{err}");
 }

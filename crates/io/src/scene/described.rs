@@ -5,17 +5,26 @@ use std::path::{Path, PathBuf};
 use nalgebra::Isometry3;
 use pregrasp_robot::ArmDescription;
 use pregrasp_urdf::{
-    describe_arm, describe_gripper, GeometryOptions, UrdfArm, UrdfError, UR_MATCH_TOLERANCE,
+    describe_arm_from, describe_gripper, GeometryOptions, LazyGeometry, UrdfArm, UrdfError,
+    UR_MATCH_TOLERANCE,
 };
 
 use super::raw::Str;
 use super::validate::Cx;
 use super::{SceneError, UrdfRef};
 
+/// A robot description as the scene read it, kept for its gripper (`gripper = "urdf"`): the
+/// arm, and its collision geometry if describing the arm loaded it.
+pub(super) struct Source {
+    arm: UrdfArm,
+    geometry: LazyGeometry,
+}
+
 impl Cx {
     /// The arm of robot description `entry` (relative to the scene's folder) from its base
     /// link to its tool link, the joints `held` still: its reference, the arm, and the base
-    /// link → arm base transform. A Universal Robots arm is the built-in model (its base the
+    /// link → arm base transform, and the description read ([`Source`]). A Universal Robots
+    /// arm is the built-in model (its base the
     /// DH Base, the gripper at the DH flange); any other six-joint arm (or seven-joint arm
     /// with one joint held) is taken from the description, its collision geometry from the
     /// meshes (`pregrasp_urdf::describe_arm`), the gripper at the tool link.
@@ -26,7 +35,7 @@ impl Cx {
         (held, allowed): (&[(String, f64)], &[[String; 2]]),
         key: &str,
         file: &Path,
-    ) -> Result<(UrdfRef, ArmDescription, Isometry3<f64>), SceneError> {
+    ) -> Result<(UrdfRef, ArmDescription, Isometry3<f64>, Source), SceneError> {
         let at = format!("{key}.urdf");
         let path = match file.parent() {
             Some(dir) if !dir.as_os_str().is_empty() => dir.join(&entry),
@@ -44,8 +53,8 @@ impl Cx {
                 .iter()
                 .map(|[a, b]| (a.as_str(), b.as_str()))
                 .collect();
-            let options = GeometryOptions::default();
-            let described = describe_arm(&arm, &held, &pairs, &options).map_err(|e| {
+            let geometry = LazyGeometry::new(GeometryOptions::default());
+            let described = describe_arm_from(&arm, &held, &pairs, &geometry).map_err(|e| {
                 let at = match e {
                     UrdfError::HeldJoint { .. } => format!("{key}.hold"),
                     UrdfError::UnknownLink { .. } => format!("{key}.allow_collisions"),
@@ -59,10 +68,11 @@ impl Cx {
                 joint_names: described.joint_names.to_vec(),
                 held: held.iter().map(|(j, v)| (j.to_string(), *v)).collect(),
                 allowed: allowed.to_vec(),
-                base_link: arm.base_link,
-                tool_link: arm.tool_link,
+                base_link: arm.base_link.clone(),
+                tool_link: arm.tool_link.clone(),
             };
-            return Ok((urdf, described, Isometry3::identity()));
+            let source = Source { arm, geometry };
+            return Ok((urdf, described, Isometry3::identity(), source));
         };
         if !allowed.is_empty() {
             let message = format!(
@@ -108,24 +118,28 @@ impl Cx {
                 .collect(),
             held: Vec::new(),
             allowed: Vec::new(),
-            base_link: arm.base_link,
-            tool_link: arm.tool_link,
+            base_link: arm.base_link.clone(),
+            tool_link: arm.tool_link.clone(),
         };
-        Ok((urdf, ArmDescription::ur(ur.model), ur.base))
+        let (model, base) = (ur.model, ur.base);
+        let source = Source {
+            arm,
+            geometry: LazyGeometry::new(GeometryOptions::default()),
+        };
+        Ok((urdf, ArmDescription::ur(model), base, source))
     }
 
-    /// The jaw gripper below the tool link of the description `urdf` names, its tool points at
-    /// `precision` and `power` (flange `z`; defaults: the jaws' faces' middle). Errors at `at`.
+    /// The jaw gripper below the tool link of the description the scene read (`source`), its
+    /// tool points at `precision` and `power` (flange `z`; defaults: the jaws' faces' middle).
+    /// Errors at `at`.
     pub(super) fn urdf_jaws(
         &self,
-        urdf: &UrdfRef,
+        source: Source,
         precision: Option<f64>,
         power: Option<f64>,
         at: &str,
     ) -> Result<std::sync::Arc<pregrasp_robot::JawGripper>, SceneError> {
-        let arm = UrdfArm::load(&urdf.path, Some(&urdf.base_link), Some(&urdf.tool_link))
-            .map_err(|e| self.err(at, e.to_string()))?;
-        describe_gripper(&arm, precision, power, &GeometryOptions::default())
+        describe_gripper(&source.arm, precision, power, &source.geometry)
             .map(std::sync::Arc::new)
             .map_err(|e| self.err(at, e.to_string()))
     }

@@ -276,22 +276,25 @@ impl Cx {
                         format!("unknown robot model {model:?} (expected one of {expected})");
                     return Err(self.err(&at("model"), message));
                 };
-                if let Some((_, found, _)) = &described {
+                if let Some((_, found, _, _)) = &described {
                     let message = format!("{model:?}, but the arm of `urdf` is a {}", found.name());
                     self.ensure(found.ur == Some(ur), &at("model"), message)?;
                 }
                 ArmDescription::ur(ur)
             }
-            (None, Some((_, found, _))) => found.clone(),
+            (None, Some((_, found, _, _))) => found.clone(),
             (None, None) => return Err(self.err(&at("model"), "missing key")),
         };
         let Table(base) = self.need(raw.base, &at("base"))?;
         let mut base = self.pose(base, &at("base"))?;
-        let urdf = described.map(|(urdf, _, to_dh_base)| {
-            // `base` places the description's base link; the arm's base is its DH Base.
-            base *= to_dh_base;
-            urdf
-        });
+        let (urdf, source) = match described {
+            Some((urdf, _, to_dh_base, source)) => {
+                // `base` places the description's base link; the arm's base is its DH Base.
+                base *= to_dh_base;
+                (Some(urdf), Some(source))
+            }
+            None => (None, None),
+        };
         let (start, in_degrees) = match (raw.start, raw.start_deg) {
             (Some(_), Some(_)) => {
                 let message = "give either start or start_deg, not both";
@@ -313,11 +316,11 @@ impl Cx {
             message,
         )?;
         // The jaws a description carries below its tool link (`gripper = "urdf"`).
-        let jaws = match (gripper.as_str(), &urdf) {
-            ("urdf", Some(urdf)) => {
+        let jaws = match (gripper.as_str(), source) {
+            ("urdf", Some(source)) => {
                 let given = |z: &Option<Num>| z.as_ref().map(|Num(z)| *z);
                 Some(self.urdf_jaws(
-                    urdf,
+                    source,
                     given(&raw.precision_point_z),
                     given(&raw.power_point_z),
                     &at("gripper"),

@@ -149,7 +149,7 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
 }
 
 /// [`check_plan`] of the file read from `plan_path`: a robot description the plan names is
-/// found as its scene is ([`PlanFile::arm_descriptions`]).
+/// found as its scene is ([`PlanFile::arms_and_grippers`]).
 pub fn check_plan_at(file: &PlanFile, plan_path: Option<&Path>, mesh: &Mesh) -> CheckReport {
     if let Err(e) = crate::plan_format::validate(file) {
         let mut structure = Rule::new();
@@ -160,10 +160,11 @@ pub fn check_plan_at(file: &PlanFile, plan_path: Option<&Path>, mesh: &Mesh) -> 
             malformed: Some(e),
         };
     }
-    let checker = file.arm_descriptions(plan_path).and_then(|arms| {
-        let grippers = file.grippers(plan_path)?;
-        PlanChecker::sharing_part(file, mesh, &arms, &grippers, None, None, None)
-    });
+    let checker = file
+        .arms_and_grippers(plan_path)
+        .and_then(|(arms, grippers)| {
+            PlanChecker::sharing_part(file, mesh, &arms, &grippers, None, None, None)
+        });
     match checker {
         Ok(checker) => checker.check(file),
         Err(e) => {
@@ -192,8 +193,7 @@ pub struct PlanChecker {
 impl PlanChecker {
     /// The models of `file`'s header; an error when its robots cannot be modelled.
     pub fn new(file: &PlanFile, mesh: &Mesh) -> Result<PlanChecker, String> {
-        let arms = file.arm_descriptions(None)?;
-        let grippers = file.grippers(None)?;
+        let (arms, grippers) = file.arms_and_grippers(None)?;
         Self::sharing_part(file, mesh, &arms, &grippers, None, None, None)
     }
 

@@ -19,6 +19,7 @@
 pub mod cache;
 pub mod excess;
 mod hash;
+mod lazy;
 pub mod load;
 pub mod mesh;
 pub mod pieces;
@@ -31,6 +32,7 @@ use nalgebra::Isometry3;
 
 pub use cache::default_cache_dir;
 pub use excess::{measure_excess, PieceExcess};
+pub use lazy::LazyGeometry;
 pub use load::{CacheDir, CacheOutcome, GeometryOptions, Loaded, ALGORITHM_VERSION};
 pub use self_collision::{PieceShapes, SelfCollisionOptions};
 pub use tree::{LinkTree, TreeVariable};
