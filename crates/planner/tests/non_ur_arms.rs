@@ -111,6 +111,14 @@ fn planned_and_valid(name: &str, file: &PlanFile, mesh: &Mesh, joints: &[&str; 6
     assert!(check.is_valid(), "{name}: {:?}", check.rules);
 }
 
+/// The check finds the descriptions from the plan file's scene, as `pregrasp check` does with
+/// a file (here one said to be in the temporary folder), and passes the plan.
+fn valid_as_read_from_a_file(name: &str, file: &PlanFile, mesh: &Mesh) {
+    let path = std::env::temp_dir().join(format!("pregrasp-{name}.json"));
+    let check = pregrasp_planner::check::check_plan_at(file, Some(&path), mesh);
+    assert!(check.is_valid(), "{name}: {:?}", check.rules);
+}
+
 /// Along μ_rot the supportive arm stays on one branch: no joint moves more than 0.1 rad
 /// between two points (the part turns by Δφ = 1° between them; a branch switch moves some
 /// joint by far more).
@@ -153,10 +161,7 @@ fn two_fr3_plan_the_three_examples_and_pass_the_check() {
         let urdf = file.robots[0].urdf.as_ref().unwrap();
         assert_eq!(urdf.tool_link, "fr3_link8");
         assert_eq!(urdf.held.get("fr3_joint3"), Some(&0.0));
-        // The check finds the description from the plan file's scene, as `pregrasp check`.
-        let path = std::env::temp_dir().join(format!("pregrasp-fr3-{name}.json"));
-        let check = pregrasp_planner::check::check_plan_at(&file, Some(&path), &mesh);
-        assert!(check.is_valid(), "{name}: {:?}", check.rules);
+        valid_as_read_from_a_file(name, &file, &mesh);
     }
 }
 
@@ -193,9 +198,7 @@ fn two_fr3_with_the_franka_hand_plan_the_three_examples_and_pass_the_check() {
                 assert!(w > 0.0 && w < 0.08, "{name}: {} closes at {w} m", seg.name);
             }
         }
-        let path = std::env::temp_dir().join(format!("pregrasp-fr3-hand-{name}.json"));
-        let check = pregrasp_planner::check::check_plan_at(&file, Some(&path), &mesh);
-        assert!(check.is_valid(), "{name}: {:?}", check.rules);
+        valid_as_read_from_a_file(name, &file, &mesh);
     }
 }
 
