@@ -134,6 +134,20 @@ pub enum ShapeJson {
     },
 }
 
+impl ShapeJson {
+    /// The convex hull of `points` (in frame `frame`) as a drawn piece named `name`; `None`
+    /// when they span no volume.
+    fn hull(name: &str, frame: usize, points: &[nalgebra::Point3<f64>]) -> Option<ShapeJson> {
+        let hull = ConvexHull::from_points(points).ok()?;
+        Some(ShapeJson::Hull {
+            name: name.to_string(),
+            frame,
+            positions: hull.vertices.iter().map(|v| v.coords.into()).collect(),
+            triangles: hull.triangles,
+        })
+    }
+}
+
 impl From<&LinkShape> for ShapeJson {
     fn from(s: &LinkShape) -> Self {
         match &s.primitive {
@@ -371,14 +385,11 @@ fn gripper_shapes(gripper: &Gripper, state: GripperState) -> Vec<ShapeJson> {
         let Some(p) = pieces[k] else { return };
         for piece in &p.pieces {
             let placed: Vec<_> = piece.iter().map(|v| frames[k] * v).collect();
-            if let Ok(hull) = ConvexHull::from_points(&placed) {
-                out.push(ShapeJson::Hull {
-                    name: name.to_string(),
-                    frame: pregrasp_robot::GRIPPER_FRAME,
-                    positions: hull.vertices.iter().map(|v| v.coords.into()).collect(),
-                    triangles: hull.triangles.clone(),
-                });
-            }
+            out.extend(ShapeJson::hull(
+                name,
+                pregrasp_robot::GRIPPER_FRAME,
+                &placed,
+            ));
         }
     });
     out
@@ -398,15 +409,9 @@ fn described_model(
         .iter()
         .flat_map(|l| {
             let pieces = l.pieces.map_or(&[][..], |p| &p.pieces[..]);
-            pieces.iter().filter_map(move |piece| {
-                let hull = ConvexHull::from_points(piece).ok()?;
-                Some(ShapeJson::Hull {
-                    name: l.name.to_string(),
-                    frame: l.frame,
-                    positions: hull.vertices.iter().map(|v| v.coords.into()).collect(),
-                    triangles: hull.triangles.clone(),
-                })
-            })
+            pieces
+                .iter()
+                .filter_map(move |piece| ShapeJson::hull(l.name, l.frame, piece))
         })
         .collect();
     RobotModelJson {
