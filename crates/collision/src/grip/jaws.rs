@@ -14,7 +14,8 @@ use parry3d_f64::query::{self, ShapeCastOptions};
 use parry3d_f64::shape::ConvexPolyhedron;
 use pregrasp_robot::{ClosingKind, GripperState, JawGripper};
 
-use super::{Grip, GripFailure, Level, LinkSweep, SweptPoints};
+use super::sweep::{Frame, LinkPoints, Swept};
+use super::{Grip, GripFailure};
 use crate::object::ObjectGeometry;
 
 /// Closing travel (m of gap) below which a touch counts as touching already open.
@@ -99,52 +100,32 @@ pub(super) fn close_jaws(
             })
         })
         .collect();
-    let (swept, points, link_sweeps) = sweep_of(&links);
     Ok(Grip {
         state,
         width: jaws.gap(state),
         kinds,
-        swept: Arc::new(swept),
-        points: Arc::new(points),
-        links: Arc::new(link_sweeps),
+        swept: Arc::new(sweep_of(&links)),
     })
 }
 
-/// The sweep of points (flange frame) grouped per link: one pose, each point its own level
-/// (`y` its own), each link a sphere about its points' box.
-fn sweep_of(links: &[Vec<Point3<f64>>]) -> (Vec<Level>, SweptPoints, Vec<LinkSweep>) {
-    let mut levels = Vec::new();
-    let mut data = Vec::new();
-    let mut sweeps = Vec::new();
-    for pts in links {
-        let start = levels.len();
-        let (mut lo, mut hi) = (
-            Point3::from([f64::INFINITY; 3]),
-            Point3::from([f64::NEG_INFINITY; 3]),
-        );
-        for p in pts {
-            let at = data.len();
-            data.push([p.x, p.z]);
-            levels.push(Level {
-                y: p.y,
-                center: [p.x, p.z],
-                radius: 0.0,
-                pts: at..at + 1,
-            });
-            lo = lo.inf(p);
-            hi = hi.sup(p);
-        }
-        let center = nalgebra::center(&lo, &hi);
-        let radius = pts.iter().map(|p| (p - center).norm()).fold(0.0, f64::max);
-        sweeps.push(LinkSweep {
-            levels: start..levels.len(),
-            center,
-            radius,
-        });
-    }
-    let points = SweptPoints {
-        per_pose: data.len(),
-        data,
-    };
-    (levels, points, sweeps)
+/// The sweep of points (flange frame) grouped per link: one pose, each link's points in the
+/// flange frame (its frame the identity), grouped by `y`.
+fn sweep_of(links: &[Vec<Point3<f64>>]) -> Swept {
+    let links: Vec<LinkPoints> = links
+        .iter()
+        .map(|pts| {
+            let mut levels: Vec<(f64, Vec<[f64; 2]>)> = Vec::new();
+            for p in pts {
+                match levels.iter_mut().find(|(y, _)| *y == p.y) {
+                    Some((_, level)) => level.push([p.x, p.z]),
+                    None => levels.push((p.y, vec![[p.x, p.z]])),
+                }
+            }
+            LinkPoints::new(1.0, &levels)
+        })
+        .collect();
+    let n = links.len();
+    let mut sweep = Swept::new(Arc::new(links), 1);
+    sweep.push(std::iter::repeat_n(Frame::IDENTITY, n));
+    sweep.finish()
 }

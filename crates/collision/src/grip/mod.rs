@@ -20,9 +20,11 @@ use pregrasp_robot::{
 
 use crate::closing::{FingerShapes, PartClosing};
 use crate::object::ObjectGeometry;
+use sweep::{Frame, Heights, LinkPoints, Swept};
 
 mod jaws;
 mod patches;
+mod sweep;
 
 pub use patches::{pad_patches, PadPatch, PATCH_DEPTH, PATCH_STEP};
 
@@ -34,9 +36,6 @@ pub use patches::{pad_patches, PadPatch, PATCH_DEPTH, PATCH_STEP};
 const SWEEP_STEP: f64 = 0.05;
 /// Bound (m) on how far a finger point may lie below the kept poses' hull between them.
 const SWEEP_SAG: f64 = 1e-4;
-/// How far (m) [`Grip::clears`] lowers its sphere and circle bounds so their round-off cannot
-/// skip a point below the line.
-const BOUND_SLACK: f64 = 1e-9;
 
 /// The largest joint turn between two poses of both fingers.
 fn turned(a: &[FingerConfig; 2], b: &[FingerConfig; 2]) -> f64 {
@@ -77,13 +76,9 @@ pub struct Grip {
     width: f64,
     /// How each finger's closing ended, `[+x, −x]`.
     pub kinds: [ClosingKind; 2],
-    /// The finger links in every pose of the closing, by planes `y = const` (in G); for a
-    /// jaw gripper, its jaws open and closed (they translate: their hull holds every pose).
-    swept: Arc<Vec<Level>>,
-    /// The levels' points `(x, z)`, pose after pose ([`SweptPoints`]).
-    points: Arc<SweptPoints>,
-    /// Per finger link (both fingers), its levels in `swept` and a sphere holding them.
-    links: Arc<Vec<LinkSweep>>,
+    /// The finger links in every pose of the closing; for a jaw gripper, its jaws open and
+    /// closed (they translate: their hull holds every pose).
+    swept: Arc<Swept>,
 }
 
 impl PartialEq for Grip {
@@ -118,81 +113,26 @@ impl Grip {
 
     /// Lowest world `z` the fingers reach while closing, the flange at `flange_world`.
     pub fn lowest(&self, flange_world: &Isometry3<f64>) -> f64 {
-        let up = Heights::of(flange_world);
-        let points = &*self.points;
-        let scan = |l: &Level, mut best: f64| {
-            let base = up.base(l);
-            for pose in points.of(l) {
-                for p in pose {
-                    best = best.min(up.point(base, p));
-                }
-            }
-            best
-        };
-        // A first answer from the level whose circle reaches lowest, then only the links (a
-        // sphere each) and their levels (a circle each) that can reach below it are read.
-        let Some(seed) = self
-            .swept
-            .iter()
-            .min_by(|a, b| up.level_bound(a).total_cmp(&up.level_bound(b)))
-        else {
-            return f64::INFINITY;
-        };
-        let mut best = scan(seed, f64::INFINITY);
-        for g in self.links.iter() {
-            if up.link_bound(g) >= best {
-                continue;
-            }
-            for l in &self.swept[g.levels.clone()] {
-                if up.level_bound(l) < best {
-                    best = scan(l, best);
-                }
-            }
-        }
+        let best = self.swept.lowest(&Heights::of(flange_world));
         best + flange_world.translation.vector.z - SWEEP_SAG
     }
 
     /// Whether the fingers stay above world height `height` all through the closing, the
     /// flange at `flange_world`: `lowest(flange_world) > height`, the same answer, found
-    /// without the minimum (a link or level whose bound clears is not read; the first point
-    /// below ends it).
+    /// without the minimum (a link, pose or level whose bound clears is not read; the first
+    /// point below ends it).
     pub fn clears(&self, flange_world: &Isometry3<f64>, height: f64) -> bool {
-        let up = Heights::of(flange_world);
         let z = flange_world.translation.vector.z;
         // As `lowest` rounds: the lowest value `v` passes iff `v + z − SWEEP_SAG > height`, and
-        // that is monotone in `v`. Bounds are pushed down by BOUND_SLACK against their own
-        // round-off.
+        // that is monotone in `v`.
         let above = |v: f64| v + z - SWEEP_SAG > height;
-        let points = &*self.points;
-        for g in self.links.iter() {
-            if above(up.link_bound(g) - BOUND_SLACK) {
-                continue;
-            }
-            for l in &self.swept[g.levels.clone()] {
-                if above(up.level_bound(l) - BOUND_SLACK) {
-                    continue;
-                }
-                let base = up.base(l);
-                if points.of(l).flatten().any(|p| !above(up.point(base, p))) {
-                    return false;
-                }
-            }
-        }
-        true
+        self.swept.clears(&Heights::of(flange_world), above)
     }
 
     /// The points (in G) that bound the closing fingers: every pose's finger links lie in
     /// their convex hull.
     pub fn swept_points(&self) -> Vec<Point3<f64>> {
-        self.swept
-            .iter()
-            .flat_map(|l| {
-                self.points
-                    .of(l)
-                    .flatten()
-                    .map(|p| Point3::new(p[0], l.y, p[1]))
-            })
-            .collect()
+        self.swept.points()
     }
 }
 
@@ -233,284 +173,57 @@ fn link_levels() -> &'static [Levels] {
     })
 }
 
-/// The points of each link's [`Levels`] one after the other: what [`Sweep::add`] places, a link
-/// at a time.
-type FlatLevels = Vec<[f64; 2]>;
-
-/// The lesser of `a` and `b` (`a` where they are equal), for numbers (no NaN): `f64::min`
-/// without its NaN handling, which costs as much as the rest of [`Sweep::add`].
-fn least(a: f64, b: f64) -> f64 {
-    if b < a {
-        b
-    } else {
-        a
-    }
-}
-
-/// The greater of `a` and `b` (`a` where they are equal), for numbers (no NaN).
-fn most(a: f64, b: f64) -> f64 {
-    if b > a {
-        b
-    } else {
-        a
-    }
-}
-
-/// [`FlatLevels`] of each link of the `+x` finger.
-fn link_points() -> &'static [FlatLevels] {
-    static POINTS: OnceLock<Vec<FlatLevels>> = OnceLock::new();
-    POINTS.get_or_init(|| {
-        link_levels()
-            .iter()
-            .map(|levels| {
-                levels
-                    .iter()
-                    .flat_map(|(_, pts)| pts.iter().copied())
-                    .collect()
-            })
-            .collect()
+/// Per finger link (the `+x` finger's five, then the `−x` finger's), its [`Levels`] as the
+/// sweep places them.
+fn finger_links() -> &'static Arc<Vec<LinkPoints>> {
+    static LINKS: OnceLock<Arc<Vec<LinkPoints>>> = OnceLock::new();
+    LINKS.get_or_init(|| {
+        Arc::new(
+            [1.0, -1.0]
+                .into_iter()
+                .flat_map(|side| {
+                    link_levels()
+                        .iter()
+                        .map(move |levels| LinkPoints::new(side, levels))
+                })
+                .collect(),
+        )
     })
-}
-
-/// The finger points swept while closing: per kept pose, both fingers' points side by side,
-/// link and `y` level after level (`(x, z)` in G), in the order [`Sweep::add`] visits them.
-struct Sweep {
-    poses: Vec<[f64; 2]>,
-    /// [`Sweep::per_pose`].
-    per_pose: usize,
-    /// Per coordinate of a pose (`x`, `z` of each point in turn), the least and the greatest
-    /// of its values so far.
-    lo: Vec<f64>,
-    hi: Vec<f64>,
 }
 
 /// Poses a closing usually keeps (capacity reserved up front).
 const SWEEP_POSES: usize = 40;
 
-impl Sweep {
-    /// Points per pose of both fingers.
-    fn per_pose() -> usize {
-        2 * link_levels()
-            .iter()
-            .flatten()
-            .map(|(_, pts)| pts.len())
-            .sum::<usize>()
-    }
-
-    fn new() -> Sweep {
-        let per_pose = Sweep::per_pose();
-        Sweep {
-            poses: Vec::with_capacity(SWEEP_POSES * per_pose),
-            per_pose,
-            lo: vec![f64::INFINITY; 2 * per_pose],
-            hi: vec![f64::NEG_INFINITY; 2 * per_pose],
-        }
-    }
-
-    /// The `y` and the point count of each level, in pose order (the `−x` finger's mirror
-    /// keeps `y`).
-    fn levels() -> impl Iterator<Item = (f64, usize)> {
-        [1.0, -1.0].into_iter().flat_map(|_| {
-            link_levels()
-                .iter()
-                .flat_map(|levels| levels.iter().map(|(y, pts)| (*y, pts.len())))
+/// Both fingers' link frames at `configs` (`[+x, −x]`), in [`finger_links`] order: a pose of
+/// the sweep.
+fn finger_frames(configs: &[FingerConfig; 2]) -> [Frame; 2 * LINKS_PER_FINGER] {
+    let l = linkage();
+    let frames = |cfg: &FingerConfig| {
+        cfg.link_frames(l).map(|frame| {
+            let (s, c) = frame.angle.sin_cos();
+            Frame {
+                ox: frame.origin.x,
+                oz: frame.origin.y,
+                c,
+                s,
+            }
         })
-    }
-
-    /// Adds both fingers at `configs` (`[+x, −x]`).
-    fn add(&mut self, configs: &[FingerConfig; 2]) {
-        let l = linkage();
-        let start = self.poses.len();
-        self.poses.resize(start + self.per_pose, [0.0; 2]);
-        let pose = &mut self.poses[start..];
-        let mut at = 0;
-        // Fingers in the same configuration (both in free air): the `−x` finger's points are
-        // the `+x` finger's mirrored, `−1 · v` being `−v` exactly.
-        let alike = configs[0] == configs[1];
-        let fingers = if alike { 1 } else { 2 };
-        for (cfg, side) in configs.iter().zip([1.0, -1.0]).take(fingers) {
-            for (frame, pts) in cfg.link_frames(l).iter().zip(link_points()) {
-                // The link frame in the finger's plane: `(x, z) ↦ o + R(angle)·(x, z)`, then
-                // mirrored `x → −x` for the `−x` finger (`PlanarPose::to_isometry`, in 2-D: the
-                // levels' `y` does not change).
-                let (s, c) = frame.angle.sin_cos();
-                let (ox, oz) = (frame.origin.x, frame.origin.y);
-                let span = at..at + pts.len();
-                at = span.end;
-                for (p, [x, z]) in pose[span].iter_mut().zip(pts) {
-                    *p = [side * (ox + c * x - s * z), oz + s * x + c * z];
-                }
-            }
+    };
+    let right = frames(&configs[0]);
+    // Fingers in the same configuration (both in free air): the `−x` finger's frames are the
+    // `+x` finger's (mirrored when placed).
+    let left = if configs[0] == configs[1] {
+        right
+    } else {
+        frames(&configs[1])
+    };
+    std::array::from_fn(|k| {
+        if k < LINKS_PER_FINGER {
+            right[k]
+        } else {
+            left[k - LINKS_PER_FINGER]
         }
-        if alike {
-            let (right, left) = pose.split_at_mut(at);
-            for (q, p) in left.iter_mut().zip(&*right) {
-                *q = [-p[0], p[1]];
-            }
-        }
-        // Each point's box grows by its new place, coordinate by coordinate.
-        let pose = self.poses[start..].as_flattened();
-        for (lo, &v) in self.lo.iter_mut().zip(pose) {
-            *lo = least(*lo, v);
-        }
-        for (hi, &v) in self.hi.iter_mut().zip(pose) {
-            *hi = most(*hi, v);
-        }
-    }
-
-    /// The swept points, and each level with a circle holding its points (its box's
-    /// circumcircle: [`Grip::lowest`] scans only the levels whose circle reaches below the best
-    /// point so far).
-    fn finish(self) -> (Vec<Level>, SweptPoints) {
-        let mut offset = 0;
-        let levels = Sweep::levels()
-            .map(|(y, n)| {
-                let pts = offset..offset + n;
-                offset += n;
-                // The level's box: its points' boxes over all poses (the least and the greatest
-                // of the same numbers, whatever the order).
-                let coords = 2 * pts.start..2 * pts.end;
-                let lo = self.lo[coords.clone()]
-                    .chunks_exact(2)
-                    .fold([f64::INFINITY; 2], |a, b| {
-                        [least(a[0], b[0]), least(a[1], b[1])]
-                    });
-                let hi = self.hi[coords]
-                    .chunks_exact(2)
-                    .fold([f64::NEG_INFINITY; 2], |a, b| {
-                        [most(a[0], b[0]), most(a[1], b[1])]
-                    });
-                Level {
-                    y,
-                    center: [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])],
-                    radius: 0.5 * (hi[0] - lo[0]).hypot(hi[1] - lo[1]),
-                    pts,
-                }
-            })
-            .collect();
-        let points = SweptPoints {
-            per_pose: self.per_pose,
-            data: self.poses,
-        };
-        (levels, points)
-    }
-}
-
-/// The points a closing swept, as [`Sweep::add`] wrote them: pose after pose, each pose's
-/// levels side by side (a level's points are the same slice of every pose).
-#[derive(Debug)]
-struct SweptPoints {
-    per_pose: usize,
-    data: Vec<[f64; 2]>,
-}
-
-impl SweptPoints {
-    /// The points of level `l`, pose by pose.
-    fn of<'s>(&'s self, l: &Level) -> impl Iterator<Item = &'s [[f64; 2]]> + 's {
-        let range = l.pts.clone();
-        self.data
-            .chunks_exact(self.per_pose)
-            .map(move |pose| &pose[range.clone()])
-    }
-}
-
-/// The swept levels of one finger link: their range in [`Grip`]'s levels and a sphere (in G)
-/// holding their points.
-#[derive(Clone, Debug)]
-struct LinkSweep {
-    levels: std::ops::Range<usize>,
-    center: Point3<f64>,
-    radius: f64,
-}
-
-/// The levels of each finger link in `levels` (in [`Sweep::levels`] order), with a sphere each.
-fn link_sweeps(levels: &[Level]) -> Vec<LinkSweep> {
-    let mut out = Vec::new();
-    let mut start = 0;
-    for _side in 0..2 {
-        for link in link_levels() {
-            let range = start..start + link.len();
-            start = range.end;
-            let group = &levels[range.clone()];
-            let (mut lo, mut hi) = (
-                Point3::from([f64::INFINITY; 3]),
-                Point3::from([f64::NEG_INFINITY; 3]),
-            );
-            for l in group {
-                let r = l.radius;
-                lo = lo.inf(&Point3::new(l.center[0] - r, l.y, l.center[1] - r));
-                hi = hi.sup(&Point3::new(l.center[0] + r, l.y, l.center[1] + r));
-            }
-            let center = nalgebra::center(&lo, &hi);
-            // Each level's circle lies in the sphere about `center` through its farthest point.
-            let radius = group
-                .iter()
-                .map(|l| (Point3::new(l.center[0], l.y, l.center[1]) - center).norm() + l.radius)
-                .fold(0.0, f64::max);
-            out.push(LinkSweep {
-                levels: range,
-                center,
-                radius,
-            });
-        }
-    }
-    out
-}
-
-/// The swept points of one plane `y = const` of one finger link (`(x, z)` in G) and a circle
-/// holding them.
-#[derive(Clone, Debug)]
-struct Level {
-    y: f64,
-    center: [f64; 2],
-    radius: f64,
-    /// Its points' place in every pose of [`SweptPoints`].
-    pts: std::ops::Range<usize>,
-}
-
-/// Heights above the flange (world `z` minus the flange's) of swept points and lower bounds
-/// of them, the flange at one world pose: `d` is the world `z` axis in G, so a point `p` of G
-/// is `d · p` above the flange. [`Grip::lowest`] and [`Grip::clears`] compute every height here,
-/// in the same order, so they agree to the last bit.
-struct Heights {
-    d: nalgebra::Vector3<f64>,
-    /// `|(d.x, d.z)|`: how far a level's circle of radius 1 can reach down.
-    planar: f64,
-}
-
-impl Heights {
-    fn of(flange_world: &Isometry3<f64>) -> Heights {
-        let d = flange_world
-            .rotation
-            .to_rotation_matrix()
-            .matrix()
-            .row(2)
-            .transpose();
-        Heights {
-            planar: d.x.hypot(d.z),
-            d,
-        }
-    }
-
-    /// The part of a level's points' heights its `y` gives.
-    fn base(&self, l: &Level) -> f64 {
-        self.d.y * l.y
-    }
-
-    /// The height of point `p` (`(x, z)`) of a level whose [`Heights::base`] is `base`.
-    fn point(&self, base: f64, p: &[f64; 2]) -> f64 {
-        base + self.d.x * p[0] + self.d.z * p[1]
-    }
-
-    /// No point of level `l` is lower than this.
-    fn level_bound(&self, l: &Level) -> f64 {
-        self.point(self.base(l), &l.center) - self.planar * l.radius
-    }
-
-    /// No point of link `g`'s levels is lower than this.
-    fn link_bound(&self, g: &LinkSweep) -> f64 {
-        self.d.dot(&g.center.coords) - g.radius
-    }
+    })
 }
 
 /// The ROS name of finger link `link` ([`FINGER_LINKS`] order).
@@ -540,14 +253,14 @@ fn close_2f85(
     flange_in_object: &Isometry3<f64>,
 ) -> Result<Grip, GripFailure> {
     let world = PartClosing::new(object, finger_shapes(), *flange_in_object, None);
-    let mut sweep = Sweep::new();
+    let mut sweep = Swept::new(finger_links().clone(), SWEEP_POSES);
     let mut poses = 0usize;
     let mut last: Option<[FingerConfig; 2]> = None;
     let result = close_fingers_traced(&world, linkage(), &mut |configs| {
         poses += 1;
         let moved = last.is_none_or(|l| turned(&l, configs) >= SWEEP_STEP);
         if moved {
-            sweep.add(configs);
+            sweep.push(finger_frames(configs));
             last = Some(*configs);
         }
     });
@@ -570,15 +283,12 @@ fn close_2f85(
         return Err(GripFailure::ClosesOnNothing);
     }
     let configs = [result[0].config, result[1].config];
-    sweep.add(&configs);
-    let (swept, points) = sweep.finish();
+    sweep.push(finger_frames(&configs));
     let fingers = FingerPair::from_configs(&configs);
     Ok(Grip {
         state: GripperState::Closed(fingers),
         width: fingers.gap(),
         kinds: [result[0].kind, result[1].kind],
-        links: Arc::new(link_sweeps(&swept)),
-        swept: Arc::new(swept),
-        points: Arc::new(points),
+        swept: Arc::new(sweep.finish()),
     })
 }
