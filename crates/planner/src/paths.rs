@@ -73,11 +73,16 @@ pub enum NoPath<E> {
 /// which costs more than the lines and less than the transits: a rotation the pinch cannot
 /// hold needs no transits), and a refusal ends the candidate. Then the transits (RRT-Connect,
 /// the expensive part), each planned once per choice it depends on and reused.
-pub fn integrated_path<T, E>(
+///
+/// The grip check and the transits a combination still needs do not depend on each other
+/// (each transit has its own seed): where the pool has threads to spare they are computed side
+/// by side first ([`ahead`]), and their verdicts are then read in the order above, so the
+/// result is the same on any number of threads; one thread computes each only when it is read.
+pub fn integrated_path<T: Send, E: Send>(
     ctx: &PlanningContext,
     candidate: &RotationAxisCandidate,
     pose: &PowerGraspPose,
-    accept: impl Fn(&RotationPath) -> Result<T, E>,
+    accept: impl Fn(&RotationPath) -> Result<T, E> + Sync,
 ) -> Result<(IntegratedPath, T), NoPath<E>> {
     let sup = pose.supportive;
     let mas = pose.master;
@@ -196,13 +201,27 @@ pub fn integrated_path<T, E>(
                     }
                 };
                 // Every line holds: now the grip check, then the transits, each planned once.
+                let transit = |query: &ReachQuery, lines| {
+                    ctx.clock
+                        .time(Stage::Transit, || reach_transit(ctx, query, lines))
+                };
+                let (asked, need_sup1, need_mas1) =
+                    (accepted.is_some(), sup1.is_none(), mas1.is_none());
+                let (mut early_accept, mut early_sup1, mut early_mas1, mut early_sup2) = ahead(
+                    || (!asked).then(|| accept(&rot)),
+                    || need_sup1.then(|| transit(&sup1_query, &sup1_lines)),
+                    || need_mas1.then(|| transit(&mas1_query, &mas1_lines)),
+                    || Some(transit(&sup2_query, &sup2_lines)),
+                );
                 if accepted.is_none() {
-                    accepted = Some(accept(&rot).map_err(NoPath::Refused)?);
+                    let verdict = early_accept.take().unwrap_or_else(|| accept(&rot));
+                    accepted = Some(verdict.map_err(NoPath::Refused)?);
                 }
                 if sup1.is_none() {
-                    match ctx.clock.time(Stage::Transit, || {
-                        reach_transit(ctx, &sup1_query, &sup1_lines)
-                    }) {
+                    match early_sup1
+                        .take()
+                        .unwrap_or_else(|| transit(&sup1_query, &sup1_lines))
+                    {
                         Ok(m) => sup1 = Some(m),
                         Err(f) => {
                             failure.note(2, format!("μ_sup1: {}", f.describe()));
@@ -211,9 +230,10 @@ pub fn integrated_path<T, E>(
                     }
                 }
                 if mas1.is_none() {
-                    match ctx.clock.time(Stage::Transit, || {
-                        reach_transit(ctx, &mas1_query, &mas1_lines)
-                    }) {
+                    match early_mas1
+                        .take()
+                        .unwrap_or_else(|| transit(&mas1_query, &mas1_lines))
+                    {
                         Ok(m) => mas1 = Some(m),
                         Err(f) => {
                             failure.note(3, format!("μ_mas1: {}", f.describe()));
@@ -221,9 +241,10 @@ pub fn integrated_path<T, E>(
                         }
                     }
                 }
-                match ctx.clock.time(Stage::Transit, || {
-                    reach_transit(ctx, &sup2_query, &sup2_lines)
-                }) {
+                match early_sup2
+                    .take()
+                    .unwrap_or_else(|| transit(&sup2_query, &sup2_lines))
+                {
                     Ok(sup2) => {
                         let path = IntegratedPath {
                             rot,
@@ -239,4 +260,20 @@ pub fn integrated_path<T, E>(
         }
     }
     Err(NoPath::Motions(failure.reason))
+}
+
+/// The four computations `a`, `b`, `c`, `d` side by side, when the pool has more than one
+/// thread; with one, none (`[None; 4]`): each is then computed when its result is read, and
+/// none is computed that would not be.
+fn ahead<A: Send, B: Send, C: Send, D: Send>(
+    a: impl FnOnce() -> Option<A> + Send,
+    b: impl FnOnce() -> Option<B> + Send,
+    c: impl FnOnce() -> Option<C> + Send,
+    d: impl FnOnce() -> Option<D> + Send,
+) -> (Option<A>, Option<B>, Option<C>, Option<D>) {
+    if rayon::current_num_threads() < 2 {
+        return (None, None, None, None);
+    }
+    let ((a, b), (c, d)) = rayon::join(|| rayon::join(a, b), || rayon::join(c, d));
+    (a, b, c, d)
 }
