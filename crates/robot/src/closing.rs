@@ -28,7 +28,7 @@
 //! part. Contacts are found on a driver-angle grid of [`DRIVER_STEP`] and refined by bisection
 //! to [`DRIVER_TOLERANCE`].
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 
 use crate::linkage::{FingerConfig, FingerLinkage, PlanarPose};
 
@@ -154,7 +154,7 @@ type Solved = ([u64; 2], Option<FingerConfig>);
 struct Solutions<'a> {
     linkage: &'a FingerLinkage,
     /// The last answers of [`Solutions::assemble`], the newest at `next - 1`.
-    assembled: Cell<[Option<Solved>; 4]>,
+    assembled: RefCell<[Option<Solved>; 4]>,
     next: Cell<usize>,
     /// Driver bits and [`FingerLinkage::parallel`] there.
     parallel: Cell<Option<(u64, Option<FingerConfig>)>>,
@@ -164,7 +164,7 @@ impl<'a> Solutions<'a> {
     fn new(linkage: &'a FingerLinkage) -> Self {
         Solutions {
             linkage,
-            assembled: Cell::new([None; 4]),
+            assembled: RefCell::new([None; 4]),
             next: Cell::new(0),
             parallel: Cell::new(None),
         }
@@ -174,7 +174,7 @@ impl<'a> Solutions<'a> {
     /// is out of range (the coupler past its stop included).
     fn assemble(&self, driver: f64, spring_link: f64) -> Option<FingerConfig> {
         let key = [driver.to_bits(), spring_link.to_bits()];
-        let mut known = self.assembled.get();
+        let mut known = self.assembled.borrow_mut();
         if let Some((_, cfg)) = known.iter().flatten().find(|(k, _)| *k == key) {
             return *cfg;
         }
@@ -184,7 +184,6 @@ impl<'a> Solutions<'a> {
             .filter(|c| linkage.within_limits(c, 1e-9));
         let at = self.next.get();
         known[at] = Some((key, cfg));
-        self.assembled.set(known);
         self.next.set((at + 1) % known.len());
         cfg
     }

@@ -260,6 +260,14 @@ impl FingerLinkage {
     }
 }
 
+/// The pad's frame on `follower`, whose rotation is `turn`.
+fn pad_of(follower: &PlanarPose, turn: &Rotation2<f64>, linkage: &FingerLinkage) -> PlanarPose {
+    PlanarPose {
+        origin: follower.origin + turn * linkage.follower_to_pad,
+        angle: follower.angle,
+    }
+}
+
 fn wrap(x: f64) -> f64 {
     crate::wrap_angle(x)
 }
@@ -292,6 +300,12 @@ impl FingerConfig {
 
     /// The follower's and the pad's frames (the last two of [`Self::link_frames`]).
     pub fn distal_frames(&self, linkage: &FingerLinkage) -> (PlanarPose, PlanarPose) {
+        let (follower, turn) = self.distal_with_turn(linkage);
+        (follower, pad_of(&follower, &turn, linkage))
+    }
+
+    /// The follower's frame and its rotation (the follower and the pad turn alike).
+    fn distal_with_turn(&self, linkage: &FingerLinkage) -> (PlanarPose, Rotation2<f64>) {
         let hinge = linkage.s + Rotation2::new(self.spring_link) * linkage.spring_to_hinge;
         let follower_angle = self.spring_link + self.follower;
         let turn = Rotation2::new(follower_angle);
@@ -299,11 +313,13 @@ impl FingerConfig {
             origin: hinge + turn * linkage.hinge_to_pin,
             angle: follower_angle,
         };
-        let pad = PlanarPose {
-            origin: follower.origin + turn * linkage.follower_to_pad,
-            angle: follower_angle,
-        };
-        (follower, pad)
+        (follower, turn)
+    }
+
+    /// The pad's frame and its rotation.
+    fn pad_frame(&self, linkage: &FingerLinkage) -> (PlanarPose, Rotation2<f64>) {
+        let (follower, turn) = self.distal_with_turn(linkage);
+        (pad_of(&follower, &turn, linkage), turn)
     }
 
     /// Centre of the pad's contact face in G `(x, z)`.
@@ -316,10 +332,14 @@ impl FingerConfig {
         self.distal_frames(linkage).1.apply(&linkage.pad_tip)
     }
 
-    /// Centre and far end of the pad's contact face in G `(x, z)`.
+    /// Centre and far end of the pad's contact face in G `(x, z)`: the pad frame's rotation
+    /// computed once for both (the same numbers as [`PlanarPose::apply`] on each).
     pub fn pad_face(&self, linkage: &FingerLinkage) -> (Point2<f64>, Point2<f64>) {
-        let pad = self.distal_frames(linkage).1;
-        (pad.apply(&linkage.pad_center), pad.apply(&linkage.pad_tip))
+        let (pad, turn) = self.pad_frame(linkage);
+        (
+            pad.origin + turn * linkage.pad_center,
+            pad.origin + turn * linkage.pad_tip,
+        )
     }
 
     /// How far the pad is turned from parallel (rad; positive: its tip curled towards the
