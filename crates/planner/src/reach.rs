@@ -144,9 +144,11 @@ impl StateValidator<6> for ArmFree<'_> {
     }
 
     fn is_valid_around(&self, q: &State<6>, reach: &State<6>) -> bool {
+        // A box only spares its states their own checks (a failed one is split, down to states
+        // checked exactly), so its primitives decide.
         self.ctx
             .world
-            .is_arm_free_within(self.arm, &self.at(q), reach)
+            .is_arm_clear_within(self.arm, &self.at(q), reach)
     }
 
     fn around_limit(&self) -> f64 {

@@ -59,6 +59,17 @@ impl CollisionWorld {
         self.free_within(Some(arm), state, &sweep, SweptUse::Answer)
     }
 
+    /// [`is_arm_free_within`](Self::is_arm_free_within) by the shapes' primitives alone: `true`
+    /// only where every state of the box is free, but a pair whose primitives come within its
+    /// grown clearance counts as touching without its exact pieces being asked. For a box
+    /// whose failure only splits it, down to states checked exactly (edges certified by
+    /// [`pregrasp_motion::MotionValidator`]): the edge's answer is the same, for less.
+    pub fn is_arm_clear_within(&self, arm: usize, state: &WorldState, reach: &Joints) -> bool {
+        let mut sweep = Sweep::default();
+        sweep.reach[arm] = *reach;
+        self.free_within(Some(arm), state, &sweep, SweptUse::Box)
+    }
+
     /// [`is_arm_free_within`](Self::is_arm_free_within) asked only about the pairs `among`
     /// (all when `None`), naming those that do not keep room for the box: `Some` of them
     /// (empty: the box is free), or `None` when more fail than [`Doubts`] holds. A pair named
@@ -98,7 +109,7 @@ impl CollisionWorld {
         self.with_posed(state, |posed| {
             let grows = Grows::new(self, state, sweep, range, &posed, [u8::MAX; 2]);
             let mut sink = FirstContact::swept(self.margin(), &grows);
-            sink.by_primitives = range;
+            sink.by_primitives = range || purpose == SweptUse::Box;
             let _ = self.visit_posed(only, state, posed, &mut sink);
             sink.ids.is_none()
         })
@@ -352,6 +363,9 @@ enum SweptUse {
     /// An answer in its own right (a box of joint space about a state): a pair with exact
     /// pieces is decided by them.
     Answer,
+    /// A box about a state of an edge ([`CollisionWorld::is_arm_clear_within`]): the
+    /// primitives decide, every pair asked.
+    Box,
     /// A range of a sequence ([`CollisionWorld::first_contact_in`]): a failure only splits the
     /// range, down to states checked exactly, so a pair whose primitives come within its grown
     /// clearance counts as touching without its pieces being asked (in a shelf plan's re-check
