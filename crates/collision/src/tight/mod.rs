@@ -48,10 +48,10 @@ pub struct Piece {
 #[derive(Clone, Debug)]
 pub struct Tight {
     pieces: Vec<Piece>,
-    /// The vertices of the hull of all pieces, built when first asked (arm links never are):
-    /// a linear function's least value over the pieces is its least value over these (the
-    /// support-plane tests).
-    hull: OnceLock<Vec<P>>,
+    /// The hull of all pieces (its vertices, with their graph), built when first asked (arm
+    /// links never are): a linear function's least value over the pieces is its least value
+    /// over these (the support-plane tests).
+    hull: OnceLock<Polytope>,
     slack: f64,
 }
 
@@ -205,7 +205,9 @@ impl Tight {
         (gap, upper)
     }
 
-    /// World `z` of the lowest vertex of the pieces with their frame at `frame`.
+    /// World `z` of the lowest vertex of the pieces with their frame at `frame`: the hull's
+    /// support point along the world's `−z` (in the pieces' frame), by a climb over its vertex
+    /// graph — the vertex a scan would find, so the same number as the least height over all.
     pub fn lowest(&self, frame: &Isometry3<f64>) -> f64 {
         let row = frame
             .rotation
@@ -220,13 +222,14 @@ impl Tight {
                 .flat_map(|p| p.poly.points.iter())
                 .copied()
                 .collect();
-            hull_points(&all)
+            let hull = Polytope::new(hull_points(&all));
+            hull.prepare();
+            hull
         });
-        let low = hull
-            .iter()
-            .map(|v| row.dot(&v.coords))
-            .fold(f64::INFINITY, f64::min);
-        low + frame.translation.vector.z
+        // `(−row)·v` is `−(row·v)` to the bit: the farthest vertex along `−row` is the first
+        // lowest one.
+        let v = Climb::new(hull).local_support_point(&-row);
+        row.dot(&v.coords) + frame.translation.vector.z
     }
 }
 

@@ -1,6 +1,7 @@
 use super::polytope::Graph;
 use super::*;
 use crate::shape::parry_cylinder;
+use nalgebra::{Translation3, UnitQuaternion};
 use parry3d_f64::query;
 use parry3d_f64::shape::{Capsule as PCapsule, ConvexPolyhedron, Cuboid as PCuboid};
 use rand::{Rng, SeedableRng};
@@ -268,4 +269,46 @@ fn pieces_agree_with_parry_polyhedra() {
         }
     }
     assert!(checked > 800);
+}
+
+/// `Tight::lowest` climbs the hull of the pieces: the same number, to the bit, as the least
+/// world `z` over every vertex of every piece, for the 2F-85's finger links (the shapes the
+/// closest-grasp test asks) in random frames and in axis-aligned ones (where vertices tie).
+#[test]
+fn lowest_is_the_least_height_of_every_vertex() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let solids = pregrasp_robot::FingerSolids::robotiq_2f85();
+    for link in &solids.links {
+        let tight = Tight::new(&link.pieces).expect("finger pieces are solids");
+        let aligned = [
+            UnitQuaternion::identity(),
+            UnitQuaternion::from_euler_angles(std::f64::consts::PI, 0.0, 0.0),
+            UnitQuaternion::from_euler_angles(std::f64::consts::FRAC_PI_2, 0.0, 0.0),
+        ];
+        let random = (0..200).map(|_| {
+            UnitQuaternion::from_euler_angles(
+                rng.random_range(-3.2..3.2),
+                rng.random_range(-1.6..1.6),
+                rng.random_range(-3.2..3.2),
+            )
+        });
+        for rotation in aligned.into_iter().chain(random.collect::<Vec<_>>()) {
+            let frame = Isometry3::from_parts(Translation3::new(0.1, -0.2, 0.3), rotation);
+            let row = frame
+                .rotation
+                .to_rotation_matrix()
+                .matrix()
+                .row(2)
+                .transpose();
+            let least = link
+                .pieces
+                .pieces
+                .iter()
+                .flatten()
+                .map(|v| row.dot(&v.coords))
+                .fold(f64::INFINITY, f64::min)
+                + frame.translation.vector.z;
+            assert_eq!(tight.lowest(&frame), least, "{} at {rotation:?}", link.name);
+        }
+    }
 }
