@@ -76,7 +76,7 @@ pub enum NoPath<E> {
 ///
 /// The grip check and the transits a combination still needs do not depend on each other
 /// (each transit has its own seed): where the pool has threads to spare they are computed side
-/// by side first ([`ahead`]), and their verdicts are then read in the order above, so the
+/// by side first (`ahead`), and their verdicts are then read in the order above, so the
 /// result is the same on any number of threads; one thread computes each only when it is read.
 pub fn integrated_path<T: Send, E: Send>(
     ctx: &PlanningContext,

@@ -333,7 +333,7 @@ impl FingerConfig {
     }
 
     /// Centre and far end of the pad's contact face in G `(x, z)`: the pad frame's rotation
-    /// computed once for both (the same numbers as [`PlanarPose::apply`] on each).
+    /// computed once for both (the same numbers as placing each by the pad frame).
     pub fn pad_face(&self, linkage: &FingerLinkage) -> (Point2<f64>, Point2<f64>) {
         let (pad, turn) = self.pad_frame(linkage);
         (
