@@ -350,6 +350,7 @@ impl ArmModel {
         }
         posed.gripper_state = state;
         posed.placed = 0;
+        posed.bounds.set(None);
         posed.gripper_frames_placed = false;
     }
 
@@ -365,6 +366,7 @@ impl ArmModel {
         if todo == 0 {
             return;
         }
+        posed.bounds.set(None);
         let (n_links, flange) = (posed.links, posed.frames[6]);
         if todo == all {
             // Every shape: link by link, then the gripper (as one loop each).

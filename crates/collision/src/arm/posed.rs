@@ -1,7 +1,9 @@
 //! An arm posed at a configuration: its shapes placed in the world frame from their local
 //! primitives, frame by frame, only where a query asks for them.
 
-use nalgebra::Isometry3;
+use std::cell::Cell;
+
+use nalgebra::{Isometry3, Point3};
 use pregrasp_robot::{GripperState, Primitive};
 
 use crate::shape::{Bounded, Placed};
@@ -114,6 +116,9 @@ pub(crate) struct PosedArm {
     pub(super) gripper_state: GripperState,
     /// Bit `k`: shape `k` is placed (a query about a few pairs places only their shapes).
     pub(super) placed: u64,
+    /// [`PosedArm::bounds`] once asked, until a shape is placed again: the arm that stands
+    /// still through a motion is asked at every check of the other.
+    pub(super) bounds: Cell<Option<(Point3<f64>, Point3<f64>)>>,
 }
 
 impl PosedArm {
@@ -129,6 +134,7 @@ impl PosedArm {
         gripper: Bounded::EMPTY,
         gripper_state: GripperState::Open,
         placed: 0,
+        bounds: Cell::new(None),
     };
 }
 
@@ -203,14 +209,18 @@ impl PosedArm {
     }
 
     /// Axis-aligned box around the whole arm: the union of the parts' bounding-sphere boxes.
-    pub fn bounds(&self) -> (nalgebra::Point3<f64>, nalgebra::Point3<f64>) {
-        let mut lo = nalgebra::Point3::from([f64::INFINITY; 3]);
-        let mut hi = nalgebra::Point3::from([f64::NEG_INFINITY; 3]);
+    pub fn bounds(&self) -> (Point3<f64>, Point3<f64>) {
+        if let Some(b) = self.bounds.get() {
+            return b;
+        }
+        let mut lo = Point3::from([f64::INFINITY; 3]);
+        let mut hi = Point3::from([f64::NEG_INFINITY; 3]);
         for s in self.shapes() {
             let r = nalgebra::Vector3::repeat(s.radius);
             lo = lo.inf(&(s.center - r));
             hi = hi.sup(&(s.center + r));
         }
+        self.bounds.set(Some((lo, hi)));
         (lo, hi)
     }
 }
