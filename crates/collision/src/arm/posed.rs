@@ -122,7 +122,9 @@ pub(crate) struct PosedArm {
 }
 
 impl PosedArm {
-    /// An arm with no shapes (a buffer to pose into).
+    /// An arm with no shapes (a buffer to pose into). Each use is a buffer of its own, its
+    /// bounds cache empty: the `Cell` is meant to be copied out of the constant.
+    #[allow(clippy::declare_interior_mutable_const)]
     pub const EMPTY: PosedArm = PosedArm {
         shapes: [Bounded::EMPTY; MAX_ARM_SHAPES],
         len: 0,
