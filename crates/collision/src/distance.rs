@@ -200,6 +200,18 @@ pub fn triangle_box_intersect(a: &P, b: &P, c: &P, half: &V) -> bool {
     true
 }
 
+/// The world's `z` axis in the coordinates of `frame` (frame → world): a point `p` of the
+/// frame lies `up · p` above the frame's origin.
+#[inline]
+pub fn world_up_in(frame: &nalgebra::Isometry3<f64>) -> V {
+    frame
+        .rotation
+        .to_rotation_matrix()
+        .matrix()
+        .row(2)
+        .transpose()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

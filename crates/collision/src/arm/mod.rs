@@ -421,12 +421,7 @@ impl ArmModel {
     /// and of each box only what its height needs: the world `z` row of its rotation.
     pub(crate) fn gripper_lowest(&self, q: &Joints, state: GripperState) -> f64 {
         let flange = self.base * self.kin.fk(q);
-        let row = flange
-            .rotation
-            .to_rotation_matrix()
-            .matrix()
-            .row(2)
-            .transpose();
+        let row = crate::distance::world_up_in(&flange);
         let tz = flange.translation.vector.z;
         let lowest = |prim: &Primitive| match prim {
             Primitive::Cuboid { pose, half_extents } => {

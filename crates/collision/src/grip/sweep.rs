@@ -140,7 +140,7 @@ impl Swept {
         let n = links.len();
         Swept {
             frames: Vec::with_capacity(poses * n),
-            spheres: Vec::with_capacity(n),
+            spheres: Vec::new(),
             links,
         }
     }
@@ -280,12 +280,7 @@ pub(super) struct Heights {
 
 impl Heights {
     pub fn of(flange_world: &Isometry3<f64>) -> Heights {
-        let d = flange_world
-            .rotation
-            .to_rotation_matrix()
-            .matrix()
-            .row(2)
-            .transpose();
+        let d = crate::distance::world_up_in(flange_world);
         Heights {
             planar: d.x.hypot(d.z),
             d,

@@ -213,12 +213,7 @@ impl Tight {
     /// support point along the world's `−z` (in the pieces' frame), by a climb over its vertex
     /// graph — the vertex a scan would find, so the same number as the least height over all.
     pub fn lowest(&self, frame: &Isometry3<f64>) -> f64 {
-        let row = frame
-            .rotation
-            .to_rotation_matrix()
-            .matrix()
-            .row(2)
-            .transpose();
+        let row = crate::distance::world_up_in(frame);
         let hull = self.hull.get_or_init(|| {
             let all: Vec<P> = self
                 .pieces

@@ -294,12 +294,7 @@ fn lowest_is_the_least_height_of_every_vertex() {
         });
         for rotation in aligned.into_iter().chain(random.collect::<Vec<_>>()) {
             let frame = Isometry3::from_parts(Translation3::new(0.1, -0.2, 0.3), rotation);
-            let row = frame
-                .rotation
-                .to_rotation_matrix()
-                .matrix()
-                .row(2)
-                .transpose();
+            let row = crate::distance::world_up_in(&frame);
             let least = link
                 .pieces
                 .pieces
