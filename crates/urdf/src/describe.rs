@@ -25,7 +25,7 @@
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use nalgebra::{Isometry3, Point3};
+use nalgebra::Isometry3;
 use pregrasp_robot::{ArmDescription, ArmGeometry, ArmKinematics, ConvexPieces, LinkShape};
 
 use crate::arm::UrdfArm;
@@ -119,11 +119,7 @@ fn arm_shapes(
         let Some((frame, in_frame)) = attachment(arm, &lp.link, &on_path, &frames) else {
             continue;
         };
-        let pieces: Vec<Vec<Point3<f64>>> = lp
-            .pieces
-            .iter()
-            .map(|p| p.iter().map(|v| in_frame * v).collect())
-            .collect();
+        let pieces = lp.placed(&in_frame);
         let Some((pieces, primitive)) = ConvexPieces::leak_boxed(pieces) else {
             continue;
         };

@@ -11,7 +11,7 @@
 //! The master joint's `<limit effort>` is the grip force (N) the jaws can be set to (the Franka
 //! Hand's description says 100 N; its datasheet 70 N continuous, 140 N peak).
 
-use nalgebra::{Isometry3, Point3, Translation3, Vector3};
+use nalgebra::{Isometry3, Translation3, Vector3};
 use pregrasp_robot::{JawGripper, JawPart};
 use urdf_rs::JointType;
 
@@ -106,11 +106,7 @@ pub fn describe_gripper(
         let Some(lp) = geometry.links.iter().find(|l| &l.link == link) else {
             continue;
         };
-        let pieces: Vec<Vec<Point3<f64>>> = lp
-            .pieces
-            .iter()
-            .map(|p| p.iter().map(|v| pose * v).collect())
-            .collect();
+        let pieces = lp.placed(pose);
         let Some(part) = JawPart::new(link, pieces) else {
             continue;
         };

@@ -2,7 +2,7 @@
 //! the link pairs checked for self-collision (the shape `pregrasp-robot`'s `ArmGeometry`
 //! takes: pieces per link plus index pairs).
 
-use nalgebra::Point3;
+use nalgebra::{Isometry3, Point3};
 use serde::{Deserialize, Serialize};
 
 /// The collision geometry of one link: convex polytopes, each given by its vertices in the
@@ -18,6 +18,16 @@ pub struct LinkPieces {
     /// For each piece, the index of the `<collision>` element of the link it was made from
     /// (file order; one piece per element in this version).
     pub elements: Vec<usize>,
+}
+
+impl LinkPieces {
+    /// The pieces' vertices carried by `at` (from the link frame into the frame `at` maps to).
+    pub fn placed(&self, at: &Isometry3<f64>) -> Vec<Vec<Point3<f64>>> {
+        self.pieces
+            .iter()
+            .map(|p| p.iter().map(|v| at * v).collect())
+            .collect()
+    }
 }
 
 /// Why a pair of links is not checked for self-collision.
