@@ -7,6 +7,7 @@
 
 use nalgebra::{Isometry3, Matrix3, Quaternion, Rotation3, Translation3, UnitQuaternion, Vector3};
 
+use crate::angle::sin_cos;
 use crate::model::{DhParams, Joints, UrModel};
 
 /// Kinematics of one arm model (immutable, cheap to copy).
@@ -45,7 +46,7 @@ impl UrKinematics {
 
     /// Flange (tool0) pose in the arm base frame.
     pub fn fk(&self, q: &Joints) -> Isometry3<f64> {
-        let sc: [(f64, f64); 6] = std::array::from_fn(|i| q[i].sin_cos());
+        let sc: [(f64, f64); 6] = std::array::from_fn(|i| sin_cos(q[i]));
         let (r, p) = self.fk_sin_cos(&sc);
         let rot = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(r));
         Isometry3::from_parts(Translation3::from(p), rot)
@@ -100,7 +101,7 @@ impl UrKinematics {
     #[inline(always)]
     fn step(&self, i: usize, theta: f64, rot: &mut UnitQuaternion<f64>, pos: &mut Vector3<f64>) {
         let (d, a, alpha) = self.rows[i];
-        let (sh, ch) = (0.5 * theta).sin_cos();
+        let (sh, ch) = sin_cos(0.5 * theta);
         // cos θ and sin θ from the half angles.
         let (c, s) = (ch * ch - sh * sh, 2.0 * sh * ch);
         *pos += *rot * Vector3::new(a * c, a * s, d);

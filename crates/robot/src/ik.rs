@@ -127,7 +127,7 @@ impl UrKinematics {
             // The second wrist branch is q5 → −q5, q6 → q6 + π.
             let q5_pos = atan2(s5_abs, c5);
             let (q6_pos, s6_pos, c6_pos) = if singular {
-                let (s, c) = q6_hint.sin_cos();
+                let (s, c) = crate::angle::sin_cos(q6_hint);
                 (q6_hint, s, c)
             } else {
                 let inv = 1.0 / s5_abs;

@@ -24,7 +24,11 @@
 //! `−y`, i.e. counter-clockwise in the `(x, z)` plane as drawn with x right and z up). Lengths
 //! in metres, angles in radians.
 
-use nalgebra::{Isometry3, Point2, Rotation2, Translation3, UnitQuaternion, Vector2, Vector3};
+use nalgebra::{
+    Isometry3, Point2, Quaternion, Rotation2, Translation3, UnitQuaternion, Vector2, Vector3,
+};
+
+use crate::angle::{rotation2, sin_cos};
 
 /// The links of a finger (the pad rigid on the follower), in [`FingerConfig::link_frames`]
 /// order.
@@ -122,7 +126,7 @@ pub struct PlanarPose {
 
 impl PlanarPose {
     fn apply(&self, v: &Vector2<f64>) -> Point2<f64> {
-        self.origin + Rotation2::new(self.angle) * v
+        self.origin + rotation2(self.angle) * v
     }
 
     /// The link frame in G (3-D) for the finger on side `side` (`+1.0`: `+x`, `−1.0`: its
@@ -131,14 +135,21 @@ impl PlanarPose {
     pub fn to_isometry(&self, side: f64) -> Isometry3<f64> {
         Isometry3::from_parts(
             Translation3::new(side * self.origin.x, 0.0, self.origin.y),
-            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -side * self.angle),
+            y_turn(-side * self.angle),
         )
     }
 }
 
+/// The turn by `angle` about G's `y` axis: nalgebra's `UnitQuaternion::from_axis_angle` on
+/// [`sin_cos`].
+fn y_turn(angle: f64) -> UnitQuaternion<f64> {
+    let (s, c) = sin_cos(angle / 2.0);
+    UnitQuaternion::new_unchecked(Quaternion::from_parts(c, Vector3::y() * s))
+}
+
 /// The direction angle of `v` in the `(x, z)` plane.
 fn angle_of(v: &Vector2<f64>) -> f64 {
-    v.y.atan2(v.x)
+    libm::atan2(v.y, v.x)
 }
 
 /// The intersection of the circle about `c1` of radius `r1` with the circle about `c2` of
@@ -217,8 +228,8 @@ impl FingerLinkage {
     /// where the coupler's circle about its hinge `C` meets the follower's circle about `J`,
     /// on the branch the gripper is assembled in. `None` if the loop cannot close there.
     pub fn assemble(&self, driver: f64, spring_link: f64) -> Option<FingerConfig> {
-        let c = self.a + Rotation2::new(driver) * self.driver_to_coupler;
-        let j = self.s + Rotation2::new(spring_link) * self.spring_to_hinge;
+        let c = self.a + rotation2(driver) * self.driver_to_coupler;
+        let j = self.s + rotation2(spring_link) * self.spring_to_hinge;
         let d = &self.derived;
         let p = circles(c, d.coupler_len, j, d.follower_len, d.pin_side)?;
         let coupler_abs = angle_of(&(p - c)) - d.coupler_angle;
@@ -236,7 +247,7 @@ impl FingerLinkage {
     pub fn parallel(&self, driver: f64) -> Option<FingerConfig> {
         // The pin is fixed to the driver; the hinge J lies on the spring link's circle about S
         // at the follower's length from the pin.
-        let p = self.a + Rotation2::new(driver) * (self.driver_to_coupler + self.coupler_to_pin);
+        let p = self.a + rotation2(driver) * (self.driver_to_coupler + self.coupler_to_pin);
         // J lies on the side of the line S → P it lies on at qpos0 (the assembled branch).
         let d = &self.derived;
         let j = circles(self.s, d.spring_len, p, d.follower_len, d.hinge_side)?;
@@ -306,9 +317,9 @@ impl FingerConfig {
 
     /// The follower's frame and its rotation (the follower and the pad turn alike).
     fn distal_with_turn(&self, linkage: &FingerLinkage) -> (PlanarPose, Rotation2<f64>) {
-        let hinge = linkage.s + Rotation2::new(self.spring_link) * linkage.spring_to_hinge;
+        let hinge = linkage.s + rotation2(self.spring_link) * linkage.spring_to_hinge;
         let follower_angle = self.spring_link + self.follower;
-        let turn = Rotation2::new(follower_angle);
+        let turn = rotation2(follower_angle);
         let follower = PlanarPose {
             origin: hinge + turn * linkage.hinge_to_pin,
             angle: follower_angle,

@@ -200,7 +200,7 @@ fn finger_frames(configs: &[FingerConfig; 2]) -> [Frame; 2 * LINKS_PER_FINGER] {
     let l = linkage();
     let frames = |cfg: &FingerConfig| {
         cfg.link_frames(l).map(|frame| {
-            let (s, c) = frame.angle.sin_cos();
+            let (s, c) = pregrasp_robot::sin_cos(frame.angle);
             Frame {
                 ox: frame.origin.x,
                 oz: frame.origin.y,
