@@ -13,6 +13,7 @@
 
 mod error;
 mod grip_force;
+mod lu;
 pub mod mass;
 pub mod part_mass;
 mod pivot;

@@ -22,6 +22,8 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use crate::lu::lu_solve;
+
 /// A cone of `K`, by its dimension.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Cone {
@@ -156,7 +158,7 @@ impl ConicProgram {
                 }
             }
         }
-        let step = k.lu().solve(&rhs)?;
+        let step = lu_solve(k, rhs)?;
         if !step.iter().all(|v| v.is_finite()) {
             return None;
         }
