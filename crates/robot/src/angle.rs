@@ -22,7 +22,7 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 
 /// The rotation of the plane by `angle`: nalgebra's `Rotation2::new` on [`sin_cos`].
 #[inline]
-pub fn rotation2(angle: f64) -> Rotation2<f64> {
+pub(crate) fn rotation2(angle: f64) -> Rotation2<f64> {
     let (s, c) = sin_cos(angle);
     Rotation2::from_matrix_unchecked(Matrix2::new(c, -s, s, c))
 }

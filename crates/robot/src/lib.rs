@@ -20,7 +20,7 @@ mod links;
 mod model;
 mod sweep_radii;
 
-pub use angle::{atan2, rotation2, sin_cos, wrap_angle};
+pub use angle::{atan2, sin_cos, wrap_angle};
 pub use arm::{chain_frames, ArmDescription, ArmKinematics, ChainSteps};
 pub use closing::{
     close_fingers, close_fingers_traced, ClosingKind, ClosingWorld, FingerClosing, Touch, COUPLER,
