@@ -147,7 +147,8 @@ fn y_turn(angle: f64) -> UnitQuaternion<f64> {
     UnitQuaternion::new_unchecked(Quaternion::from_parts(c, Vector3::y() * s))
 }
 
-/// The direction angle of `v` in the `(x, z)` plane.
+/// The direction angle of `v` in the `(x, z)` plane, by libm's `atan2` (the same bits on
+/// every platform, as [`sin_cos`]; [`crate::atan2`] trades a few ulp for the IK's speed).
 fn angle_of(v: &Vector2<f64>) -> f64 {
     libm::atan2(v.y, v.x)
 }

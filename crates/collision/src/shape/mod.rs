@@ -163,8 +163,7 @@ pub fn plane_distance(shape: &Placed, height: f64) -> f64 {
             border,
         } => a.z.min(b.z) - cylinder_rim_extent(a, b, *radius).z - border - height,
         Placed::Cuboid { pose, half } => {
-            let m = pose.rotation.to_rotation_matrix();
-            let row = m.matrix().row(2);
+            let row = crate::distance::world_up_in(pose);
             let ext = row[0].abs() * half.x + row[1].abs() * half.y + row[2].abs() * half.z;
             pose.translation.vector.z - ext - height
         }

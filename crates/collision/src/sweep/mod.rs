@@ -24,9 +24,9 @@
 //! exactly what checking them one by one returns; but, going along the sequence, the next
 //! states are accepted by one swept check about their middle when the bodies keep room for
 //! their motion — the range doubles after a success (unless the check before failed) and
-//! halves after a failure, down to single states checked as before. Far from everything a whole motion costs a few checks.
-//! Motion bounds along the sequence are prefix sums of the steps' bounds (the triangle
-//! inequality), so a range's bound costs O(1).
+//! halves after a failure, down to single states checked as before. Far from everything a
+//! whole motion costs a few checks. Motion bounds along the sequence are prefix sums of the
+//! steps' bounds (the triangle inequality), so a range's bound costs O(1).
 //!
 //! A grasping gripper works millimetres above the support (a fingertip pinch), where no range
 //! of the whole world would pass: that pair is left out of the swept checks and tested on its
