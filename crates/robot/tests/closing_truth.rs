@@ -121,13 +121,16 @@ const GRAZE: f64 = 2.5e-4;
 
 /// What the model must meet (measured 2026-11-26: every table verdict, 640 of 702 fingers within
 /// 2 mm, median 0.40 mm, p90 1.75 mm; with a table under the bar, the planner's case, 198 of 206
-/// within 2 mm, worst 8.6 mm: tilted bars reaching 25 mm past the power point, pinched; our pads
-/// and tips at most 1.2 mm shallower than MuJoCo's). Where it departs: the fingers that MuJoCo wraps around a
-/// bar at the power point with the spring link pushed open again by the curling follower (a
-/// force balance of the spring and the actuator, which a kinematic model does not have: ours
-/// keeps the spring link where it met the bar and curls the follower until the tips meet, 10 to
-/// 27 mm deeper, so it is the more cautious about the table), and pinches on a bar tilted 20 to
-/// 30° whose corner MuJoCo's pad rolls onto by friction and compliance.
+/// within 2 mm, worst 8.6 mm, and our pads and tips at most 1.2 mm shallower than MuJoCo's).
+/// Where it departs (`docs/fingers.md` counts them):
+/// - without a table, on 15 mm bars MuJoCo's pads roll along the bar and its tips meet under
+///   it; ours hold a pad where it met the bar (friction, no roll);
+/// - without a table, the fingers that MuJoCo wraps around a bar at the power point with the
+///   spring link pushed open again by the curling follower (a force balance of the spring and
+///   the actuator, which a kinematic model does not have: ours keeps the spring link where it
+///   met the bar and curls the follower on);
+/// - on a table, pinches on thick bars tilted 10 to 30° whose top reaches 25 mm past the power
+///   point: MuJoCo's pad rolls onto the corner by friction and compliance; ours mostly ends deeper.
 #[test]
 fn the_closing_agrees_with_mujoco_on_bars() {
     let truth = data("closing_2f85.json");
