@@ -9,8 +9,11 @@ use parry3d_f64::query::intersection_test;
 use parry3d_f64::shape::{ConvexPolyhedron, Cuboid};
 use pregrasp_collision::fixtures::box_mesh;
 use pregrasp_collision::{FingerShapes, ObjectGeometry, PartClosing};
-use pregrasp_robot::{close_fingers, ClosingWorld, FingerLinkage, PlanarPose, Touch, FINGER_LINKS};
+use pregrasp_robot::{close_fingers, ClosingWorld, FingerLinkage, PlanarPose, Touch};
 use serde_json::Value;
+
+#[path = "../../robot/tests/common/menagerie.rs"]
+mod menagerie;
 
 fn data(name: &str) -> Value {
     let path = format!(
@@ -18,32 +21,6 @@ fn data(name: &str) -> Value {
         env!("CARGO_MANIFEST_DIR")
     );
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-/// The finger pieces MuJoCo collides (hulls of the Menagerie meshes, pad boxes).
-fn pieces() -> Vec<Vec<Vec<Point3<f64>>>> {
-    let json = data("menagerie_2f85_collision.json");
-    FINGER_LINKS
-        .iter()
-        .map(|name| {
-            json["links"][name]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|piece| {
-                    piece
-                        .as_array()
-                        .unwrap()
-                        .iter()
-                        .map(|p| {
-                            let c = |k: usize| p[k].as_f64().unwrap();
-                            Point3::new(c(0), c(1), c(2))
-                        })
-                        .collect()
-                })
-                .collect()
-        })
-        .collect()
 }
 
 /// A convex piece as a parry hull and its vertices.
@@ -83,7 +60,7 @@ impl ClosingWorld for Solids {
 #[test]
 fn a_bar_as_a_mesh_closes_the_fingers_as_the_solid_bar_does() {
     let truth = data("closing_2f85.json");
-    let raw = pieces();
+    let raw = menagerie::collision_pieces(1.0);
     let shapes = FingerShapes::new(&raw).unwrap();
     let solid_pieces = |sign: f64| -> Vec<Vec<Piece>> {
         raw.iter()

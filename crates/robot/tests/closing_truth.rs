@@ -9,9 +9,11 @@ use parry3d_f64::query::intersection_test;
 use parry3d_f64::shape::{ConvexPolyhedron, Cuboid};
 use pregrasp_robot::{
     close_fingers, ClosingKind, ClosingWorld, FingerClosing, FingerLinkage, PlanarPose, Touch,
-    FINGER_LINKS,
 };
 use serde_json::Value;
+
+#[path = "common/menagerie.rs"]
+mod menagerie;
 
 fn data(name: &str) -> Value {
     let path = format!("{}/data/gripper_truth/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -28,28 +30,12 @@ struct Links {
 
 impl Links {
     fn load() -> Links {
-        let json = data("menagerie_2f85_collision.json");
-        let side = |sign: f64| {
-            FINGER_LINKS
-                .iter()
-                .map(|name| {
-                    json["links"][name]
-                        .as_array()
-                        .unwrap()
-                        .iter()
-                        .map(|piece| {
-                            let pts: Vec<Point3<f64>> = piece
-                                .as_array()
-                                .unwrap()
-                                .iter()
-                                .map(|p| {
-                                    let c = |k: usize| p[k].as_f64().unwrap();
-                                    Point3::new(sign * c(0), c(1), c(2))
-                                })
-                                .collect();
-                            let hull = ConvexPolyhedron::from_convex_hull(&pts).unwrap();
-                            (hull, pts)
-                        })
+        let side = |sign: f64| -> Vec<Vec<Piece>> {
+            menagerie::collision_pieces(sign)
+                .into_iter()
+                .map(|link| {
+                    link.into_iter()
+                        .map(|pts| (ConvexPolyhedron::from_convex_hull(&pts).unwrap(), pts))
                         .collect()
                 })
                 .collect()
