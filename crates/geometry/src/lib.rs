@@ -3,11 +3,13 @@
 //! Frames: world is right-handed with `z` up; the support surface is the plane
 //! `z = support_height`. A [`Pose`] maps a child frame into its parent (`p_parent = pose * p_child`).
 
+pub mod bits_hash;
 pub mod hull;
 pub mod mesh;
 pub mod rotation;
 pub mod shapes;
 
+pub use bits_hash::{BitsBuildHasher, BitsHasher};
 pub use hull::{ConvexHull, HullError, HullFace};
 pub use mesh::Mesh;
 

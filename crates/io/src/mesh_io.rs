@@ -7,11 +7,10 @@
 //! [`LoadedMesh::warnings`] (the library never prints).
 
 use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
 use std::io::Cursor;
 use std::path::Path;
 
-use pregrasp_geometry::{Mesh, Point};
+use pregrasp_geometry::{BitsBuildHasher, Mesh, Point};
 
 /// A mesh read from a file, in metres (scale applied), with any warnings about it.
 #[derive(Clone, Debug, PartialEq)]
@@ -292,31 +291,10 @@ fn foreign_magic(bytes: &[u8]) -> Option<&'static str> {
         .map(|(_, k)| *k)
 }
 
-/// Hasher for welding: the key is already three well-mixed 32-bit words.
-#[derive(Default)]
-struct WeldHasher(u64);
-impl Hasher for WeldHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for b in bytes {
-            self.0 =
-                (self.0.rotate_left(5) ^ u64::from(*b)).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-        }
-    }
-    fn write_u32(&mut self, x: u32) {
-        self.0 = (self.0.rotate_left(5) ^ u64::from(x)).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-}
-
 /// Welds triangle-soup corners that are exactly equal (`-0.0` equals `0.0`) into shared
 /// vertices, in first-seen order, and scales them. Fails on a non-finite coordinate.
 fn weld(tris: &[[[f32; 3]; 3]], scale: f64, file: &str) -> Result<LoadedMesh, MeshError> {
-    let mut index: HashMap<[u32; 3], u32, BuildHasherDefault<WeldHasher>> =
+    let mut index: HashMap<[u32; 3], u32, BitsBuildHasher> =
         HashMap::with_capacity_and_hasher(tris.len(), Default::default());
     let mut vertices = Vec::with_capacity(tris.len() / 2 + 3);
     let mut triangles = Vec::with_capacity(tris.len());

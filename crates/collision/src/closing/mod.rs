@@ -13,9 +13,9 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
 
 use nalgebra::{Isometry3, Point3, Vector3};
+use pregrasp_geometry::BitsBuildHasher;
 use pregrasp_robot::{ClosingWorld, ConvexPieces, PlanarPose, Touch, FINGER_LINKS};
 
 use crate::object::ObjectGeometry;
@@ -170,33 +170,6 @@ impl FingerShapes {
 /// A link's pose as a memo key: (side, link, bits of the planar pose).
 type PoseKey = (u8, u8, [u64; 3]);
 
-/// A multiply-rotate hasher for [`PoseKey`]s (bits of floats: no adversary, and SipHash was a
-/// tenth of a closing's time).
-#[derive(Default)]
-struct PoseHasher(u64);
-
-impl Hasher for PoseHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-
-    fn write(&mut self, bytes: &[u8]) {
-        for chunk in bytes.chunks(8) {
-            let mut word = [0u8; 8];
-            word[..chunk.len()].copy_from_slice(chunk);
-            self.write_u64(u64::from_le_bytes(word));
-        }
-    }
-
-    fn write_u8(&mut self, x: u8) {
-        self.write_u64(u64::from(x));
-    }
-
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-}
-
 /// The part and the support at one grasp (see the module documentation).
 pub struct PartClosing<'a> {
     object: &'a ObjectGeometry,
@@ -208,7 +181,7 @@ pub struct PartClosing<'a> {
     /// The part test's answers by (side, link, pose bits): a closing asks the same pose of a
     /// link many times (the spring link turns about a pivot on the housing, so while it rests
     /// on the part its searches probe the same angles at every driver step).
-    memo: RefCell<HashMap<PoseKey, bool, BuildHasherDefault<PoseHasher>>>,
+    memo: RefCell<HashMap<PoseKey, bool, BitsBuildHasher>>,
     /// Per `[side][link]`, the link's last clearance from the part ([`near`]): it misses the
     /// part at every pose that moves none of its points that far.
     free: RefCell<[[Option<Clearance>; 5]; 2]>,
