@@ -172,9 +172,10 @@ fn the_closing_agrees_with_mujoco_on_bars() {
                 |v: &Value| nalgebra::Point2::new(v[0].as_f64().unwrap(), v[2].as_f64().unwrap());
             let mirror = |p: nalgebra::Point2<f64>| nalgebra::Point2::new(sign * p.x, p.y);
             let c = &ours[k].config;
-            let err = (mirror(c.pad_center(&l)) - at(&f["pad_center"]))
-                .norm()
-                .max((mirror(c.pad_tip(&l)) - at(&f["tip"])).norm());
+            // (x, z) in G of our pad centre and tip, and of MuJoCo's.
+            let (pad, tip) = (mirror(c.pad_center(&l)), mirror(c.pad_tip(&l)));
+            let (their_pad, their_tip) = (at(&f["pad_center"]), at(&f["tip"]));
+            let err = (pad - their_pad).norm().max((tip - their_tip).norm());
             errors.push((err, row["id"].as_str().unwrap().to_string(), side));
             compared += 1;
             if err <= 2e-3 {
@@ -184,9 +185,8 @@ fn the_closing_agrees_with_mujoco_on_bars() {
                 on_table += 1;
                 on_table_within += usize::from(err <= 2e-3);
                 on_table_worst = on_table_worst.max(err);
-                let pad_z = f["pad_center"][2].as_f64().unwrap() - c.pad_center(&l).y;
-                let tip_z = f["tip"][2].as_f64().unwrap() - c.pad_tip(&l).y;
-                on_table_shallow = on_table_shallow.max(pad_z).max(tip_z);
+                let shallow = (their_pad.y - pad.y).max(their_tip.y - tip.y);
+                on_table_shallow = on_table_shallow.max(shallow);
             }
             let curled = f["distal_curled"] == true;
             let ours_curled =
