@@ -37,20 +37,30 @@ pub struct UrdfModel {
 }
 
 impl UrdfModel {
-    /// Reads and indexes the URDF file at `path`; errors name the path as given.
+    /// Reads and indexes the URDF file at `path`; errors name the path as given. Only a
+    /// regular file of at most [`pregrasp_limits::MAX_DESCRIPTION_BYTES`] is read.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Self, UrdfError> {
         let path = path.as_ref();
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| UrdfError::Io {
-            file: file.clone(),
-            source,
-        })?;
+        let text = pregrasp_limits::read_text_limited(path, pregrasp_limits::MAX_DESCRIPTION_BYTES)
+            .map_err(|source| UrdfError::Io {
+                file: file.clone(),
+                source,
+            })?;
         Self::from_urdf_str(&text, &file)
     }
 
     /// Parses and indexes URDF text; `source` names it in error messages (a path, or any
-    /// label such as `"<inline>"`).
+    /// label such as `"<inline>"`). Text nested deeper or with more elements than
+    /// [`pregrasp_limits::xml::Shape::DESCRIPTION`] allows is refused before the (recursive)
+    /// URDF reader sees it.
     pub fn from_urdf_str(text: &str, source: &str) -> Result<Self, UrdfError> {
+        pregrasp_limits::xml::check(text, pregrasp_limits::xml::Shape::DESCRIPTION).map_err(
+            |e| UrdfError::Parse {
+                file: source.to_string(),
+                message: e.to_string(),
+            },
+        )?;
         let robot = urdf_rs::read_from_string(text).map_err(|e| UrdfError::Parse {
             file: source.to_string(),
             message: e.to_string(),
