@@ -50,6 +50,23 @@ impl JointKind {
     }
 }
 
+/// Fastest joint speed a description may give (rad/s or m/s): ten times the fastest
+/// industrial arm joint's. A `<limit velocity="1e300">` would time every motion at zero
+/// seconds.
+pub const MAX_JOINT_SPEED: f64 = 100.0;
+
+/// Longest travel either way of a prismatic joint (m).
+pub const MAX_PRISMATIC_TRAVEL: f64 = 100.0;
+
+/// A number short enough for a message: `1e308`, not 309 digits.
+pub(crate) fn number(v: f64) -> String {
+    if v.is_finite() && v.abs() >= 1e6 {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
 /// A joint's limits from its `<limit>` element. Continuous joints have infinite position
 /// limits (and an infinite velocity when the element is absent).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -452,11 +469,20 @@ impl UrdfModel {
         if l.lower.is_nan() || l.upper.is_nan() || l.velocity.is_nan() || l.effort.is_nan() {
             return Err(bad("a value is NaN".to_string()));
         }
-        if l.velocity < 0.0 {
-            return Err(bad(format!("negative velocity {}", l.velocity)));
+        if l.velocity < 0.0 || l.effort < 0.0 {
+            return Err(bad(format!(
+                "negative velocity {} or effort {}",
+                l.velocity, l.effort
+            )));
         }
         let absent = l.lower == 0.0 && l.upper == 0.0 && l.velocity == 0.0;
         if kind == JointKind::Continuous {
+            if l.velocity > MAX_JOINT_SPEED {
+                return Err(bad(format!(
+                    "velocity {}: a joint's speed must be at most {MAX_JOINT_SPEED} rad/s",
+                    number(l.velocity)
+                )));
+            }
             let unset = |v: f64| if v > 0.0 { v } else { f64::INFINITY };
             return Ok(JointLimits {
                 lower: f64::NEG_INFINITY,
@@ -478,6 +504,39 @@ impl UrdfModel {
         }
         if l.lower > l.upper {
             return Err(bad(format!("lower {} > upper {}", l.lower, l.upper)));
+        }
+        // A joint the planner drives must move at a finite, non-zero speed between finite
+        // bounds: motions are timed by `velocity`, configurations sampled between the bounds.
+        if !(l.velocity > 0.0 && l.velocity <= MAX_JOINT_SPEED) {
+            return Err(bad(format!(
+                "velocity {}: a joint's speed must be above 0 and at most {MAX_JOINT_SPEED} ({})",
+                number(l.velocity),
+                if kind == JointKind::Prismatic {
+                    "m/s"
+                } else {
+                    "rad/s"
+                }
+            )));
+        }
+        let reach = if kind == JointKind::Prismatic {
+            MAX_PRISMATIC_TRAVEL
+        } else {
+            f64::MAX
+        };
+        if !(l.lower.is_finite() && l.upper.is_finite())
+            || l.lower.abs() > reach
+            || l.upper.abs() > reach
+        {
+            return Err(bad(format!(
+                "lower {} / upper {}: the bounds must be finite{}",
+                number(l.lower),
+                number(l.upper),
+                if kind == JointKind::Prismatic {
+                    format!(" and within ±{MAX_PRISMATIC_TRAVEL} m")
+                } else {
+                    String::new()
+                }
+            )));
         }
         Ok(JointLimits {
             lower: l.lower,

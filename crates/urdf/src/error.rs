@@ -137,6 +137,18 @@ pub enum UrdfError {
         /// What is wrong.
         problem: String,
     },
+    /// A `<collision>` element whose geometry no robot can have: a size, radius or scale that
+    /// is negative, not finite or beyond [`crate::geometry::MAX_LINK_EXTENT`], or a mesh with
+    /// an empty filename.
+    #[error("{file}: link `{link}`: <collision> {problem}")]
+    BadCollision {
+        /// The source.
+        file: String,
+        /// The link.
+        link: String,
+        /// What is wrong, naming the element and value.
+        problem: String,
+    },
     /// A moving joint whose `<axis xyz>` is zero or not finite.
     #[error("{file}: joint `{joint}` has an unusable <axis xyz=\"{axis}\"> (zero or not finite)")]
     BadAxis {
@@ -269,6 +281,10 @@ fn candidates_text(candidates: &[String]) -> String {
 
 /// The searched directories, comma-separated (or "no directories").
 fn searched_text(dirs: &[String]) -> String {
+    let dirs: Vec<&str> = dirs
+        .iter()
+        .map(|d| if d.is_empty() { "." } else { d.as_str() })
+        .collect();
     if dirs.is_empty() {
         return "no directories".to_string();
     }

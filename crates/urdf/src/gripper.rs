@@ -24,6 +24,13 @@ use crate::geometry::LazyGeometry;
 /// pose in the hand's or the jaw's frame.
 type Hanging = (Option<usize>, Isometry3<f64>);
 
+/// Longest travel of a jaw (m): a parallel gripper's stroke is centimetres; 0.5 m bounds the
+/// tables made over it (a `<limit upper="1e10">` would have them fill the memory).
+pub const MAX_JAW_STROKE: f64 = 0.5;
+
+/// Largest force a jaw may press with (N).
+pub const MAX_JAW_FORCE: f64 = 10_000.0;
+
 /// The jaw gripper below `arm`'s tool link with its tool points on flange `z` (defaults: the
 /// middle of the jaws' inner faces, for both), its pieces from `geometry` (the description's,
 /// loaded only once the links below the tool link are found to be jaws).
@@ -95,6 +102,22 @@ pub fn describe_gripper(
         }
     };
     let limit = &model.joint(&master).expect("a joint of the tree").limit;
+    let stroke = limit.upper - limit.lower;
+    if !(limit.lower.is_finite() && stroke > 0.0 && stroke <= MAX_JAW_STROKE) {
+        return Err(fail(format!(
+            "jaw joint `{master}`: <limit lower=\"{}\" upper=\"{}\">: a jaw travels more than \
+             0 and at most {MAX_JAW_STROKE} m",
+            crate::chain::number(limit.lower),
+            crate::chain::number(limit.upper)
+        )));
+    }
+    if !(limit.effort > 0.0 && limit.effort <= MAX_JAW_FORCE) {
+        return Err(fail(format!(
+            "jaw joint `{master}`: <limit effort=\"{}\">: the force a jaw presses with must be \
+             above 0 and at most {MAX_JAW_FORCE} N",
+            crate::chain::number(limit.effort)
+        )));
+    }
     let joint = (limit.lower, limit.upper);
     // The jaw joint's effort limit is the force a jaw can press with.
     let force = (0.0, limit.effort);

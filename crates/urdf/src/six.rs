@@ -90,6 +90,17 @@ impl SixJointArm {
             let (lo, hi) = (lim[i].lower, lim[i].upper);
             (lo.max(-CONTINUOUS_RANGE), hi.min(CONTINUOUS_RANGE))
         });
+        // Continuous joints without a `<limit velocity>` have an infinite one: the planner
+        // times every motion by these speeds, so each must be given.
+        if let Some(i) = (0..6).find(|&i| !lim[i].velocity.is_finite()) {
+            return Err(UrdfError::BadLimit {
+                file: chain.source().to_string(),
+                joint: reduced.joint_names()[i].to_string(),
+                problem: "no velocity: give <limit velocity=\"..\"> (rad/s), motions are timed \
+                          by it"
+                    .to_string(),
+            });
+        }
         let speed = std::array::from_fn(|i| lim[i].velocity);
         let joints = reduced.joints();
         let offsets = std::array::from_fn(|i| match joints.get(i + 1) {

@@ -55,6 +55,10 @@ pub fn entry_path(dir: &Path, robot: &str, key: &str) -> PathBuf {
     dir.join("urdf-geometry").join(format!("{name}-{key}.json"))
 }
 
+/// Largest cache entry read (bytes): an entry holds hull vertices, kilobytes per link; 64 MiB
+/// is far beyond any real robot's and bounds what a planted file can make us read.
+pub const MAX_ENTRY_BYTES: u64 = 64 << 20;
+
 /// What reading an entry found.
 pub(crate) enum Read {
     Hit(UrdfGeometry),
@@ -66,7 +70,7 @@ pub(crate) enum Read {
 /// Reads the entry at `path`, accepting it only for this `version` and `key` and with its
 /// pair indices in range.
 pub(crate) fn read(path: &Path, version: &str, key: &str) -> Read {
-    let bytes = match std::fs::read(path) {
+    let bytes = match pregrasp_limits::read_limited(path, MAX_ENTRY_BYTES) {
         Ok(b) => b,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Read::Absent,
         Err(e) => return Read::Bad(e.to_string()),

@@ -14,8 +14,10 @@
 use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Point3};
+use pregrasp_limits::{read_limited, MAX_COLLISION_MESH_BYTES};
 
 use super::cache::{self, Read};
+use super::entry_check::check_entry;
 use super::hash::Fnv128;
 use super::mesh::{self, LinkMesh};
 use super::pieces::hull_piece;
@@ -23,6 +25,7 @@ use super::primitives::{box_corners, capsule_vertices, cylinder_vertices, sphere
 use super::self_collision::{classify_pairs, SelfCollisionOptions};
 use super::tree::LinkTree;
 use super::types::{LinkPieces, UrdfGeometry};
+use super::values::{check_element, check_extent};
 use crate::chain::origin_isometry;
 use crate::error::UrdfError;
 use crate::model::UrdfModel;
@@ -94,8 +97,10 @@ pub struct Element {
     pub mesh: Option<(PathBuf, Vec<u8>)>,
 }
 
-/// Every `<collision>` element of `model`, link by link in file order, meshes resolved and
-/// read (errors: [`UrdfError::MissingMesh`], [`UrdfError::Mesh`]).
+/// Every `<collision>` element of `model`, link by link in file order, its values checked
+/// ([`super::values`]) and its mesh resolved and read: a regular file of at most
+/// [`MAX_COLLISION_MESH_BYTES`] (errors: [`UrdfError::BadCollision`],
+/// [`UrdfError::MissingMesh`], [`UrdfError::Mesh`]).
 pub fn collision_elements(
     model: &UrdfModel,
     opts: &GeometryOptions,
@@ -109,16 +114,19 @@ pub fn collision_elements(
     let mut out = Vec::new();
     for link in &model.robot().links {
         for (index, c) in link.collision.iter().enumerate() {
+            check_element(model.source(), &link.name, &c.geometry)?;
             let mesh = match &c.geometry {
                 urdf_rs::Geometry::Mesh { filename, .. } => {
                     let path = mesh::resolve(filename, urdf_dir.as_deref(), &dirs).map_err(
                         |searched| mesh::missing(model.source(), &link.name, filename, &searched),
                     )?;
-                    let bytes = std::fs::read(&path).map_err(|e| UrdfError::Mesh {
-                        file: model.source().to_string(),
-                        link: link.name.clone(),
-                        path: path.display().to_string(),
-                        message: e.to_string(),
+                    let bytes = read_limited(&path, MAX_COLLISION_MESH_BYTES).map_err(|e| {
+                        UrdfError::Mesh {
+                            file: model.source().to_string(),
+                            link: link.name.clone(),
+                            path: path.display().to_string(),
+                            message: e.to_string(),
+                        }
                     })?;
                     Some((path, bytes))
                 }
@@ -150,23 +158,30 @@ pub fn element_mesh(model: &UrdfModel, e: &Element) -> Result<Option<LinkMesh>, 
         message,
     };
     let m = mesh::parse(bytes, path, scale, &e.origin).map_err(|err| bad(err.to_string()))?;
-    if m.vertices.is_empty()
-        || !m
-            .vertices
-            .iter()
-            .all(|p| p.coords.iter().all(|c| c.is_finite()))
-    {
-        return Err(bad("no vertices, or a non-finite one".to_string()));
+    if m.vertices.is_empty() {
+        return Err(bad("no vertices".to_string()));
     }
+    let what = format!("mesh {}", path.display());
+    check_extent(model.source(), &e.link, &what, &m.vertices)?;
     Ok(Some(m))
 }
 
 /// The piece of one element in the link frame: the hull of its mesh, or the polytope of its
 /// primitive ([`super::primitives`]) placed by its origin.
 pub fn element_piece(model: &UrdfModel, e: &Element) -> Result<Vec<Point3<f64>>, UrdfError> {
+    let (points, is_mesh) = element_points(model, e)?;
+    Ok(if is_mesh { hull_piece(&points) } else { points })
+}
+
+/// The points of one element in the link frame, and whether they are a mesh's vertices (of
+/// which the piece is the hull) or already a primitive's polytope.
+pub fn element_points(
+    model: &UrdfModel,
+    e: &Element,
+) -> Result<(Vec<Point3<f64>>, bool), UrdfError> {
     use urdf_rs::Geometry as G;
     if let Some(m) = element_mesh(model, e)? {
-        return Ok(hull_piece(&m.vertices));
+        return Ok((m.vertices, true));
     }
     let local = match &e.geometry {
         G::Box { size } => box_corners(size.0),
@@ -175,7 +190,9 @@ pub fn element_piece(model: &UrdfModel, e: &Element) -> Result<Vec<Point3<f64>>,
         G::Sphere { radius } => sphere_vertices(*radius),
         G::Mesh { .. } => unreachable!("meshes handled above"),
     };
-    Ok(local.iter().map(|p| e.origin * p).collect())
+    let piece: Vec<Point3<f64>> = local.iter().map(|p| e.origin * p).collect();
+    check_extent(model.source(), &e.link, "the element", &piece)?;
+    Ok((piece, false))
 }
 
 /// The cache key of `elements` and the joints of `model` (see the module documentation).
@@ -280,12 +297,15 @@ impl UrdfGeometry {
         };
         let path = cache::entry_path(&dir, model.name(), &key);
         let bad = match cache::read(&path, ALGORITHM_VERSION, &key) {
-            Read::Hit(geometry) => {
-                return Ok(Loaded {
-                    geometry,
-                    cache: CacheOutcome::Hit(path),
-                })
-            }
+            Read::Hit(geometry) => match check_entry(model, &elements, &geometry) {
+                Ok(()) => {
+                    return Ok(Loaded {
+                        geometry,
+                        cache: CacheOutcome::Hit(path),
+                    })
+                }
+                Err(why) => Some(why),
+            },
             Read::Absent => None,
             Read::Bad(why) => Some(why),
         };

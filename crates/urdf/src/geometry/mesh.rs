@@ -58,7 +58,7 @@ pub fn resolve(
             Some(d) if path.is_relative() => d.join(path),
             _ => path.to_path_buf(),
         };
-        if full.is_file() {
+        if present(&full) {
             Ok(full)
         } else {
             Err(vec![full
@@ -71,10 +71,10 @@ pub fn resolve(
         let (pkg, rest) = rest.split_once('/').unwrap_or((rest, ""));
         for d in dirs {
             let inside = d.join(pkg).join(rest);
-            if inside.is_file() {
+            if present(&inside) {
                 return Ok(inside);
             }
-            if d.file_name().is_some_and(|n| n == pkg) && d.join(rest).is_file() {
+            if d.file_name().is_some_and(|n| n == pkg) && present(&d.join(rest)) {
                 return Ok(d.join(rest));
             }
         }
@@ -84,6 +84,12 @@ pub fn resolve(
         Some(p) => relative(p),
         None => relative(filename),
     }
+}
+
+/// Whether `path` names something that is not a folder. A FIFO or device counts, so that
+/// reading it ([`pregrasp_limits::read_limited`]) refuses it in words instead of "not found".
+fn present(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_dir())
 }
 
 /// The error for a mesh found nowhere.
@@ -96,15 +102,40 @@ pub(crate) fn missing(file: &str, link: &str, filename: &str, searched: &[PathBu
     }
 }
 
-/// Parses mesh file bytes (`path` gives the format by its extension, and the folder of an
-/// OBJ's material library) into the link frame: `origin · diag(scale) · p`.
+/// The mesh formats read, by lower-case file extension.
+pub const MESH_EXTENSIONS: [&str; 3] = ["stl", "obj", "dae"];
+
+/// Parses mesh file bytes (`path` gives the format by its extension) into the link frame: `origin · diag(scale) · p`. An extension
+/// other than [`MESH_EXTENSIONS`] is refused; an OBJ's material library (`mtllib`) is not
+/// read at all.
 pub fn parse(
     bytes: &[u8],
     path: &Path,
     scale: [f64; 3],
     origin: &Isometry3<f64>,
 ) -> std::io::Result<LinkMesh> {
-    let scene = mesh_loader::Loader::default().load_from_slice(bytes, path)?;
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    if !MESH_EXTENSIONS.contains(&ext.as_str()) {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::Unsupported,
+            format!(
+                "unsupported mesh format {:?} (STL, OBJ and COLLADA are read: .stl, .obj, .dae)",
+                if ext.is_empty() {
+                    "no extension".to_string()
+                } else {
+                    format!(".{ext}")
+                }
+            ),
+        ));
+    }
+    // Collision geometry has no colours: an OBJ's `mtllib` is never opened (it may name a
+    // FIFO, a device or a huge file), the loader is handed an empty library instead.
+    let no_materials = |_: &Path| Ok(Vec::new());
+    let scene =
+        mesh_loader::Loader::default().load_from_slice_with_reader(bytes, path, no_materials)?;
     let mut out = LinkMesh::default();
     for m in scene.meshes {
         let base = out.vertices.len() as u32;

@@ -17,6 +17,7 @@
 //! list of convex pieces (vertices in the link frame), and index pairs of links.
 
 pub mod cache;
+mod entry_check;
 pub mod excess;
 mod hash;
 mod lazy;
@@ -27,6 +28,7 @@ pub mod primitives;
 pub mod self_collision;
 pub mod tree;
 mod types;
+pub mod values;
 
 use nalgebra::Isometry3;
 
@@ -37,6 +39,7 @@ pub use load::{CacheDir, CacheOutcome, GeometryOptions, Loaded, ALGORITHM_VERSIO
 pub use self_collision::{PieceShapes, SelfCollisionOptions};
 pub use tree::{LinkTree, TreeVariable};
 pub use types::{ExcludedPair, Exclusion, LinkPieces, UrdfGeometry};
+pub use values::MAX_LINK_EXTENT;
 
 use crate::error::UrdfError;
 
