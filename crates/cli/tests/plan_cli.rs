@@ -2,17 +2,9 @@
 
 mod common;
 
-use common::{examples_dir, plan_chair_side, pregrasp};
+use common::{examples_dir, plan_chair_side, plan_without_timing, pregrasp};
 
 use std::path::Path;
-
-/// The plan file with its `timing_ms` removed (the only part that may differ between runs).
-fn plan_without_timing(path: &Path) -> String {
-    let mut value: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-    value.as_object_mut().unwrap().remove("timing_ms");
-    serde_json::to_string_pretty(&value).unwrap()
-}
 
 #[test]
 fn plan_writes_a_plan_that_check_accepts_and_is_the_same_for_1_and_2_threads() {

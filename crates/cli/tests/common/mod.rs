@@ -44,6 +44,14 @@ pub fn plan_chair_side(dir: &Path) {
     );
 }
 
+/// The plan file with its `timing_ms` removed (the only part that may differ between runs).
+pub fn plan_without_timing(path: &Path) -> String {
+    let mut value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    value.as_object_mut().unwrap().remove("timing_ms");
+    serde_json::to_string_pretty(&value).unwrap()
+}
+
 /// What a run wrote on stderr.
 pub fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
