@@ -88,9 +88,13 @@ impl Source {
             }
             _ => None,
         };
+        let geometry = match &described {
+            Some((arm, _)) => LazyGeometry::for_arm(arm, GeometryOptions::default()),
+            None => LazyGeometry::new(GeometryOptions::default()),
+        };
         Ok(Source {
             described,
-            geometry: LazyGeometry::new(GeometryOptions::default()),
+            geometry,
         })
     }
 }

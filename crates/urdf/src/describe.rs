@@ -35,7 +35,8 @@ use crate::geometry::{GeometryOptions, LazyGeometry, UrdfGeometry};
 use crate::six::SixJointArm;
 
 /// The arm `arm` with the joints `held` fixed at their values, as the planner uses it, with
-/// the collision geometry loaded (and cached) per `opts`, and the link pairs `allowed` not
+/// the collision geometry of its links loaded (and cached) per `opts`
+/// ([`LazyGeometry::for_arm`]: `opts.arm` is the arm's), and the link pairs `allowed` not
 /// checked for self-collision (an allowed-collision list, [`UrdfGeometry::allow`]). Errors:
 /// what [`SixJointArm::new`], [`UrdfGeometry::load`] and [`UrdfGeometry::allow`] report, or
 /// an arm with no collision geometry at all.
@@ -45,7 +46,12 @@ pub fn describe_arm(
     allowed: &[(&str, &str)],
     opts: &GeometryOptions,
 ) -> Result<ArmDescription, UrdfError> {
-    describe_arm_from(arm, held, allowed, &LazyGeometry::new(opts.clone()))
+    describe_arm_from(
+        arm,
+        held,
+        allowed,
+        &LazyGeometry::for_arm(arm, opts.clone()),
+    )
 }
 
 /// [`describe_arm`] with the description's geometry from `geometry` (loaded there once for
@@ -58,7 +64,23 @@ pub fn describe_arm_from(
 ) -> Result<ArmDescription, UrdfError> {
     let kin = SixJointArm::new(arm.model.name(), &arm.chain, held)?;
     let mut geometry = geometry.get(&arm.model)?.clone();
-    geometry.allow_all(allowed.iter().copied())?;
+    // A pair naming a link with collision elements that the geometry left out (not the arm's,
+    // [`GeometryOptions::arm`]) cannot concern the arm's shapes: skipped, not an error.
+    let left_out = |link: &str| {
+        geometry.index_of(link).is_none()
+            && arm
+                .model
+                .robot()
+                .links
+                .iter()
+                .any(|l| l.name == link && !l.collision.is_empty())
+    };
+    let kept: Vec<(&str, &str)> = allowed
+        .iter()
+        .copied()
+        .filter(|(a, b)| !left_out(a) && !left_out(b))
+        .collect();
+    geometry.allow_all(kept)?;
     let mut allowed_key: Vec<String> = allowed
         .iter()
         .map(|(a, b)| format!("{}+{}", a.min(b), a.max(b)))

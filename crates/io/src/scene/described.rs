@@ -53,7 +53,7 @@ impl Cx {
                 .iter()
                 .map(|[a, b]| (a.as_str(), b.as_str()))
                 .collect();
-            let geometry = LazyGeometry::new(GeometryOptions::default());
+            let geometry = LazyGeometry::for_arm(&arm, GeometryOptions::default());
             let described = describe_arm_from(&arm, &held, &pairs, &geometry).map_err(|e| {
                 let at = match e {
                     UrdfError::HeldJoint { .. } => format!("{key}.hold"),
@@ -123,8 +123,8 @@ impl Cx {
         };
         let (model, base) = (ur.model, ur.base);
         let source = Source {
+            geometry: LazyGeometry::for_arm(&arm, GeometryOptions::default()),
             arm,
-            geometry: LazyGeometry::new(GeometryOptions::default()),
         };
         Ok((urdf, ArmDescription::ur(model), base, source))
     }

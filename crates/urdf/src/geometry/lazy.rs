@@ -4,6 +4,7 @@
 use std::cell::OnceCell;
 
 use super::{GeometryOptions, UrdfGeometry};
+use crate::arm::UrdfArm;
 use crate::error::UrdfError;
 use crate::model::UrdfModel;
 
@@ -22,6 +23,16 @@ impl LazyGeometry {
             opts,
             loaded: OnceCell::new(),
         }
+    }
+
+    /// Nothing loaded yet; what is loaded is the geometry of `arm`'s links and what hangs
+    /// below its tool link only ([`GeometryOptions::arm`]), all that describing the arm
+    /// ([`crate::describe_arm_from`]) and its gripper ([`crate::describe_gripper`]) use.
+    pub fn for_arm(arm: &UrdfArm, opts: GeometryOptions) -> Self {
+        LazyGeometry::new(GeometryOptions {
+            arm: Some((arm.base_link.clone(), arm.tool_link.clone())),
+            ..opts
+        })
     }
 
     /// The geometry of `model`, loaded now if it was not yet.

@@ -7,8 +7,9 @@
 //! The key is FNV-1a 128 (`src/geometry/hash.rs`) over [`ALGORITHM_VERSION`], the robot name, per
 //! link with collision elements its name and per element the `<origin>`, the geometry kind
 //! and numbers (box size, radius, length, mesh scale, mesh file extension and **bytes**),
-//! every joint (name, type, parent, child, origin, axis, limits, mimic) and the sampling
-//! options. Paths are not in it: the same robot in two folders shares one entry. Anything
+//! every joint (name, type, parent, child, origin, axis, limits, mimic), the sampling
+//! options and the arm's base and tool link when [`GeometryOptions::arm`] selects the links
+//! of one arm ([`super::select`]: then only those links' elements). Paths are not in it: the same robot in two folders shares one entry. Anything
 //! that changes the result changes the key; bump [`ALGORITHM_VERSION`] when the code does.
 
 use std::path::{Path, PathBuf};
@@ -22,6 +23,7 @@ use super::hash::Fnv128;
 use super::mesh::{self, LinkMesh};
 use super::pieces::hull_piece;
 use super::primitives::{box_corners, capsule_vertices, cylinder_vertices, sphere_vertices};
+use super::select::select;
 use super::self_collision::{classify_pairs, SelfCollisionOptions};
 use super::tree::LinkTree;
 use super::types::{LinkPieces, UrdfGeometry};
@@ -58,6 +60,9 @@ pub struct GeometryOptions {
     pub cache: CacheDir,
     /// Self-collision sampling.
     pub self_collision: SelfCollisionOptions,
+    /// `(base link, tool link)`: derive only the links of the arm between them and what hangs
+    /// below the tool link ([`super::select`]); `None`: every link of the file.
+    pub arm: Option<(String, String)>,
 }
 
 /// What the cache did on a load.
@@ -196,7 +201,8 @@ pub fn element_points(
 }
 
 /// The cache key of `elements` and the joints of `model` (see the module documentation).
-fn key(model: &UrdfModel, elements: &[Element], opts: &SelfCollisionOptions) -> String {
+fn key(model: &UrdfModel, elements: &[Element], all: &GeometryOptions) -> String {
+    let opts = &all.self_collision;
     use urdf_rs::Geometry as G;
     let mut h = Fnv128::new();
     h.str(ALGORITHM_VERSION);
@@ -268,6 +274,11 @@ fn key(model: &UrdfModel, elements: &[Element], opts: &SelfCollisionOptions) -> 
     h.u64(opts.samples as u64);
     h.u64(opts.seed);
     h.f64(opts.always_fraction);
+    if let Some((base, tool)) = &all.arm {
+        h.str("arm");
+        h.str(base);
+        h.str(tool);
+    }
     h.hex()
 }
 
@@ -276,8 +287,8 @@ impl UrdfGeometry {
     /// exists, else computed and cached (see the module documentation). Cache problems are
     /// never errors; errors are missing or unreadable meshes and bad joints.
     pub fn load(model: &UrdfModel, opts: &GeometryOptions) -> Result<Loaded, UrdfError> {
-        let elements = collision_elements(model, opts)?;
-        let key = key(model, &elements, &opts.self_collision);
+        let elements = select(model, opts.arm.as_ref(), collision_elements(model, opts)?)?;
+        let key = key(model, &elements, opts);
         let dir = match &opts.cache {
             CacheDir::Default => cache::default_cache_dir(),
             CacheDir::At(d) => Some(d.clone()),
@@ -320,8 +331,8 @@ impl UrdfGeometry {
 
     /// [`UrdfGeometry::load`] without the cache.
     pub fn compute(model: &UrdfModel, opts: &GeometryOptions) -> Result<UrdfGeometry, UrdfError> {
-        let elements = collision_elements(model, opts)?;
-        let key = key(model, &elements, &opts.self_collision);
+        let elements = select(model, opts.arm.as_ref(), collision_elements(model, opts)?)?;
+        let key = key(model, &elements, opts);
         Self::compute_from(model, &elements, key, opts)
     }
 

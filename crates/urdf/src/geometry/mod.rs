@@ -10,6 +10,8 @@
 //! * [`self_collision`]: the link pairs to check: all pairs minus adjacent ones and those in
 //!   contact always or never over deterministic joint samples, over the whole link tree
 //!   ([`tree`]); [`UrdfGeometry::allow`] removes more.
+//! * [`select`]: with [`GeometryOptions::arm`], only the links one arm and its gripper use
+//!   (a 6-joint arm in a file with 400 other links samples its own pairs only).
 //! * [`load`]: [`UrdfGeometry::load`], keyed by a digest of every input and cached on disk
 //!   ([`cache`]); [`excess`] measures how far pieces reach outside their geometry.
 //!
@@ -25,6 +27,7 @@ pub mod load;
 pub mod mesh;
 pub mod pieces;
 pub mod primitives;
+pub mod select;
 pub mod self_collision;
 pub mod tree;
 mod types;

@@ -1,0 +1,85 @@
+//! Which links' collision geometry one arm of a description needs
+//! ([`GeometryOptions::arm`](super::GeometryOptions::arm)).
+//!
+//! The arm from base link `B` to tool link `T` uses:
+//!
+//! * the links on the path from `B` down to `T`;
+//! * the links hanging from a path link through fixed joints only (covers, brackets, a
+//!   camera: `describe_arm` takes them as the arm's);
+//! * every link below `T` (the hand and its fingers, which `describe_gripper` takes).
+//!
+//! Other links (another arm, the cell's fixtures, a finger moved off the path) are left out:
+//! their pieces are not derived and no pair with them is sampled. The pairs among the kept
+//! links, and why each is excluded, are exactly what the whole file gives them: the sample
+//! stream still draws every tree variable, and adjacency among the kept links depends only
+//! on the kept links (they form a subtree hanging from `B`, so every tree path between two of
+//! them runs through kept links only).
+
+use std::collections::BTreeSet;
+
+use super::load::Element;
+use crate::error::UrdfError;
+use crate::model::UrdfModel;
+
+/// The links of the arm from `base` to `tool` (see the module documentation). Errors: an
+/// unknown link, or `tool` not below `base`.
+pub fn arm_links(model: &UrdfModel, base: &str, tool: &str) -> Result<BTreeSet<String>, UrdfError> {
+    let file = || model.source().to_string();
+    for (link, role) in [(base, "base link"), (tool, "tool link")] {
+        if !model.has_link(link) {
+            return Err(UrdfError::UnknownLink {
+                file: file(),
+                link: link.to_string(),
+                context: format!("asked for as the {role}"),
+            });
+        }
+    }
+    // The path, walked up from the tool link (more steps than links: a parent loop).
+    let mut path = vec![tool.to_string()];
+    while path.last().map(String::as_str) != Some(base) {
+        let last = path.last().expect("not empty");
+        let parent = match model.parent_joint(last) {
+            Some(j) if path.len() <= model.robot().links.len() => j.parent.link.clone(),
+            _ => {
+                return Err(UrdfError::NoPath {
+                    file: file(),
+                    base: base.to_string(),
+                    tip: tool.to_string(),
+                    tip_root: last.clone(),
+                })
+            }
+        };
+        path.push(parent);
+    }
+    let mut keep: BTreeSet<String> = path.iter().cloned().collect();
+    // Below the path: through fixed joints only, except below the tool link (everything).
+    let mut stack: Vec<(String, bool)> = path.iter().map(|l| (l.clone(), l == tool)).collect();
+    while let Some((link, below_tool)) = stack.pop() {
+        for j in model
+            .robot()
+            .joints
+            .iter()
+            .filter(|j| j.parent.link == link)
+        {
+            let fixed = j.joint_type == urdf_rs::JointType::Fixed;
+            if (below_tool || fixed) && keep.insert(j.child.link.clone()) {
+                stack.push((j.child.link.clone(), below_tool));
+            }
+        }
+    }
+    Ok(keep)
+}
+
+/// `elements` with only those of the links [`super::GeometryOptions::arm`] selects (all when
+/// it names no arm).
+pub(super) fn select(
+    model: &UrdfModel,
+    arm: Option<&(String, String)>,
+    mut elements: Vec<Element>,
+) -> Result<Vec<Element>, UrdfError> {
+    if let Some((base, tool)) = arm {
+        let keep = arm_links(model, base, tool)?;
+        elements.retain(|e| keep.contains(&e.link));
+    }
+    Ok(elements)
+}
