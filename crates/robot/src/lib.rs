@@ -39,7 +39,8 @@ pub use ik::{joint_distance, IkSolutions, IK_RESIDUAL_TOL};
 pub use linkage::{FingerConfig, FingerLinkage, LinkageLimits, PlanarPose, FINGER_LINKS};
 pub use links::{
     arm_geometry, fitted_links_of, point_cylinder_distance, ArmGeometry, Capsule, ConvexPieces,
-    Cylinder, FittedLink, LinkShape, Primitive, SHAPE_GROUPS,
+    Cylinder, FittedLink, LinkShape, Primitive, MAX_ARM_SHAPES, MAX_GRIPPER_SHAPES,
+    MAX_LINK_SHAPES, SHAPE_GROUPS,
 };
 pub use model::{DhParams, Joints, UnknownModel, UrModel, DEFAULT_JOINT_ACCEL, JOINT_NAMES};
 pub use sweep_radii::{

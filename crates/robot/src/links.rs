@@ -214,6 +214,18 @@ impl ConvexPieces {
     }
 }
 
+/// Most shapes (arm links + gripper parts) one arm may have: the collision crate poses an
+/// arm in a fixed-size buffer, one bit per shape in a `u64`.
+pub const MAX_ARM_SHAPES: usize = 34;
+
+/// Most shapes a gripper may have (housing boxes and finger links).
+pub const MAX_GRIPPER_SHAPES: usize = 16;
+
+/// Most link shapes an arm from a robot description is given: what leaves room for the
+/// largest gripper. A description with more links has those that move with one frame merged
+/// (`pregrasp_urdf::describe_arm`).
+pub const MAX_LINK_SHAPES: usize = MAX_ARM_SHAPES - MAX_GRIPPER_SHAPES;
+
 /// Collision model of an arm: shapes that contain its links, and the pairs checked.
 #[derive(Clone, Debug)]
 pub struct ArmGeometry {

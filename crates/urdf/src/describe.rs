@@ -16,7 +16,10 @@
 //! frame that moves with it ([`SixJointArm`]'s frames 0..=6): its pieces moved into that frame
 //! are the exact tier, their bounding box in that frame the primitive (so the pieces reach
 //! nowhere outside it: slack 0). The self-collision pairs are those of the geometry between
-//! arm links.
+//! arm links. An arm with more links with pieces than
+//! [`MAX_LINK_SHAPES`](pregrasp_robot::MAX_LINK_SHAPES) (the collision model's room once the
+//! largest gripper is in) has links that move with one frame merged into one shape
+//! ([`crate::merge`]); one that fits is never merged.
 //!
 //! Link shapes name their links with `&'static` strings and pieces, as the built-in arms'
 //! do: [`describe_arm`] keeps one description per distinct key for the life of the process,
@@ -26,12 +29,15 @@ use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use nalgebra::Isometry3;
-use pregrasp_robot::{ArmDescription, ArmGeometry, ArmKinematics, ConvexPieces, LinkShape};
+use pregrasp_robot::{
+    ArmDescription, ArmGeometry, ArmKinematics, ConvexPieces, LinkShape, MAX_LINK_SHAPES,
+};
 
 use crate::arm::UrdfArm;
 use crate::chain::origin_isometry;
 use crate::error::UrdfError;
 use crate::geometry::{GeometryOptions, LazyGeometry, UrdfGeometry};
+use crate::merge::{self, Draft};
 use crate::six::SixJointArm;
 
 /// The arm `arm` with the joints `held` fixed at their values, as the planner uses it, with
@@ -135,35 +141,55 @@ fn arm_shapes(
         let frame = chain.links()[k].after_joint.map_or(0, |j| j + 1);
         Some((frame, link_frames[k]))
     };
-    let mut links = Vec::new();
+    let mut drafts = Vec::new();
     let mut index_of_piece_link = vec![None; geometry.links.len()];
     for (g, lp) in geometry.links.iter().enumerate() {
         let Some((frame, in_frame)) = attachment(arm, &lp.link, &on_path, &frames) else {
             continue;
         };
-        let pieces = lp.placed(&in_frame);
-        let Some((pieces, primitive)) = ConvexPieces::leak_boxed(pieces) else {
+        let Some(draft) = Draft::new(&lp.link, frame, lp.placed(&in_frame)) else {
             continue;
         };
-        index_of_piece_link[g] = Some(links.len());
-        links.push(LinkShape {
-            name: Box::leak(lp.link.clone().into_boxed_str()),
-            frame,
-            primitive,
-            pieces: Some(pieces),
-        });
+        index_of_piece_link[g] = Some(drafts.len());
+        drafts.push(draft);
     }
-    if links.is_empty() {
+    if drafts.is_empty() {
         return Err(UrdfError::NoCollisionGeometry {
             file: arm.model.source().to_string(),
             chain: format!("from `{}` to `{}`", arm.base_link, arm.tool_link),
         });
     }
-    let self_collision_pairs = geometry
+    let pairs: Vec<(usize, usize)> = geometry
         .self_collision_pairs
         .iter()
         .filter_map(|&(a, b)| Some((index_of_piece_link[a]?, index_of_piece_link[b]?)))
         .map(|(a, b)| (a.min(b), a.max(b)))
+        .collect();
+    let (drafts, self_collision_pairs) = if drafts.len() <= MAX_LINK_SHAPES {
+        (drafts, pairs)
+    } else {
+        let count = drafts.len();
+        merge::fit(drafts, &pairs, MAX_LINK_SHAPES).map_err(|link| {
+            UrdfError::TooManyLinkShapes {
+                file: arm.model.source().to_string(),
+                link,
+                count,
+                max: MAX_LINK_SHAPES,
+            }
+        })?
+    };
+    let links = drafts
+        .into_iter()
+        .filter_map(|d| {
+            let name = Box::leak(d.name().into_boxed_str());
+            let (pieces, primitive) = ConvexPieces::leak_boxed(d.pieces)?;
+            Some(LinkShape {
+                name,
+                frame: d.frame,
+                primitive,
+                pieces: Some(pieces),
+            })
+        })
         .collect();
     Ok(ArmGeometry {
         links,

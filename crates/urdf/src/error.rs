@@ -238,6 +238,22 @@ pub enum UrdfError {
         /// The chain: "from `base` to `tool`".
         chain: String,
     },
+    /// The arm's links do not fit in the link shapes the collision model holds, even with the
+    /// links that move with one frame merged.
+    #[error(
+        "{file}: the arm has {count} links with collision geometry; merged per frame they \
+         still need more than {max} shapes (link `{link}` does not fit)"
+    )]
+    TooManyLinkShapes {
+        /// The source.
+        file: String,
+        /// The link (or merged links) left over.
+        link: String,
+        /// Links of the arm with pieces.
+        count: usize,
+        /// Most link shapes.
+        max: usize,
+    },
     /// A joint asked to be held still cannot be.
     #[error("{file}: cannot hold joint `{joint}`: it {problem}")]
     HeldJoint {

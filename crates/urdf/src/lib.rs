@@ -41,6 +41,7 @@ mod gripper;
 pub mod ik;
 pub mod kinematics;
 mod lock;
+mod merge;
 mod model;
 pub mod redundancy;
 mod rng;

@@ -109,3 +109,54 @@ fn allowed_pairs_leave_the_self_collision_check() {
     let err = describe_arm(&arm, &held, &[("fr3_link9", a)], &options()).unwrap_err();
     assert!(err.to_string().contains("fr3_link9"), "{err}");
 }
+
+/// An FR3 with 4 small boxes fixed to each of links 3 to 6: 24 arm links with pieces, more
+/// than the collision model's 18 link shapes. Links that move with one frame are merged until
+/// it fits; every piece is kept, each in its frame, and the plain FR3 is not merged.
+#[test]
+fn an_arm_with_more_links_than_shapes_is_merged_per_frame() {
+    let text = std::fs::read_to_string(data("fr3.urdf")).unwrap();
+    let mut extra = String::new();
+    for parent in ["fr3_link3", "fr3_link4", "fr3_link5", "fr3_link6"] {
+        for k in 0..4 {
+            extra += &format!(
+                "<link name=\"{parent}_part{k}\"><collision><origin xyz=\"0 0 {}\"/><geometry>\
+                 <box size=\"0.02 0.02 0.02\"/></geometry></collision></link>\
+                 <joint name=\"{parent}_part{k}_joint\" type=\"fixed\"><parent link=\"{parent}\"/>\
+                 <child link=\"{parent}_part{k}\"/></joint>\n",
+                0.01 * k as f64
+            );
+        }
+    }
+    let text = text.replacen("</robot>", &(extra + "</robot>"), 1);
+    let model = pregrasp_urdf::UrdfModel::from_urdf_str(&text, "fr3_crowded").unwrap();
+    let arm = UrdfArm::from_model(model, None, Some("fr3_link8")).unwrap();
+    let opts = GeometryOptions {
+        urdf_dir: Some(data("").into()),
+        ..options()
+    };
+    let held = [("fr3_joint3", 0.0)];
+    let d = describe_arm(&arm, &held, &[], &opts).unwrap();
+    let links = &d.geometry.links;
+    assert_eq!(links.len(), pregrasp_robot::MAX_LINK_SHAPES);
+    let pieces: usize = links.iter().map(|l| l.pieces.unwrap().pieces.len()).sum();
+    assert_eq!(pieces, 8 + 16, "every piece is kept");
+    // Merged shapes name their links; a box of link 4 moves with link 4's frame.
+    let link4 = links
+        .iter()
+        .find(|l| l.name.starts_with("fr3_link4"))
+        .unwrap();
+    assert_eq!(link4.frame, 3);
+    assert!(links
+        .iter()
+        .filter(|l| l.name.contains("fr3_link4_part"))
+        .all(|l| l.frame == 3));
+    assert!(d
+        .geometry
+        .self_collision_pairs
+        .iter()
+        .all(|&(a, b)| a < b && b < links.len()));
+    let plain = UrdfArm::load(data("fr3.urdf").as_ref(), None, Some("fr3_link8")).unwrap();
+    let plain = describe_arm(&plain, &held, &[], &options()).unwrap();
+    assert!(plain.geometry.links.iter().all(|l| !l.name.contains('+')));
+}

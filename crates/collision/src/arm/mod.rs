@@ -14,11 +14,9 @@ use crate::shape::{Bounded, Placed};
 use crate::tight::Tight;
 
 /// Most primitives (arm links + gripper parts) one arm may have; the posed arm lives in a
-/// fixed-size buffer so that a collision check never touches the heap.
-pub const MAX_ARM_SHAPES: usize = 34;
-
-/// Most shapes a gripper may have (housing boxes and finger links).
-pub const MAX_GRIPPER_SHAPES: usize = 16;
+/// fixed-size buffer so that a collision check never touches the heap. (Defined in
+/// `pregrasp-robot`, so that describing an arm and loading a scene can keep to it.)
+pub use pregrasp_robot::{MAX_ARM_SHAPES, MAX_GRIPPER_SHAPES};
 
 // `PosedArm::placed` holds one bit per shape.
 const _: () = assert!(MAX_ARM_SHAPES <= 64);
