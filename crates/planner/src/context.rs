@@ -385,11 +385,17 @@ pub fn distinct_ik(kin: &dyn ArmKinematics, flange: &Isometry3<f64>, seed: &Join
 }
 
 /// The two arm models of a scene, in world.
+///
+/// # Panics
+/// If an arm and its gripper have more shapes than the collision model holds, which a scene
+/// loaded by `pregrasp_io` never has: loading refuses such a robot with an error naming it
+/// and the shape (`Cx::shapes_fit`), and a description's arm is merged down to fit
+/// (`pregrasp_urdf::describe_arm`). Only a [`Scene`] built in code can get here.
 pub fn arm_models(scene: &Scene) -> [ArmModel; 2] {
     scene.robots.each_ref().map(|spec| {
         let gripper = spec.gripper_model();
         ArmModel::from_description(&spec.name, spec.arm.clone(), spec.base, gripper)
-            .unwrap_or_else(|e| panic!("{e}"))
+            .unwrap_or_else(|e| panic!("{e} (a scene loading would have refused)"))
     })
 }
 

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use nalgebra::Isometry3;
-use pregrasp_robot::ArmDescription;
+use pregrasp_robot::{ArmDescription, GripperState, MAX_ARM_SHAPES, MAX_GRIPPER_SHAPES};
 use pregrasp_urdf::{
     describe_arm_from, describe_gripper, GeometryOptions, LazyGeometry, UrdfArm, UrdfError,
     UR_MATCH_TOLERANCE,
@@ -11,7 +11,7 @@ use pregrasp_urdf::{
 
 use super::raw::Str;
 use super::validate::Cx;
-use super::{SceneError, UrdfRef};
+use super::{RobotSpec, SceneError, UrdfRef};
 
 /// A robot description as the scene read it, kept for its gripper (`gripper = "urdf"`): the
 /// arm, and its collision geometry if describing the arm loaded it.
@@ -142,5 +142,44 @@ impl Cx {
         describe_gripper(&source.arm, precision, power, &source.geometry)
             .map(std::sync::Arc::new)
             .map_err(|e| self.err(at, e.to_string()))
+    }
+
+    /// Refuses a robot whose arm and gripper have more collision shapes than an arm of the
+    /// collision model holds ([`MAX_ARM_SHAPES`], the gripper at most [`MAX_GRIPPER_SHAPES`]),
+    /// naming the robot and the first shape that does not fit: planning it could not start.
+    /// (A description's arm is merged down to fit, `pregrasp_urdf::describe_arm`; a gripper
+    /// of many parts can still be too many.)
+    pub(super) fn shapes_fit(&self, robot: &RobotSpec, key: &str) -> Result<(), SceneError> {
+        let gripper = robot.gripper_model().shapes(GripperState::Open);
+        let links = &robot.arm.geometry.links;
+        let names: Vec<&str> = links.iter().chain(&gripper).map(|l| l.name).collect();
+        let (over, max, whose) = if gripper.len() > MAX_GRIPPER_SHAPES {
+            (
+                links.len() + MAX_GRIPPER_SHAPES,
+                MAX_GRIPPER_SHAPES,
+                "gripper",
+            )
+        } else if names.len() > MAX_ARM_SHAPES {
+            (MAX_ARM_SHAPES, MAX_ARM_SHAPES, "arm with its gripper")
+        } else {
+            return Ok(());
+        };
+        let at = if robot.urdf.is_some() {
+            "urdf"
+        } else {
+            "gripper"
+        };
+        let message = format!(
+            "robot `{}`: the {whose} has {} collision shapes, at most {max} are supported \
+             (`{}` is one too many)",
+            robot.name,
+            if whose == "gripper" {
+                gripper.len()
+            } else {
+                names.len()
+            },
+            names[over]
+        );
+        Err(self.err(&format!("{key}.{at}"), message))
     }
 }

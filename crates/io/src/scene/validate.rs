@@ -370,7 +370,7 @@ impl Cx {
             &at("power_point_z"),
             message,
         )?;
-        Ok(RobotSpec {
+        let spec = RobotSpec {
             name,
             arm,
             base,
@@ -380,7 +380,9 @@ impl Cx {
             jaws,
             precision_point_z,
             power_point_z,
-        })
+        };
+        self.shapes_fit(&spec, key)?;
+        Ok(spec)
     }
 
     /// Refuses a start configuration outside `model`'s joint limits, naming the robot and the
