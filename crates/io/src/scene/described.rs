@@ -164,10 +164,10 @@ impl Cx {
         } else {
             return Ok(());
         };
-        let at = if robot.urdf.is_some() {
-            "urdf"
-        } else {
-            "gripper"
+        let at = match (whose, &robot.urdf) {
+            ("gripper", _) => "gripper",
+            (_, Some(_)) => "urdf",
+            (_, None) => "model",
         };
         let message = format!(
             "robot `{}`: the {whose} has {} collision shapes, at most {max} are supported \
