@@ -55,6 +55,9 @@ impl Draft {
     }
 }
 
+/// Shapes and their self-collision pairs (indices into them, ascending).
+pub(crate) type Fitted = (Vec<Draft>, Vec<(usize, usize)>);
+
 fn volume(lo: &Vector3<f64>, hi: &Vector3<f64>) -> f64 {
     (hi - lo).product()
 }
@@ -66,7 +69,7 @@ pub(crate) fn fit(
     mut drafts: Vec<Draft>,
     pairs: &[(usize, usize)],
     max: usize,
-) -> Result<(Vec<Draft>, Vec<(usize, usize)>), String> {
+) -> Result<Fitted, String> {
     // `owner[k]`: the shape original shape `k` is now part of.
     let mut owner: Vec<usize> = (0..drafts.len()).collect();
     let mut alive: Vec<bool> = vec![true; drafts.len()];

@@ -23,16 +23,17 @@ fn options(arm: Option<&UrdfArm>) -> GeometryOptions {
 /// A pair by its links' names.
 type Named = (String, String);
 
-/// Every link with pieces (names, pieces), checked pairs and excluded pairs (with reason and
-/// tallies) by name, keeping only the links in `keep`.
-fn by_name(
-    g: &UrdfGeometry,
-    keep: &BTreeSet<String>,
-) -> (
+/// A model by names: links with their pieces, checked pairs, excluded pairs with their reason
+/// and tallies.
+type ByName = (
     Vec<(String, Vec<Vec<nalgebra::Point3<f64>>>)>,
     BTreeSet<Named>,
     Vec<(Named, String, usize, usize)>,
-) {
+);
+
+/// Every link with pieces (names, pieces), checked pairs and excluded pairs (with reason and
+/// tallies) by name, keeping only the links in `keep`.
+fn by_name(g: &UrdfGeometry, keep: &BTreeSet<String>) -> ByName {
     let name = |i: usize| g.links[i].link.clone();
     let kept = |a: usize, b: usize| keep.contains(&name(a)) && keep.contains(&name(b));
     let links = g
