@@ -23,7 +23,7 @@ use super::hash::Fnv128;
 use super::mesh::{self, LinkMesh};
 use super::pieces::hull_piece;
 use super::primitives::{box_corners, capsule_vertices, cylinder_vertices, sphere_vertices};
-use super::select::select;
+use super::select::selected;
 use super::self_collision::{classify_pairs, SelfCollisionOptions};
 use super::tree::LinkTree;
 use super::types::{LinkPieces, UrdfGeometry};
@@ -171,6 +171,15 @@ pub fn element_mesh(model: &UrdfModel, e: &Element) -> Result<Option<LinkMesh>, 
     Ok(Some(m))
 }
 
+/// [`collision_elements`] of the links [`GeometryOptions::arm`] selects.
+fn arm_elements(model: &UrdfModel, opts: &GeometryOptions) -> Result<Vec<Element>, UrdfError> {
+    let mut elements = collision_elements(model, opts)?;
+    if let Some(keep) = selected(model, opts.arm.as_ref())? {
+        elements.retain(|e| keep.contains(&e.link));
+    }
+    Ok(elements)
+}
+
 /// The piece of one element in the link frame: the hull of its mesh, or the polytope of its
 /// primitive ([`super::primitives`]) placed by its origin.
 pub fn element_piece(model: &UrdfModel, e: &Element) -> Result<Vec<Point3<f64>>, UrdfError> {
@@ -287,7 +296,7 @@ impl UrdfGeometry {
     /// exists, else computed and cached (see the module documentation). Cache problems are
     /// never errors; errors are missing or unreadable meshes and bad joints.
     pub fn load(model: &UrdfModel, opts: &GeometryOptions) -> Result<Loaded, UrdfError> {
-        let elements = select(model, opts.arm.as_ref(), collision_elements(model, opts)?)?;
+        let elements = arm_elements(model, opts)?;
         let key = key(model, &elements, opts);
         let dir = match &opts.cache {
             CacheDir::Default => cache::default_cache_dir(),
@@ -331,7 +340,7 @@ impl UrdfGeometry {
 
     /// [`UrdfGeometry::load`] without the cache.
     pub fn compute(model: &UrdfModel, opts: &GeometryOptions) -> Result<UrdfGeometry, UrdfError> {
-        let elements = select(model, opts.arm.as_ref(), collision_elements(model, opts)?)?;
+        let elements = arm_elements(model, opts)?;
         let key = key(model, &elements, opts);
         Self::compute_from(model, &elements, key, opts)
     }

@@ -17,7 +17,6 @@
 
 use std::collections::BTreeSet;
 
-use super::load::Element;
 use crate::error::UrdfError;
 use crate::model::UrdfModel;
 
@@ -70,16 +69,11 @@ pub fn arm_links(model: &UrdfModel, base: &str, tool: &str) -> Result<BTreeSet<S
     Ok(keep)
 }
 
-/// `elements` with only those of the links [`super::GeometryOptions::arm`] selects (all when
-/// it names no arm).
-pub(super) fn select(
+/// The links [`super::GeometryOptions::arm`] selects, `None` for every link (no arm named).
+pub(super) fn selected(
     model: &UrdfModel,
     arm: Option<&(String, String)>,
-    mut elements: Vec<Element>,
-) -> Result<Vec<Element>, UrdfError> {
-    if let Some((base, tool)) = arm {
-        let keep = arm_links(model, base, tool)?;
-        elements.retain(|e| keep.contains(&e.link));
-    }
-    Ok(elements)
+) -> Result<Option<BTreeSet<String>>, UrdfError> {
+    arm.map(|(base, tool)| arm_links(model, base, tool))
+        .transpose()
 }
