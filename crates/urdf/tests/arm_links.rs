@@ -149,3 +149,22 @@ fn self_collision_samples_only_the_arms_links() {
     let keep = arm_links(&cell.model, &cell.base_link, &cell.tool_link).unwrap();
     assert_eq!(by_name(&own, &keep), by_name(&alone, &keep));
 }
+
+#[test]
+fn links_off_the_arm_are_not_read_at_all() {
+    // A fixture whose mesh is found nowhere (or would be a device): the arm does not need
+    // it, so describing the arm reads nothing of it; the whole file still reports it.
+    let text = std::fs::read_to_string(data("fr3.urdf")).unwrap();
+    let extra = "<link name=\"world\"/>\n<joint name=\"world_fr3\" type=\"fixed\"><parent \
+                 link=\"world\"/><child link=\"base\"/></joint>\n<link name=\"fixture\">\
+                 <collision><geometry><mesh filename=\"/dev/zero.stl\" scale=\"nan 1 1\"/>\
+                 </geometry></collision></link>\n<joint name=\"world_fixture\" type=\"fixed\">\
+                 <parent link=\"world\"/><child link=\"fixture\"/></joint>\n";
+    let text = text.replacen("</robot>", &format!("{extra}</robot>"), 1);
+    let model = UrdfModel::from_urdf_str(&text, "fr3_fixture").unwrap();
+    let arm = UrdfArm::from_model(model, Some("base"), Some("fr3_link8")).unwrap();
+    let own = UrdfGeometry::compute(&arm.model, &options(Some(&arm))).unwrap();
+    assert_eq!(own.links.len(), 11);
+    let whole = UrdfGeometry::compute(&arm.model, &options(None)).unwrap_err();
+    assert!(whole.to_string().contains("link `fixture`"), "{whole}");
+}

@@ -9,8 +9,9 @@
 //! and numbers (box size, radius, length, mesh scale, mesh file extension and **bytes**),
 //! every joint (name, type, parent, child, origin, axis, limits, mimic), the sampling
 //! options and the arm's base and tool link when [`GeometryOptions::arm`] selects the links
-//! of one arm ([`super::select`]: then only those links' elements). Paths are not in it: the same robot in two folders shares one entry. Anything
-//! that changes the result changes the key; bump [`ALGORITHM_VERSION`] when the code does.
+//! of one arm ([`super::select`]: then only those links' elements). Paths are not in it: the
+//! same robot in two folders shares one entry. Anything that changes the result changes the
+//! key; bump [`ALGORITHM_VERSION`] when the code does.
 
 use std::path::{Path, PathBuf};
 
@@ -110,6 +111,22 @@ pub fn collision_elements(
     model: &UrdfModel,
     opts: &GeometryOptions,
 ) -> Result<Vec<Element>, UrdfError> {
+    elements_of(model, opts, None)
+}
+
+/// [`collision_elements`] of the links [`GeometryOptions::arm`] selects: the other links'
+/// elements are neither checked nor read.
+fn arm_elements(model: &UrdfModel, opts: &GeometryOptions) -> Result<Vec<Element>, UrdfError> {
+    let keep = selected(model, opts.arm.as_ref())?;
+    elements_of(model, opts, keep.as_ref())
+}
+
+/// The elements of the links in `keep` (every link when `None`), as [`collision_elements`].
+fn elements_of(
+    model: &UrdfModel,
+    opts: &GeometryOptions,
+    keep: Option<&std::collections::BTreeSet<String>>,
+) -> Result<Vec<Element>, UrdfError> {
     let urdf_dir: Option<PathBuf> = opts.urdf_dir.clone().or_else(|| {
         let src = Path::new(model.source());
         src.is_file()
@@ -117,7 +134,8 @@ pub fn collision_elements(
     });
     let dirs = mesh::search_dirs(urdf_dir.as_deref(), &opts.mesh_dirs);
     let mut out = Vec::new();
-    for link in &model.robot().links {
+    let kept = |name: &String| keep.is_none_or(|k| k.contains(name));
+    for link in model.robot().links.iter().filter(|l| kept(&l.name)) {
         for (index, c) in link.collision.iter().enumerate() {
             check_element(model.source(), &link.name, &c.geometry)?;
             let mesh = match &c.geometry {
@@ -169,15 +187,6 @@ pub fn element_mesh(model: &UrdfModel, e: &Element) -> Result<Option<LinkMesh>, 
     let what = format!("mesh {}", path.display());
     check_extent(model.source(), &e.link, &what, &m.vertices)?;
     Ok(Some(m))
-}
-
-/// [`collision_elements`] of the links [`GeometryOptions::arm`] selects.
-fn arm_elements(model: &UrdfModel, opts: &GeometryOptions) -> Result<Vec<Element>, UrdfError> {
-    let mut elements = collision_elements(model, opts)?;
-    if let Some(keep) = selected(model, opts.arm.as_ref())? {
-        elements.retain(|e| keep.contains(&e.link));
-    }
-    Ok(elements)
 }
 
 /// The piece of one element in the link frame: the hull of its mesh, or the polytope of its
