@@ -8,79 +8,11 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::path::Path;
+use std::process::Command;
 
-use common::{assert_bad_input, examples_in, files_in, plan_without_timing, stderr};
-
-fn data_robots() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/robots")
-}
-
-/// Runs `pregrasp ARGS` in `dir` with the cache in `dir/cache`; a run still going after
-/// two minutes is a hang: it is killed and the test fails.
-fn run(dir: &Path, args: &[&str]) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_pregrasp"))
-        .current_dir(dir)
-        .env("PREGRASP_CACHE_DIR", dir.join("cache"))
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    let started = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if started.elapsed() > Duration::from_secs(120) {
-            child.kill().unwrap();
-            panic!("pregrasp {args:?} hangs");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.wait_with_output().unwrap()
-}
-
-/// The chair example in `dir` as `fr3.toml`, its two arms the FR3 of `dir/robot.urdf` (the
-/// committed description, written there by `edit`), with the Franka Hand it carries when
-/// `hand`. The meshes are found through `dir/franka_description`, a link to the committed
-/// package.
-fn fr3_scene(dir: &Path, hand: bool, edit: impl Fn(&str) -> String) {
-    examples_in(dir);
-    let fr3 = std::fs::read_to_string(data_robots().join("fr3.urdf")).unwrap();
-    std::fs::write(dir.join("robot.urdf"), edit(&fr3)).unwrap();
-    #[cfg(unix)]
-    std::os::unix::fs::symlink(
-        data_robots().join("meshes/franka_description"),
-        dir.join("franka_description"),
-    )
-    .unwrap();
-    let text = std::fs::read_to_string(dir.join("chair_side.toml")).unwrap();
-    let mut arm =
-        "urdf = \"robot.urdf\"\ntool_link = \"fr3_link8\"\nhold = { fr3_joint3 = 0.0 }".to_string();
-    if hand {
-        arm.push_str("\ngripper = \"urdf\"");
-    }
-    let mut out = String::new();
-    for line in text.lines() {
-        let t = line.trim();
-        if t == "model = \"ur5e\"" {
-            out.push_str(&arm);
-        } else if t.starts_with("start = ") {
-            out.push_str("start = [0.0, -0.7854, -2.3562, 0.0, 1.5708, 0.7854]");
-        } else if hand
-            && ["gripper =", "precision_point_z", "power_point_z"]
-                .iter()
-                .any(|k| t.starts_with(k))
-        {
-            continue;
-        } else {
-            out.push_str(line);
-        }
-        out.push('\n');
-    }
-    std::fs::write(dir.join("fr3.toml"), out).unwrap();
-}
+use common::described::{fr3_scene, run};
+use common::{assert_bad_input, files_in, plan_without_timing, stderr};
 
 /// `pregrasp plan fr3.toml -o p.json` is bad input naming `needle`, and writes no plan.
 fn plan_is_bad_input(dir: &Path, needle: &str) {

@@ -1,6 +1,7 @@
 //! Helpers shared by the CLI tests: run the real binary, find the committed examples.
 #![allow(dead_code)]
 
+pub mod described;
 pub mod mutate;
 
 use std::path::{Path, PathBuf};

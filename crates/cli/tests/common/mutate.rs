@@ -102,3 +102,58 @@ pub fn mutate_plan(plan: &Value, leaf: Index, kind: u8, value: Index) -> String 
     }
     serde_json::to_string_pretty(&v).unwrap()
 }
+
+/// Values that break an XML attribute of a robot description in every way one can be broken.
+pub const ABSURD_ATTRIBUTES: [&str; 16] = [
+    "nan",
+    "inf",
+    "-inf",
+    "1e308",
+    "1e400",
+    "-1",
+    "0",
+    "1e10",
+    "",
+    "x",
+    "0 0 0",
+    "1 2",
+    "nan 1 1",
+    "1e308 1 1",
+    "../../../../dev/zero",
+    "package://",
+];
+
+/// One mutation of a robot description's text: one attribute's value replaced by an absurd
+/// one, a line deleted or duplicated, a line wrapped in 100 000 elements, or the text cut.
+pub fn mutate_description(text: &str, at: Index, kind: u8, value: Index) -> String {
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let i = at.index(lines.len());
+    match kind % 5 {
+        0 => {
+            let starts: Vec<usize> = text.match_indices("=\"").map(|(k, _)| k + 2).collect();
+            let start = starts[at.index(starts.len())];
+            let end = start + text[start..].find('"').unwrap();
+            let absurd = ABSURD_ATTRIBUTES[value.index(ABSURD_ATTRIBUTES.len())];
+            return format!("{}{absurd}{}", &text[..start], &text[end..]);
+        }
+        1 => {
+            lines.remove(i);
+        }
+        2 => {
+            let l = lines[i].clone();
+            lines.insert(i, l);
+        }
+        3 => {
+            let deep = 100_000;
+            lines[i] = format!("{}{}{}", "<a>".repeat(deep), lines[i], "</a>".repeat(deep));
+        }
+        _ => {
+            let mut at = value.index(text.len() + 1);
+            while !text.is_char_boundary(at) {
+                at -= 1;
+            }
+            return text[..at].to_string();
+        }
+    }
+    lines.join("\n")
+}
