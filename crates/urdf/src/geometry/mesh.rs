@@ -23,6 +23,7 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Point3};
 
+use super::collada;
 use crate::error::UrdfError;
 
 /// A triangle mesh in the link frame (m).
@@ -105,9 +106,13 @@ pub(crate) fn missing(file: &str, link: &str, filename: &str, searched: &[PathBu
 /// The mesh formats read, by lower-case file extension.
 pub const MESH_EXTENSIONS: [&str; 3] = ["stl", "obj", "dae"];
 
-/// Parses mesh file bytes (`path` gives the format by its extension) into the link frame: `origin · diag(scale) · p`. An extension
-/// other than [`MESH_EXTENSIONS`] is refused; an OBJ's material library (`mtllib`) is not
-/// read at all.
+/// Parses mesh file bytes (`path` gives the format by its extension) into the link frame:
+/// `origin · diag(scale) · p`. An extension other than [`MESH_EXTENSIONS`] is refused; an OBJ's
+/// material library (`mtllib`) is not read at all.
+///
+/// Any input gives a mesh or an error, never a panic: a COLLADA file (as `mesh-loader` detects
+/// one, [`collada::is_collada`]) is first checked by [`collada::validate`], whose
+/// [`std::io::ErrorKind::InvalidData`] error names the element at fault.
 pub fn parse(
     bytes: &[u8],
     path: &Path,
@@ -134,11 +139,22 @@ pub fn parse(
     // Collision geometry has no colours: an OBJ's `mtllib` is never opened (it may name a
     // FIFO, a device or a huge file), the loader is handed an empty library instead.
     let no_materials = |_: &Path| Ok(Vec::new());
+    if collada::is_collada(path, bytes) {
+        collada::validate(bytes)?;
+    }
     let scene =
         mesh_loader::Loader::default().load_from_slice_with_reader(bytes, path, no_materials)?;
     let mut out = LinkMesh::default();
     for m in scene.meshes {
-        let base = out.vertices.len() as u32;
+        let base = u32::try_from(out.vertices.len())
+            .ok()
+            .filter(|b| b.checked_add(m.vertices.len() as u32).is_some())
+            .ok_or_else(|| {
+                std::io::Error::new(
+                    std::io::ErrorKind::InvalidData,
+                    "more than 2^32 vertices in one mesh file",
+                )
+            })?;
         out.vertices.extend(m.vertices.iter().map(|v| {
             let p = Point3::new(
                 v[0] as f64 * scale[0],

@@ -3,7 +3,8 @@
 //!
 //! * [`mesh`]: `package://`, `file://` and relative mesh names resolved against a search
 //!   path; STL, OBJ and COLLADA read with `mesh-loader`; `<mesh scale>` and `<origin>`
-//!   applied, so meshes are in the **link frame**.
+//!   applied, so meshes are in the **link frame**; a COLLADA file is first checked by
+//!   [`collada`], so that `mesh-loader` only ever reads one it handles safely.
 //! * [`pieces`], [`primitives`]: one convex piece per element: the convex hull of a mesh
 //!   (every vertex inside, tested to 1e-9 m), or a polytope circumscribing a box, cylinder,
 //!   sphere or capsule.
@@ -19,6 +20,7 @@
 //! list of convex pieces (vertices in the link frame), and index pairs of links.
 
 pub mod cache;
+pub mod collada;
 mod entry_check;
 pub mod excess;
 mod hash;
