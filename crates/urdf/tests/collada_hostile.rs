@@ -280,6 +280,14 @@ fn constructs_that_panic_or_hang_in_mesh_loader_are_errors() {
     // Positions of two values (mesh-loader reads none, then indexes them).
     let t = base.replacen(r#"count="8" stride="3""#, r#"count="8" stride="2""#, 1);
     refused(&t, "positions need stride >= 3");
+    // Positions read from an (empty) name array, the last array of their <source> (the one
+    // mesh-loader keeps): it unwraps it as numbers.
+    let t = base.replacen(
+        "</float_array>",
+        r#"</float_array><Name_array id="cube-positions-array" count="0"/>"#,
+        1,
+    );
+    refused(&t, "a name array, not numbers");
     // A non-empty name array in a <source> (mesh-loader's reader never ends).
     let t = base.replacen(
         "</source>",
