@@ -154,70 +154,15 @@ fn prescan(text: &str) -> io::Result<()> {
     Ok(())
 }
 
-/// The element nesting, found by a scan of the text before any parser sees it: `roxmltree`
-/// 0.20's tokenizer recurses once per level (`parse_element` → `parse_content`), as
-/// `mesh-loader`'s `<node>` reader does. Counts open start tags, skipping comments, CDATA,
-/// processing instructions, declarations and quoted attribute values; it never counts less
-/// than the parsers nest (on malformed text they stop at the error).
+/// The element nesting, found by a scan of the text before any parser sees it
+/// ([`pregrasp_limits::xml::check`], a loop): `roxmltree` 0.20's tokenizer recurses once per
+/// level (`parse_element` → `parse_content`), as `mesh-loader`'s `<node>` reader does.
 fn nesting(text: &str) -> io::Result<()> {
-    let b = text.as_bytes();
-    let find = |from: usize, pat: &[u8]| {
-        let from = from.min(b.len());
-        b[from..]
-            .windows(pat.len())
-            .position(|w| w == pat)
-            .map_or(b.len(), |k| from + k + pat.len())
+    let shape = pregrasp_limits::xml::Shape {
+        max_depth: MAX_DEPTH as usize,
+        ..pregrasp_limits::xml::Shape::COLLADA
     };
-    let mut depth = 0u32;
-    let mut i = 0;
-    while let Some(k) = b[i..].iter().position(|&c| c == b'<') {
-        let at = i + k;
-        let rest = &b[at..];
-        i = if rest.starts_with(b"<!--") {
-            find(at + 4, b"-->")
-        } else if rest.starts_with(b"<![CDATA[") {
-            find(at + 9, b"]]>")
-        } else if rest.starts_with(b"<?") {
-            find(at + 2, b"?>")
-        } else if rest.starts_with(b"<!") {
-            find(at + 2, b">")
-        } else if rest.starts_with(b"</") {
-            depth = depth.saturating_sub(1);
-            find(at + 2, b">")
-        } else {
-            let mut quote = None;
-            let mut end = b.len();
-            for (j, &c) in b.iter().enumerate().skip(at + 1) {
-                match (quote, c) {
-                    (Some(q), c) if c == q => quote = None,
-                    (Some(_), _) => {}
-                    (None, b'"' | b'\'') => quote = Some(c),
-                    (None, b'>') => {
-                        end = j;
-                        break;
-                    }
-                    _ => {}
-                }
-            }
-            if end == b.len() || b[end - 1] != b'/' {
-                depth += 1;
-                if depth > MAX_DEPTH {
-                    let name: String = text[at + 1..]
-                        .chars()
-                        .take_while(|c| !c.is_whitespace() && !matches!(c, '/' | '>'))
-                        .take(64)
-                        .collect();
-                    let line = 1 + b[..at].iter().filter(|&&c| c == b'\n').count();
-                    return Err(bad(format!(
-                        "`<{name}>` (line {line}) is nested {depth} elements deep: more than \
-                         the {MAX_DEPTH} accepted"
-                    )));
-                }
-            }
-            (end + 1).min(b.len())
-        };
-    }
-    Ok(())
+    pregrasp_limits::xml::check(text, shape).map_err(bad)
 }
 
 /// `mesh-loader` walks up the `<node>` ancestors of each `<instance_geometry>` of a
