@@ -20,7 +20,7 @@
 
 use nalgebra::Point3;
 
-use super::load::{element_points, Element};
+use super::element::{element_points, Element};
 use super::pieces::{FLAT_PAD, FLAT_PAD_RELATIVE};
 use super::types::UrdfGeometry;
 use crate::model::UrdfModel;

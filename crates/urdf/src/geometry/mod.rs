@@ -21,6 +21,7 @@
 
 pub mod cache;
 pub mod collada;
+mod element;
 mod entry_check;
 pub mod excess;
 mod hash;
