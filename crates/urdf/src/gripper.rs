@@ -11,6 +11,9 @@
 //! The master joint's `<limit effort>` is the grip force (N) the jaws can be set to (the Franka
 //! Hand's description says 100 N; its datasheet 70 N continuous, 140 N peak).
 
+use std::collections::BTreeMap;
+use std::sync::{Mutex, OnceLock};
+
 use nalgebra::{Isometry3, Translation3, Vector3};
 use pregrasp_robot::{JawGripper, JawPart};
 use urdf_rs::JointType;
@@ -122,23 +125,8 @@ pub fn describe_gripper(
     // The jaw joint's effort limit is the force a jaw can press with.
     let force = (0.0, limit.effort);
     let geometry = geometry.get(model)?;
-    // Parts: each link with collision pieces, moved into its hand or jaw frame.
-    let mut statics = Vec::new();
-    let mut jaws: [Vec<JawPart>; 2] = [Vec::new(), Vec::new()];
-    for (link, (jaw, pose)) in &hanging {
-        let Some(lp) = geometry.links.iter().find(|l| &l.link == link) else {
-            continue;
-        };
-        let pieces = lp.placed(pose);
-        let Some(part) = JawPart::new(link, pieces) else {
-            continue;
-        };
-        match jaw {
-            None => statics.push(part),
-            Some(k) => jaws[*k].push(part),
-        }
-    }
     let key = format!("jaws:{}:{}", geometry.key, arm.tool_link);
+    let (statics, jaws) = jaw_parts(&key, geometry, &hanging);
     let build = |precision: f64, power: f64| {
         JawGripper::new(
             key.clone(),
@@ -163,4 +151,42 @@ pub fn describe_gripper(
         / 2.0;
     let precision = precision_point_z.unwrap_or(middle);
     build(precision, power_point_z.unwrap_or(precision))
+}
+
+/// The hand's and each jaw's parts: each link with collision pieces, moved into its hand or
+/// jaw frame. A part's name and pieces are `&'static` (`JawPart::new` leaks them), so they
+/// are made once per distinct `key` for the life of the process, as `describe_arm` keeps its
+/// arms: loading the same description again (a batch, a long-running Python session) costs
+/// no memory.
+fn jaw_parts(
+    key: &str,
+    geometry: &crate::geometry::UrdfGeometry,
+    hanging: &[(String, Hanging)],
+) -> (Vec<JawPart>, [Vec<JawPart>; 2]) {
+    type Parts = (Vec<JawPart>, [Vec<JawPart>; 2]);
+    static KNOWN: OnceLock<Mutex<BTreeMap<String, Parts>>> = OnceLock::new();
+    let known = KNOWN.get_or_init(Default::default);
+    if let Some(parts) = known.lock().unwrap_or_else(|e| e.into_inner()).get(key) {
+        return parts.clone();
+    }
+    let mut statics = Vec::new();
+    let mut jaws: [Vec<JawPart>; 2] = [Vec::new(), Vec::new()];
+    for (link, (jaw, pose)) in hanging {
+        let Some(lp) = geometry.links.iter().find(|l| &l.link == link) else {
+            continue;
+        };
+        let Some(part) = JawPart::new(link, lp.placed(pose)) else {
+            continue;
+        };
+        match jaw {
+            None => statics.push(part),
+            Some(k) => jaws[*k].push(part),
+        }
+    }
+    let parts = (statics, jaws);
+    known
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(key.to_string(), parts.clone());
+    parts
 }
