@@ -4,15 +4,17 @@
 //! another well-formed one: pieces cut to a point would make the arm pass through the part,
 //! emptied pieces would leave it without collision geometry. Before an entry is used,
 //! [`check_entry`] compares it with what the description gives cheaply, without the
-//! expensive part (the self-collision sampling):
+//! expensive parts of a derivation (reading the meshes into hulls, sampling self-collision):
 //!
 //! * the robot name, and per link with `<collision>` elements its name and element indices,
 //!   in file order: the same links and counts the derivation would make;
-//! * every piece has at least one point, all finite;
-//! * every piece's bounding box holds its element's geometry (the mesh's vertices as read
-//!   and placed, or the primitive's polytope) and exceeds it by no more than the padding of
-//!   a flat element ([`FLAT_PAD`], [`FLAT_PAD_RELATIVE`]): a piece is the hull of those
-//!   points, whose box is theirs;
+//! * every piece is finite and within [`MAX_LINK_EXTENT`](super::MAX_LINK_EXTENT) of its
+//!   link frame;
+//! * a primitive's piece is its polytope: its bounding box is the element's (the polytope is
+//!   recomputed, a few points);
+//! * a mesh's piece is a solid: four of its points span a tetrahedron whose edges, face
+//!   height and apex height are all at least half of [`FLAT_PAD`] (a hull is made solid by
+//!   that padding when its mesh is flat, so every derived mesh piece passes);
 //! * the pairs index existing links (checked when the entry is read, `cache.rs`).
 //!
 //! An entry that fails is reported with the reason and derived again
@@ -23,6 +25,7 @@ use nalgebra::Point3;
 use super::element::{element_points, Element};
 use super::pieces::{FLAT_PAD, FLAT_PAD_RELATIVE};
 use super::types::UrdfGeometry;
+use super::values::check_extent;
 use crate::model::UrdfModel;
 
 /// Why `g` is not the geometry of `model`'s `elements`, if it is not (see the module
@@ -52,9 +55,23 @@ pub(crate) fn check_entry(
     }
     let pieces = g.links.iter().flat_map(|l| l.pieces.iter());
     for (e, piece) in elements.iter().zip(pieces) {
+        let wrong = || {
+            format!(
+                "link `{}`: piece of <collision> {} does not match its geometry",
+                e.link, e.index
+            )
+        };
+        check_extent(model.source(), &e.link, "a cached piece", piece)
+            .map_err(|err| err.to_string())?;
+        if e.mesh.is_some() {
+            if !solid(piece) {
+                return Err(wrong());
+            }
+            continue;
+        }
         let (source, _) = element_points(model, e).map_err(|err| err.to_string())?;
         let (Some(want), Some(have)) = (bounds(&source), bounds(piece)) else {
-            return Err(format!("link `{}`: an empty or non-finite piece", e.link));
+            return Err(wrong());
         };
         let slack = FLAT_PAD + FLAT_PAD_RELATIVE * (want.1 - want.0).norm() + 1e-9;
         let holds = (0..3).all(|i| {
@@ -64,13 +81,37 @@ pub(crate) fn check_entry(
                 && have.1[i] <= want.1[i] + slack
         });
         if !holds {
-            return Err(format!(
-                "link `{}`: piece of <collision> {} does not match its geometry",
-                e.link, e.index
-            ));
+            return Err(wrong());
         }
     }
     Ok(())
+}
+
+/// Whether `points` span a solid (see the module documentation): from the first point, the
+/// farthest point, the farthest from their line and the farthest from their plane.
+fn solid(points: &[Point3<f64>]) -> bool {
+    let min = 0.5 * FLAT_PAD;
+    let Some(&a) = points.first() else {
+        return false;
+    };
+    let farthest = |d: &dyn Fn(&Point3<f64>) -> f64| {
+        points
+            .iter()
+            .map(|p| (d(p), *p))
+            .fold((0.0, a), |best, x| if x.0 > best.0 { x } else { best })
+    };
+    let (ab, b) = farthest(&|p| (p - a).norm());
+    if ab < min {
+        return false;
+    }
+    let u = (b - a) / ab;
+    let (h, c) = farthest(&|p| (p - a).cross(&u).norm());
+    if h < min {
+        return false;
+    }
+    let n = (c - a).cross(&u).normalize();
+    let (apex, _) = farthest(&|p| (p - a).dot(&n).abs());
+    apex >= min
 }
 
 /// The bounding box of `points`; `None` when empty or a coordinate is not finite.
