@@ -50,17 +50,21 @@ fn mkfifo(path: &Path) {
     assert!(status.success());
 }
 
+/// `text` with 20 000 nested elements after its `<robot>` tag: urdf-rs's reader overflowed the
+/// stack on it.
+fn nested_20000_deep(text: &str) -> String {
+    let deep = format!("{}{}", "<a>".repeat(20_000), "</a>".repeat(20_000));
+    text.replacen(
+        "<robot name=\"fr3\">",
+        &format!("<robot name=\"fr3\">{deep}"),
+        1,
+    )
+}
+
 #[test]
 fn a_deeply_nested_description_is_bad_input_not_a_stack_overflow() {
     let dir = tempfile::tempdir().unwrap();
-    let deep = format!("{}{}", "<a>".repeat(20_000), "</a>".repeat(20_000));
-    fr3_scene(dir.path(), false, |t| {
-        t.replacen(
-            "<robot name=\"fr3\">",
-            &format!("<robot name=\"fr3\">{deep}"),
-            1,
-        )
-    });
+    fr3_scene(dir.path(), false, nested_20000_deep);
     plan_is_bad_input(dir.path(), "is nested more than 64 levels deep");
     let out = run(dir.path(), &["plan", "fr3.toml", "-o", "p.json"]);
     assert!(stderr(&out).contains("robot.urdf"), "{}", stderr(&out));
@@ -69,14 +73,7 @@ fn a_deeply_nested_description_is_bad_input_not_a_stack_overflow() {
 #[test]
 fn a_batch_survives_a_description_that_would_overflow_the_stack() {
     let dir = tempfile::tempdir().unwrap();
-    let deep = format!("{}{}", "<a>".repeat(20_000), "</a>".repeat(20_000));
-    fr3_scene(dir.path(), false, |t| {
-        t.replacen(
-            "<robot name=\"fr3\">",
-            &format!("<robot name=\"fr3\">{deep}"),
-            1,
-        )
-    });
+    fr3_scene(dir.path(), false, nested_20000_deep);
     let out = run(dir.path(), &["batch", ".", "-o", "out"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let files = files_in(&dir.path().join("out"));
