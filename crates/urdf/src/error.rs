@@ -254,6 +254,17 @@ pub enum UrdfError {
         /// Most link shapes.
         max: usize,
     },
+    /// A description larger than any robot: more links or joints, collision elements, or
+    /// collision mesh bytes than [`crate::limits`] allows.
+    #[error("{file}: {what}: more than the {max} a description may have")]
+    TooLarge {
+        /// The source.
+        file: String,
+        /// What there is too much of, with the count where known.
+        what: String,
+        /// The limit.
+        max: String,
+    },
     /// A joint asked to be held still cannot be.
     #[error("{file}: cannot hold joint `{joint}`: it {problem}")]
     HeldJoint {

@@ -40,6 +40,7 @@ pub mod geometry;
 mod gripper;
 pub mod ik;
 pub mod kinematics;
+pub mod limits;
 mod lock;
 mod merge;
 mod model;

@@ -10,6 +10,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use crate::error::UrdfError;
+use crate::limits::MAX_LINKS;
 
 /// A `<mimic>` relation: `q[joint] = multiplier · q[master] + offset` (URDF defaults:
 /// multiplier 1, offset 0).
@@ -71,6 +72,15 @@ impl UrdfModel {
     /// Indexes an already parsed `urdf_rs::Robot`.
     pub fn from_robot(robot: urdf_rs::Robot, source: &str) -> Result<Self, UrdfError> {
         let file = || source.to_string();
+        for (count, what) in [(robot.links.len(), "links"), (robot.joints.len(), "joints")] {
+            if count > MAX_LINKS {
+                return Err(UrdfError::TooLarge {
+                    file: file(),
+                    what: format!("{count} {what}"),
+                    max: MAX_LINKS.to_string(),
+                });
+            }
+        }
         let mut links = HashMap::new();
         for (i, l) in robot.links.iter().enumerate() {
             if links.insert(l.name.clone(), i).is_some() {

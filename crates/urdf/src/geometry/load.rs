@@ -15,7 +15,7 @@
 
 use std::path::{Path, PathBuf};
 
-use pregrasp_limits::{read_limited, MAX_COLLISION_MESH_BYTES};
+use pregrasp_limits::{bytes as bytes_in_words, read_limited, MAX_COLLISION_MESH_BYTES};
 
 use super::cache::{self, Read};
 pub use super::element::{element_mesh, element_piece, element_points, Element};
@@ -29,6 +29,7 @@ use super::types::{LinkPieces, UrdfGeometry};
 use super::values::check_element;
 use crate::chain::origin_isometry;
 use crate::error::UrdfError;
+use crate::limits::{MAX_COLLISION_ELEMENTS, MAX_COLLISION_LINKS, MAX_TOTAL_MESH_BYTES};
 use crate::model::UrdfModel;
 
 /// Version of the derivation; part of the cache key.
@@ -118,7 +119,25 @@ fn elements_of(
     let dirs = mesh::search_dirs(urdf_dir.as_deref(), &opts.mesh_dirs);
     let mut out = Vec::new();
     let kept = |name: &String| keep.is_none_or(|k| k.contains(name));
-    for link in model.robot().links.iter().filter(|l| kept(&l.name)) {
+    let links: Vec<&urdf_rs::Link> = (model.robot().links.iter())
+        .filter(|l| kept(&l.name) && !l.collision.is_empty())
+        .collect();
+    let elements: usize = links.iter().map(|l| l.collision.len()).sum();
+    let too_large = |what: String, max: String| UrdfError::TooLarge {
+        file: model.source().to_string(),
+        what,
+        max,
+    };
+    if links.len() > MAX_COLLISION_LINKS {
+        let what = format!("{} links with <collision> elements", links.len());
+        return Err(too_large(what, MAX_COLLISION_LINKS.to_string()));
+    }
+    if elements > MAX_COLLISION_ELEMENTS {
+        let what = format!("{elements} <collision> elements");
+        return Err(too_large(what, MAX_COLLISION_ELEMENTS.to_string()));
+    }
+    let mut mesh_bytes = 0u64;
+    for link in links {
         for (index, c) in link.collision.iter().enumerate() {
             check_element(model.source(), &link.name, &c.geometry)?;
             let mesh = match &c.geometry {
@@ -134,6 +153,12 @@ fn elements_of(
                             message: e.to_string(),
                         }
                     })?;
+                    mesh_bytes += bytes.len() as u64;
+                    if mesh_bytes > MAX_TOTAL_MESH_BYTES {
+                        let what =
+                            format!("collision meshes of over {}", bytes_in_words(mesh_bytes));
+                        return Err(too_large(what, bytes_in_words(MAX_TOTAL_MESH_BYTES)));
+                    }
                     Some((path, bytes))
                 }
                 _ => None,
