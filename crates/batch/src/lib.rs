@@ -333,7 +333,10 @@ fn plan_scene(
         pregrasp_io::limits::read_limited(scene_path, pregrasp_io::limits::MAX_SCENE_BYTES)
             .map_err(|e| format!("{}: {e}", scene_path.display()))?;
     let stamp = Stamp::of(&scene_text, &mesh_bytes);
-    let up_to_date = std::fs::read_to_string(&stamp_path).is_ok_and(|s| s.trim() == stamp.0)
+    // The stamp is read only as a small regular file: a FIFO or device planted under its
+    // name is not waited on (it is then written through, as every output is).
+    let up_to_date = pregrasp_io::limits::read_limited(&stamp_path, 4096)
+        .is_ok_and(|s| String::from_utf8_lossy(&s).trim() == stamp.0)
         && view_path.is_file();
     let reused = if up_to_date {
         PlanFile::read(&plan_path).ok()

@@ -66,6 +66,9 @@ pub struct ReachQuery {
     pub goal: Joints,
 }
 
+/// Largest problem file read: 64 MiB (the committed set is 50 KB).
+pub const MAX_PROBLEM_BYTES: u64 = 64 << 20;
+
 /// A parsed, validated problem set.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReachProblemSet {
@@ -75,13 +78,17 @@ pub struct ReachProblemSet {
 }
 
 impl ReachProblemSet {
-    /// Reads and validates a problem file.
+    /// Reads and validates a problem file: a regular file of at most
+    /// [`MAX_PROBLEM_BYTES`] (a FIFO or device is refused unread).
     pub fn load(path: &Path) -> Result<Self, ProblemError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Io {
-            file: file.clone(),
-            source,
-        })?;
+        let text =
+            pregrasp_limits::read_text_limited(path, MAX_PROBLEM_BYTES).map_err(|source| {
+                ProblemError::Io {
+                    file: file.clone(),
+                    source,
+                }
+            })?;
         Self::parse(&text, &file)
     }
 
