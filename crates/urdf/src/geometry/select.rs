@@ -20,36 +20,12 @@ use std::collections::BTreeSet;
 use crate::error::UrdfError;
 use crate::model::UrdfModel;
 
-/// The links of the arm from `base` to `tool` (see the module documentation). Errors: an
-/// unknown link, or `tool` not below `base`.
+/// The links of the arm from `base` to `tool` (see the module documentation); the path is
+/// the one [`UrdfModel::chain`] walks. Errors: what that reports (an unknown link, `tool` not
+/// below `base`, …), never for an arm already made from the same links.
 pub fn arm_links(model: &UrdfModel, base: &str, tool: &str) -> Result<BTreeSet<String>, UrdfError> {
-    let file = || model.source().to_string();
-    for (link, role) in [(base, "base link"), (tool, "tool link")] {
-        if !model.has_link(link) {
-            return Err(UrdfError::UnknownLink {
-                file: file(),
-                link: link.to_string(),
-                context: format!("asked for as the {role}"),
-            });
-        }
-    }
-    // The path, walked up from the tool link (more steps than links: a parent loop).
-    let mut path = vec![tool.to_string()];
-    while path.last().map(String::as_str) != Some(base) {
-        let last = path.last().expect("not empty");
-        let parent = match model.parent_joint(last) {
-            Some(j) if path.len() <= model.robot().links.len() => j.parent.link.clone(),
-            _ => {
-                return Err(UrdfError::NoPath {
-                    file: file(),
-                    base: base.to_string(),
-                    tip: tool.to_string(),
-                    tip_root: last.clone(),
-                })
-            }
-        };
-        path.push(parent);
-    }
+    let chain = model.chain(base, tool)?;
+    let path: Vec<String> = chain.links().iter().map(|l| l.name.clone()).collect();
     let mut keep: BTreeSet<String> = path.iter().cloned().collect();
     // Below the path: through fixed joints only, except below the tool link (everything).
     let mut stack: Vec<(String, bool)> = path.iter().map(|l| (l.clone(), l == tool)).collect();
