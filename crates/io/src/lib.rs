@@ -7,6 +7,7 @@ pub mod output;
 pub mod plan_arms;
 pub mod plan_file;
 pub mod plan_format;
+pub mod plan_model;
 pub mod plan_read;
 pub mod plan_terms;
 pub mod ranges;

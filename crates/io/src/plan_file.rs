@@ -56,6 +56,7 @@ impl PoseJson {
 pub struct PlanFile {
     pub format: String,
     pub scene: SceneRef,
+    #[serde(with = "crate::plan_terms::word")]
     pub status: PlanStatus,
     pub reason: Option<String>,
     pub support_height: f64,
@@ -130,6 +131,7 @@ pub struct ObjectJson {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RobotJson {
     pub name: String,
+    #[serde(with = "crate::plan_terms::word")]
     pub model: RobotModel,
     pub base: PoseJson,
     pub joint_names: Vec<String>,
@@ -198,6 +200,7 @@ pub struct CandidateJson {
     /// World endpoints at P_init.
     pub axis: [[f64; 3]; 2],
     /// `ccw`: positive rotation about `axis[1] - axis[0]` (right-hand rule); `cw`: negative.
+    #[serde(with = "crate::plan_terms::word")]
     pub direction: RotationDirection,
     pub length: f64,
     pub theta_max: f64,
@@ -250,6 +253,7 @@ pub struct RobustnessLevelJson {
 /// in newtons; friction use is |tangential force| / (μ · normal force), 1 = at the cone's edge.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PhysicsJson {
+    #[serde(with = "crate::plan_terms::word")]
     pub verdict: GripVerdict,
     /// The part's mass (kg) and where it comes from.
     pub mass: f64,
@@ -289,9 +293,12 @@ pub struct PhysicsJson {
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SegmentJson {
+    #[serde(with = "crate::plan_terms::word")]
     pub name: SegmentName,
     pub robot: String,
+    #[serde(with = "crate::plan_terms::word")]
     pub kind: SegmentKind,
+    #[serde(with = "crate::plan_terms::word")]
     pub grasp: GraspKind,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub retreat_to: Option<usize>,

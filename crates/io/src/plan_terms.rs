@@ -1,140 +1,34 @@
-//! The closed vocabularies of the plan format (`docs/plan-format.md`) as types: what the file
-//! spells as strings (`"rot"`, `"planned"`, `"ccw"`, `"ur5e"`), the code matches as enums.
-//! Each is written and read as exactly its lower-case word; a word outside the vocabulary is
-//! refused when the file is read, with the allowed ones listed.
+//! The plan format's words for the model's closed vocabularies ([`pregrasp_model::terms`]:
+//! `"rot"`, `"planned"`, `"ccw"`, `"ur5e"`), read and written by serde through [`word`], and the
+//! candidates' `outcome` text ([`Outcome`]). A word outside the vocabulary is refused when the
+//! file is read, with the allowed ones listed.
 
 use std::fmt;
 use std::str::FromStr;
 
+pub use pregrasp_model::terms::{
+    GraspKind, GripVerdict, PlanStatus, RobotModel, RotationDirection, SegmentKind, SegmentName,
+    Word,
+};
 use pregrasp_robot::UrModel;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-/// A closed vocabulary: each variant with its word in the file.
-macro_rules! vocabulary {
-    ($(#[$meta:meta])* $name:ident { $($(#[$vmeta:meta])* $variant:ident = $word:literal),+ $(,)? }) => {
-        $(#[$meta])*
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-        pub enum $name {
-            $($(#[$vmeta])* $variant),+
-        }
-
-        impl $name {
-            /// Every value, in the format's order.
-            pub const ALL: &'static [$name] = &[$($name::$variant),+];
-
-            /// The word the file spells it with.
-            pub fn as_str(self) -> &'static str {
-                match self {
-                    $($name::$variant => $word),+
-                }
-            }
-        }
-
-        impl fmt::Display for $name {
-            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.pad(self.as_str())
-            }
-        }
-
-        impl FromStr for $name {
-            type Err = String;
-
-            fn from_str(s: &str) -> Result<Self, String> {
-                $name::ALL
-                    .iter()
-                    .copied()
-                    .find(|v| v.as_str() == s)
-                    .ok_or_else(|| not_one_of(s, $name::ALL.iter().map(|v| v.as_str())))
-            }
-        }
-
-        impl Serialize for $name {
-            fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-                serializer.serialize_str(self.as_str())
-            }
-        }
-
-        impl<'de> Deserialize<'de> for $name {
-            fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-                let word = String::deserialize(deserializer)?;
-                word.parse().map_err(serde::de::Error::custom)
-            }
-        }
-    };
-}
-
 /// `"x" is not one of a, b, c` (the word clipped to 80 characters).
 fn not_one_of<'w>(word: &str, allowed: impl Iterator<Item = &'w str>) -> String {
-    format!(
-        "{:?} is not one of {}",
-        crate::text::clip(word, 80),
-        allowed.collect::<Vec<_>>().join(", ")
-    )
+    pregrasp_model::terms::not_one_of(word, allowed)
 }
 
-vocabulary! {
-    /// Whether the file holds plans (`status`).
-    PlanStatus {
-        Planned = "planned",
-        NoPlan = "no_plan",
+/// Serde for a vocabulary value by its word (`#[serde(with = "word")]`).
+pub mod word {
+    use super::*;
+
+    pub fn serialize<W: Word, S: Serializer>(value: &W, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(value.as_str())
     }
-}
 
-vocabulary! {
-    /// The four motions of a plan, in the order they run (`segments[].name`; the paper's
-    /// μ_sup1, μ_rot, μ_mas1, μ_sup2).
-    SegmentName {
-        /// The supportive arm reaches the support grasp G_s.
-        Sup1 = "sup1",
-        /// The supportive arm turns the part about the axis.
-        Rot = "rot",
-        /// The master arm reaches its power grasp.
-        Mas1 = "mas1",
-        /// The supportive arm lets go and reaches its power grasp.
-        Sup2 = "sup2",
-    }
-}
-
-vocabulary! {
-    /// What a segment's motion is (`segments[].kind`).
-    SegmentKind {
-        /// From where the arm is to a grasp, ending in a straight approach.
-        Reach = "reach",
-        /// Holding the part while it turns.
-        Rotate = "rotate",
-        /// Releasing one grasp (straight retreat) and reaching another.
-        Regrasp = "regrasp",
-    }
-}
-
-vocabulary! {
-    /// Which grasp a segment ends at (`segments[].grasp`): the support grasp G_s (held by the
-    /// precision point) or the arm's power grasp (by the power point).
-    GraspKind {
-        Support = "support",
-        Power = "power",
-    }
-}
-
-vocabulary! {
-    /// The sense of a candidate's rotation about its axis `axis[1] − axis[0]`
-    /// (`candidates[].direction`): right-handed (`ccw`) or the other way.
-    RotationDirection {
-        Ccw = "ccw",
-        Cw = "cw",
-    }
-}
-
-vocabulary! {
-    /// The quasi-static grip check's verdict on a plan's rotation (`physics.verdict`).
-    GripVerdict {
-        /// Every state is held with a grip force within the gripper's range.
-        Holds = "holds",
-        /// Some state needs more than the gripper's 235 N (with the safety factor), or no
-        /// force holds it.
-        CannotHold = "cannot_hold",
-        /// Some state needs more support friction than there is.
-        SlidesAtSupport = "slides_at_support",
+    pub fn deserialize<'de, W: Word, D: Deserializer<'de>>(deserializer: D) -> Result<W, D::Error> {
+        let word = String::deserialize(deserializer)?;
+        W::from_word(&word).map_err(serde::de::Error::custom)
     }
 }
 
@@ -204,121 +98,6 @@ impl<'de> Deserialize<'de> for Outcome {
     }
 }
 
-impl GripVerdict {
-    /// In words, for people.
-    pub fn describe(self) -> &'static str {
-        match self {
-            GripVerdict::Holds => "holds",
-            GripVerdict::CannotHold => "cannot hold",
-            GripVerdict::SlidesAtSupport => "slides at the support",
-        }
-    }
-}
-
-impl SegmentName {
-    /// The segment's kind: fixed per segment by the format.
-    pub fn kind(self) -> SegmentKind {
-        match self {
-            SegmentName::Sup1 | SegmentName::Mas1 => SegmentKind::Reach,
-            SegmentName::Rot => SegmentKind::Rotate,
-            SegmentName::Sup2 => SegmentKind::Regrasp,
-        }
-    }
-
-    /// The grasp the segment ends at (held throughout `rot`): fixed per segment.
-    pub fn grasp(self) -> GraspKind {
-        match self {
-            SegmentName::Sup1 | SegmentName::Rot => GraspKind::Support,
-            SegmentName::Mas1 | SegmentName::Sup2 => GraspKind::Power,
-        }
-    }
-
-    /// Whether the master arm moves in it (`mas1`); the supportive arm moves in the others.
-    pub fn by_master(self) -> bool {
-        self == SegmentName::Mas1
-    }
-}
-
-impl SegmentKind {
-    /// Whether the gripper opens at the segment's first point and closes at its last
-    /// (`reach`, `regrasp`); it stays closed through `rotate`.
-    pub fn closes_at_end(self) -> bool {
-        matches!(self, SegmentKind::Reach | SegmentKind::Regrasp)
-    }
-}
-
-impl RotationDirection {
-    /// `+1` for `ccw`, `−1` for `cw`: the sign of the rotation angle about the axis.
-    pub fn sign(self) -> f64 {
-        match self {
-            RotationDirection::Ccw => 1.0,
-            RotationDirection::Cw => -1.0,
-        }
-    }
-}
-
-/// `robots[].model`: a built-in arm by its lower-case name, or (extension) `"urdf"`, an arm
-/// known only by its robot description (`robots[].urdf` names it). A plan file is
-/// machine-written, so the word must be exact (scene files are lenient, see
-/// [`UrModel::from_name`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum RobotModel {
-    /// A built-in Universal Robots arm.
-    Builtin(UrModel),
-    /// The arm of the robot description `robots[].urdf` names.
-    Described,
-}
-
-impl RobotModel {
-    /// The word for an arm known only by its description.
-    pub const DESCRIBED: &'static str = "urdf";
-
-    /// The file's word.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            RobotModel::Builtin(m) => m.name(),
-            RobotModel::Described => Self::DESCRIBED,
-        }
-    }
-
-    /// The built-in model, if the arm is one.
-    pub fn builtin(self) -> Option<UrModel> {
-        match self {
-            RobotModel::Builtin(m) => Some(m),
-            RobotModel::Described => None,
-        }
-    }
-}
-
-impl fmt::Display for RobotModel {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.pad(self.as_str())
-    }
-}
-
-impl Serialize for RobotModel {
-    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        serializer.serialize_str(self.as_str())
-    }
-}
-
-impl<'de> Deserialize<'de> for RobotModel {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<RobotModel, D::Error> {
-        let word = String::deserialize(deserializer)?;
-        if word == Self::DESCRIBED {
-            return Ok(RobotModel::Described);
-        }
-        UrModel::ALL
-            .into_iter()
-            .find(|m| m.name() == word)
-            .map(RobotModel::Builtin)
-            .ok_or_else(|| {
-                let words = UrModel::ALL.iter().map(|m| m.name());
-                serde::de::Error::custom(not_one_of(&word, words.chain([Self::DESCRIBED])))
-            })
-    }
-}
-
 /// Serde for a UR model by its lower-case name: a plan file is machine-written, so the name
 /// must be exact (scene files are lenient, see [`UrModel::from_name`]).
 pub mod ur_model {
@@ -343,41 +122,32 @@ pub mod ur_model {
 mod tests {
     use super::*;
 
+    #[derive(Serialize, Deserialize, Debug, PartialEq)]
+    struct Named {
+        #[serde(with = "word")]
+        name: SegmentName,
+        #[serde(with = "word")]
+        model: RobotModel,
+    }
+
     #[test]
-    fn every_word_reads_back_as_its_value_and_others_are_refused() {
+    fn vocabulary_values_are_written_and_read_as_their_words() {
         for name in SegmentName::ALL {
-            let json = serde_json::to_string(name).unwrap();
-            assert_eq!(serde_json::from_str::<SegmentName>(&json).unwrap(), *name);
+            let v = Named {
+                name: *name,
+                model: RobotModel::Builtin(UrModel::Ur5e),
+            };
+            let json = serde_json::to_string(&v).unwrap();
+            assert_eq!(json, format!("{{\"name\":\"{name}\",\"model\":\"ur5e\"}}"));
+            assert_eq!(serde_json::from_str::<Named>(&json).unwrap(), v);
         }
-        for status in PlanStatus::ALL {
-            assert_eq!(status.as_str().parse::<PlanStatus>().unwrap(), *status);
-        }
-        // Tables pad them like the strings they replaced.
-        assert_eq!(format!("[{:4}]", RotationDirection::Cw), "[cw  ]");
-        let err = serde_json::from_str::<SegmentName>("\"Rot\"").unwrap_err();
+        let err = serde_json::from_str::<Named>(r#"{"name":"Rot","model":"urdf"}"#).unwrap_err();
         assert!(
             err.to_string()
                 .starts_with("\"Rot\" is not one of sup1, rot, mas1, sup2"),
             "{err}"
         );
-    }
-
-    #[test]
-    fn each_segment_has_the_kind_and_grasp_of_the_format() {
-        use GraspKind::*;
-        use SegmentKind::*;
-        let table: Vec<(SegmentName, SegmentKind, GraspKind)> = SegmentName::ALL
-            .iter()
-            .map(|s| (*s, s.kind(), s.grasp()))
-            .collect();
-        assert_eq!(
-            table,
-            [
-                (SegmentName::Sup1, Reach, Support),
-                (SegmentName::Rot, Rotate, Support),
-                (SegmentName::Mas1, Reach, Power),
-                (SegmentName::Sup2, Regrasp, Power),
-            ]
-        );
+        let err = serde_json::from_str::<Named>(r#"{"name":"rot","model":"ur6"}"#).unwrap_err();
+        assert!(err.to_string().contains("is not one of ur3e"), "{err}");
     }
 }

@@ -48,6 +48,11 @@ pub struct StateReport {
 /// The verdict on one plan (the plan file's vocabulary).
 pub use pregrasp_io::plan_terms::GripVerdict as Verdict;
 
+/// The verdict by its plan-file word.
+fn verdict_word<S: serde::Serializer>(v: &Verdict, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(v.as_str())
+}
+
 /// The check of one plan.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PlanPhysics {
@@ -70,6 +75,7 @@ pub struct PlanPhysics {
     /// The grip force to set: `required` clamped into the gripper's range (the 2F-85's 20–235
     /// N by default, [`PhysicsSettings::grip_force`]), when it holds.
     pub recommended: Option<f64>,
+    #[serde(serialize_with = "verdict_word")]
     pub verdict: Verdict,
     /// Things the verdict alone does not say (axis off the support, ...).
     pub warnings: Vec<String>,

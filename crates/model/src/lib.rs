@@ -1,0 +1,20 @@
+//! The typed model pregrasp's crates share, built once and passed by reference: a plan set
+//! (the cell, the candidates, the plans with typed segments and waypoints, [`plan`]), the plan
+//! on one time line ([`timeline`], the only place its rules live), and the plan format's closed
+//! vocabularies ([`terms`]). Nothing here reads or writes files: `pregrasp-io` converts the
+//! model to and from the plan file, and the planner, the checker, physics, the exports and the
+//! viewer take the model.
+
+pub mod plan;
+pub mod terms;
+pub mod timeline;
+
+pub use plan::{
+    as_written, ArmSetup, Candidate, Closing, DescriptionRef, Grasps, ObjectSetup, PadContact,
+    Plan, PlanSet, Roles, Segment, Waypoint,
+};
+pub use terms::{
+    GraspKind, GripVerdict, PlanStatus, RobotModel, RotationDirection, SegmentKind, SegmentName,
+    Word,
+};
+pub use timeline::{Moment, Timeline, TimelineError, ToolLine, CONTACT_ZONE};
