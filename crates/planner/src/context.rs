@@ -16,7 +16,7 @@ use pregrasp_motion::{JointSpace, MotionValidator};
 use pregrasp_robot::{wrap_angle, ArmKinematics, GripperState, Joints};
 
 use crate::clock::StageClock;
-use crate::timeline::Moment;
+use pregrasp_model::timeline::Moment;
 
 /// Resolution (m) at which motions are validated: no point of an arm moves farther than this
 /// between two checked states (bound Σ w_i |Δq_i|, with w_i the joint sweep radii).

@@ -13,7 +13,7 @@
 //! - [`robustness`]: Monte-Carlo over placement errors, re-planning each sample;
 //! - [`auto_grasps`]: `[grasps] mode = "auto"`, grasps found from the mesh.
 //!
-//! [`context`] holds the read-only models every stage shares; [`timeline`] the semantics of a
+//! [`context`] holds the read-only models every stage shares; `pregrasp_model::timeline` the semantics of a
 //! plan's instants (who moves, which gripper is closed, where contact is allowed); [`clock`]
 //! where Algorithm 3's time goes.
 
@@ -34,7 +34,6 @@ pub mod resume;
 pub mod robustness;
 pub mod rotate;
 pub mod settle;
-pub mod timeline;
 pub mod timing;
 
 pub mod auto_grasps;

@@ -12,7 +12,7 @@ use crate::context::{PlanningContext, FIXED_START_TOLERANCE};
 use crate::poses::PowerGraspPose;
 use crate::reach::{reach_lines, reach_transit, ReachMotion, ReachQuery};
 use crate::rotate::{rotation_path, RotationPath};
-use crate::timeline::Moment;
+use pregrasp_model::timeline::Moment;
 
 /// At most this many alternatives of each IK set are tried (they are sorted by distance to the
 /// arm's start, so the first ones are the natural choices).

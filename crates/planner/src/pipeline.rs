@@ -20,7 +20,7 @@ use crate::output::{plan_file_header, plan_json, rot_only_plan_json};
 use crate::paths::{integrated_path, IntegratedPath, NoPath};
 use crate::poses::{object_pose_for_power_grasp, PoseRejection, PowerGraspPose};
 use crate::rotate::RotationPath;
-use crate::timeline::Moment;
+use pregrasp_model::timeline::Moment;
 
 /// Settings of one `plan` run beyond the scene's `[planner]` table.
 #[derive(Clone, Debug)]

@@ -20,7 +20,7 @@ use pregrasp_motion::StateValidator;
 use pregrasp_robot::Joints;
 
 use crate::context::{world_state, PlanningContext, FINE_RESOLUTION};
-use crate::timeline::{Moment, CONTACT_ZONE};
+use pregrasp_model::timeline::{Moment, CONTACT_ZONE};
 use crate::timing::{scaled, time_along, CONTACT_SCALE, TRANSIT_SCALE};
 
 /// Iterations RRT-Connect may spend on one reach query (the deterministic stop).

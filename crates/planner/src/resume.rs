@@ -31,7 +31,7 @@ use crate::pipeline::PlanReport;
 use crate::poses::PowerGraspPose;
 use crate::reach::{reach, ReachMotion, ReachQuery};
 use crate::replan::{held_grasp, RanPlan, ReplanRoute, Replanned, ResumeError};
-use crate::timeline::Moment;
+use pregrasp_model::timeline::Moment;
 
 /// How far (m) the part held as measured may have been from resting on the support when `rot`
 /// began: the check's tolerance on the rotation axis ([`crate::check::AXIS_MOTION_TOLERANCE`]).

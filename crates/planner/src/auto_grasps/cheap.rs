@@ -29,7 +29,7 @@ use pregrasp_robot::{GripperState, Joints};
 use super::fingers::OpenFingers;
 use crate::axes::RotationAxisCandidate;
 use crate::context::{distinct_ik, FINE_PLANNING_MARGIN, PLANNING_MARGIN};
-use crate::timeline::CONTACT_ZONE;
+use pregrasp_model::timeline::CONTACT_ZONE;
 
 /// How far (m) the nearer power grasp must rise for the fingers to close under the bar (the
 /// ladder of the examples needs 42 mm for a 25 mm rail).

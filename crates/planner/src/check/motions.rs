@@ -5,7 +5,7 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use pregrasp_io::plan_file::SegmentJson;
 use pregrasp_robot::{GripperState, Joints};
 
-use crate::timeline::{lerp_joints, lerp_pose, CONTACT_ZONE};
+use pregrasp_model::timeline::{lerp_joints, lerp_pose, CONTACT_ZONE};
 
 use super::walk::{at, edge, grasp_error, pose_error, PlanCheck, Queued};
 use super::{

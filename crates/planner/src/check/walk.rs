@@ -9,7 +9,7 @@ use pregrasp_io::plan_file::{
 };
 use pregrasp_robot::{GripperState, Joints};
 
-use crate::timeline::substeps;
+use pregrasp_model::timeline::substeps;
 
 use super::{
     HeldGrips, Rule, GRASP_ANGLE_TOLERANCE, GRASP_POSITION_TOLERANCE, ROUNDING_Q, ROUNDING_T,
