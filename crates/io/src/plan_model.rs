@@ -6,7 +6,7 @@
 
 use pregrasp_model::{
     ArmSetup, Candidate, Closing, DescriptionRef, Grasps, ObjectSetup, PadContact, Plan, PlanSet,
-    Roles, Segment, Waypoint,
+    PlanSettings, Roles, Segment, Waypoint,
 };
 use pregrasp_robot::FingerPair;
 
@@ -14,6 +14,7 @@ use crate::plan_file::{
     CandidateJson, FingersJson, PadContactJson, PlanFile, PlanJson, PointJson, PoseJson, RobotJson,
     SegmentJson, UrdfJson,
 };
+use crate::scene::{DEFAULT_FINGER_SUPPORT_CLEARANCE, DEFAULT_LINK_CLEARANCE};
 
 /// What keeps a plan file from being a plan set: a name that is not one of its robots.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -77,6 +78,18 @@ impl PlanFile {
             reason: self.reason.clone(),
             support_height: self.support_height,
             lift: self.planner.lift,
+            settings: PlanSettings {
+                support_distance: self.planner.support_distance,
+                approach_distance: self.planner.approach_distance,
+                link_clearance: self
+                    .planner
+                    .link_clearance
+                    .unwrap_or(DEFAULT_LINK_CLEARANCE),
+                finger_support_clearance: self
+                    .planner
+                    .finger_support_clearance
+                    .unwrap_or(DEFAULT_FINGER_SUPPORT_CLEARANCE),
+            },
             object: ObjectSetup {
                 scale: self.object.scale,
                 initial_pose: self.object.initial_pose.to_isometry(),
@@ -181,6 +194,25 @@ fn segment_of(s: &SegmentJson, arm: usize) -> Segment {
     }
 }
 
+impl From<FingerPair> for FingersJson {
+    fn from(f: FingerPair) -> Self {
+        FingersJson {
+            driver: f.driver,
+            spring_link: f.spring_link,
+        }
+    }
+}
+
+impl From<PadContact> for PadContactJson {
+    fn from(p: PadContact) -> Self {
+        PadContactJson {
+            center: p.center,
+            torsion_radius: p.torsion_radius,
+            area: p.area,
+        }
+    }
+}
+
 /// The file's entry of `plan` (no `physics`, no `robustness`: the planner adds them), with the
 /// arms' names from `arms`.
 pub fn plan_json(arms: &[ArmSetup], plan: &Plan) -> PlanJson {
@@ -210,15 +242,8 @@ pub fn segment_json(robot: &str, s: &Segment) -> SegmentJson {
         retreat_to: s.retreat_to,
         approach_from: s.approach_from,
         grip_width: s.closing.width,
-        fingers: s.closing.fingers.map(|f| FingersJson {
-            driver: f.driver,
-            spring_link: f.spring_link,
-        }),
-        pad_contact: s.closing.pad_contact.map(|p| PadContactJson {
-            center: p.center,
-            torsion_radius: p.torsion_radius,
-            area: p.area,
-        }),
+        fingers: s.closing.fingers.map(FingersJson::from),
+        pad_contact: s.closing.pad_contact.map(PadContactJson::from),
         points: s
             .points
             .iter()

@@ -11,7 +11,7 @@ pub mod timeline;
 
 pub use plan::{
     as_written, ArmSetup, Candidate, Closing, DescriptionRef, Grasps, ObjectSetup, PadContact,
-    Plan, PlanSet, Roles, Segment, Waypoint,
+    Plan, PlanSet, PlanSettings, Roles, Segment, Waypoint,
 };
 pub use terms::{
     GraspKind, GripVerdict, PlanStatus, RobotModel, RotationDirection, SegmentKind, SegmentName,

@@ -20,6 +20,8 @@ pub struct PlanSet {
     pub support_height: f64,
     /// How far P_init hovers above the part's resting pose (m; the scene's `[planner] lift`).
     pub lift: f64,
+    /// The planner settings a plan is judged by.
+    pub settings: PlanSettings,
     pub object: ObjectSetup,
     /// The two arms, in the scene's order; segments and roles index into it.
     pub arms: Vec<ArmSetup>,
@@ -27,6 +29,19 @@ pub struct PlanSet {
     pub candidates: Vec<Candidate>,
     /// Best first.
     pub plans: Vec<Plan>,
+}
+
+/// The scene's `[planner]` values a plan is judged by (all in metres).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlanSettings {
+    /// Δd_s: how far above the support an edge may be and still be an axis.
+    pub support_distance: f64,
+    /// Length of the straight approach that ends every reach.
+    pub approach_distance: f64,
+    /// Clearance of arm links and grippers from everything they must not touch.
+    pub link_clearance: f64,
+    /// Clearance of a grasping gripper from the support.
+    pub finger_support_clearance: f64,
 }
 
 /// The part as placed in the cell.

@@ -58,6 +58,19 @@ impl RotationAxisCandidate {
         Unit::new_normalize((self.axis[1] - self.axis[0]) * self.direction.sign())
     }
 
+    /// The candidate as the model records it (`theta_goal` unknown yet).
+    pub fn to_model(&self) -> pregrasp_model::Candidate {
+        pregrasp_model::Candidate {
+            id: self.id,
+            axis: self.axis,
+            direction: self.direction,
+            length: self.length,
+            theta_max: self.theta_max,
+            score: self.score,
+            theta_goal: None,
+        }
+    }
+
     /// The plan file's candidate entry: `theta_goal` null, outcome "not evaluated (axes only)".
     pub fn to_json(&self) -> CandidateJson {
         let p = |q: &Point3<f64>| [q.x, q.y, q.z];

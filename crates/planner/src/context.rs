@@ -10,8 +10,8 @@ use pregrasp_collision::{
     ObjectPlacement, WorldState,
 };
 use pregrasp_geometry::{ConvexHull, Mesh};
-use pregrasp_io::plan_file::PadContactJson;
 use pregrasp_io::scene::Scene;
+use pregrasp_model::PadContact;
 use pregrasp_motion::{JointSpace, MotionValidator};
 use pregrasp_robot::{wrap_angle, ArmKinematics, GripperState, Joints};
 
@@ -63,7 +63,7 @@ pub struct PlanningContext<'a> {
     /// How the grippers close on the part.
     pub grips: Grips,
     /// Where each arm's pads bear on the part at G_s, should it support (for the grip check).
-    pub support_pads: [Option<PadContactJson>; 2],
+    pub support_pads: [Option<PadContact>; 2],
     /// When `sup1` has already run (re-planning `--from rot`): the supportive arm's joints,
     /// which μ_rot must start from (within [`FIXED_START_TOLERANCE`]).
     pub fixed_rot_start: Option<(usize, Joints)>,
@@ -447,12 +447,12 @@ pub fn pad_contact(
     grasp: &Isometry3<f64>,
     point: &Isometry3<f64>,
     grip: &Grip,
-) -> Option<PadContactJson> {
+) -> Option<PadContact> {
     let flange_in_object = grasp * point.inverse();
     let [a, b] = pad_patches(object, gripper, &flange_in_object, grip);
     let (a, b) = (a?, b?);
     let mid = point.inverse() * nalgebra::center(&a.center, &b.center);
-    Some(PadContactJson {
+    Some(PadContact {
         center: [mid.x, mid.y, mid.z],
         torsion_radius: a.torsion_radius.min(b.torsion_radius),
         area: [a.area, b.area],

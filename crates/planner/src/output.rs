@@ -1,15 +1,22 @@
-//! Turning the pipeline's results into the plan file (`plan-format.md`).
+//! Turning the pipeline's results into the typed model ([`pregrasp_model`]): the cell a run
+//! plans for ([`plan_set`]) and each candidate's [`Plan`]; and the plan file's header
+//! ([`plan_file_header`]), the part of the file `pregrasp-io` does not get from the model.
 
 use std::collections::BTreeMap;
 
 use nalgebra::Isometry3;
 use pregrasp_io::plan_file::{
-    FingersJson, GraspsJson, ObjectJson, PlanFile, PlanJson, PlanStatus, PointJson, PoseJson,
-    RobotJson, RobotModel, SceneRef, SegmentJson, SegmentName, UrdfJson, PLAN_FORMAT,
+    GraspsJson, ObjectJson, PlanFile, PlanJson, PlanStatus, PoseJson, SceneRef, PLAN_FORMAT,
 };
-use pregrasp_io::scene::Scene;
-use pregrasp_robot::{GripperState, Joints};
+use pregrasp_io::plan_model::{plan_json, robot_json};
+use pregrasp_io::scene::{RobotSpec, Scene};
+use pregrasp_model::{
+    ArmSetup, Closing, DescriptionRef, Grasps, ObjectSetup, Plan, PlanSet, PlanSettings,
+    RobotModel, Roles, Segment, SegmentName, Waypoint,
+};
+use pregrasp_robot::{FingerPair, GripperState, Joints};
 
+use crate::axes::RotationAxisCandidate;
 use crate::context::PlanningContext;
 use crate::paths::IntegratedPath;
 use crate::poses::PowerGraspPose;
@@ -17,31 +24,66 @@ use crate::reach::ReachMotion;
 use crate::rotate::RotationPath;
 use crate::timing::{scaled, time_along, CONTACT_SCALE};
 
+/// An arm of the scene as the model states it.
+pub fn arm_setup(r: &RobotSpec) -> ArmSetup {
+    let gripper = r.gripper_model();
+    ArmSetup {
+        name: r.name.clone(),
+        model: r.arm.ur.map_or(RobotModel::Described, RobotModel::Builtin),
+        base: r.base,
+        joint_names: match &r.urdf {
+            Some(u) => u.joint_names.clone(),
+            None => r.arm.joint_names.to_vec(),
+        },
+        start: r.start,
+        precision_point: gripper.precision_point(),
+        power_point: gripper.power_point(),
+        description: r.urdf.as_ref().map(|u| DescriptionRef {
+            file: u.entry.clone(),
+            base_link: u.base_link.clone(),
+            tool_link: u.tool_link.clone(),
+            held: u.held.to_vec(),
+            allow_collisions: u.allowed.clone(),
+        }),
+        jaws_from_description: r.jaws.is_some(),
+    }
+}
+
+/// The cell `scene` plans for, with Algorithm 1's `candidates` and no plans yet: what the plan
+/// checker and the grip check judge a candidate's plan against.
+pub fn plan_set(scene: &Scene, candidates: &[RotationAxisCandidate]) -> PlanSet {
+    let p = &scene.planner;
+    PlanSet {
+        status: PlanStatus::Planned,
+        reason: None,
+        support_height: scene.support_height,
+        lift: p.lift,
+        settings: PlanSettings {
+            support_distance: p.support_distance,
+            approach_distance: p.approach_distance,
+            link_clearance: p.link_clearance,
+            finger_support_clearance: p.finger_support_clearance,
+        },
+        object: ObjectSetup {
+            scale: scene.object.scale,
+            initial_pose: scene.initial_object_pose(),
+            mass: scene.object.mass,
+        },
+        arms: scene.robots.iter().map(arm_setup).collect(),
+        grasps: Grasps {
+            power: scene.grasps.power,
+            support: scene.grasps.support,
+        },
+        candidates: candidates
+            .iter()
+            .map(RotationAxisCandidate::to_model)
+            .collect(),
+        plans: Vec::new(),
+    }
+}
+
 /// Everything of the plan file that does not depend on the planning result.
 pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String>) -> PlanFile {
-    let robots = scene.robots.clone().map(|r| {
-        let gripper = r.gripper_model();
-        RobotJson {
-            name: r.name.clone(),
-            model: r.arm.ur.map_or(RobotModel::Described, RobotModel::Builtin),
-            base: PoseJson::from(&r.base),
-            joint_names: match &r.urdf {
-                Some(u) => u.joint_names.clone(),
-                None => r.arm.joint_names.to_vec(),
-            },
-            start: r.start,
-            precision_point: PoseJson::from(&gripper.precision_point()),
-            power_point: PoseJson::from(&gripper.power_point()),
-            urdf: r.urdf.as_ref().map(|u| UrdfJson {
-                file: u.entry.clone(),
-                base_link: u.base_link.clone(),
-                tool_link: u.tool_link.clone(),
-                held: u.held.iter().cloned().collect(),
-                allow_collisions: u.allowed.clone(),
-            }),
-            gripper: r.jaws.as_ref().map(|_| "urdf".to_string()),
-        }
-    });
     PlanFile {
         format: PLAN_FORMAT.to_string(),
         scene: SceneRef {
@@ -60,7 +102,11 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
             initial_pose: PoseJson::from(&scene.initial_object_pose()),
             mass: scene.object.mass,
         },
-        robots: robots.into_iter().collect(),
+        robots: scene
+            .robots
+            .iter()
+            .map(|r| robot_json(&arm_setup(r)))
+            .collect(),
         grasps: GraspsJson {
             power: [
                 PoseJson::from(&scene.grasps.power[0]),
@@ -75,10 +121,10 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
     }
 }
 
-fn points(q: &[Joints], t: &[f64]) -> Vec<PointJson> {
+fn points(q: &[Joints], t: &[f64]) -> Vec<Waypoint> {
     q.iter()
         .zip(t)
-        .map(|(q, &t)| PointJson {
+        .map(|(q, &t)| Waypoint {
             t,
             q: *q,
             object_pose: None,
@@ -86,101 +132,90 @@ fn points(q: &[Joints], t: &[f64]) -> Vec<PointJson> {
         .collect()
 }
 
-/// The fingers of a grip as the plan file records them: the 2F-85's joints (a jaw gripper's
-/// state is its `grip_width`).
-pub(crate) fn fingers_json(grip: GripperState) -> Option<FingersJson> {
-    let GripperState::Closed(f) = grip else {
-        return None;
-    };
-    Some(FingersJson {
-        driver: f.driver,
-        spring_link: f.spring_link,
-    })
+/// The fingers of a grip as the plan records them: the 2F-85's joints (a jaw gripper's state
+/// is its closing width).
+pub(crate) fn fingers_of(grip: GripperState) -> Option<FingerPair> {
+    match grip {
+        GripperState::Closed(f) => Some(f),
+        _ => None,
+    }
 }
 
+/// A reach (`sup1`, `mas1`) or regrasp (`sup2`) of arm `arm` ending closed at `grip_width`.
 pub(crate) fn reach_segment(
-    (name, robot): (SegmentName, &str),
+    (name, arm): (SegmentName, usize),
     (grip_width, grip): (f64, GripperState),
     m: &ReachMotion,
-) -> SegmentJson {
-    SegmentJson {
+) -> Segment {
+    Segment {
         name,
-        robot: robot.to_string(),
+        arm,
         kind: name.kind(),
         grasp: name.grasp(),
         retreat_to: m.retreat_to,
         approach_from: Some(m.approach_from),
-        grip_width: Some(grip_width),
-        fingers: fingers_json(grip),
-        pad_contact: None,
+        closing: Closing {
+            width: Some(grip_width),
+            fingers: fingers_of(grip),
+            pad_contact: None,
+        },
         points: points(&m.q, &m.t),
     }
 }
 
-/// One plan of the file: the four segments of an integrated path.
-pub fn plan_json(
+/// One plan: the four segments of an integrated path.
+pub fn plan(
     ctx: &PlanningContext,
     candidate_id: usize,
     score: f64,
     pose: &PowerGraspPose,
     path: &IntegratedPath,
-) -> PlanJson {
-    let sup = &ctx.names[pose.supportive];
-    let mas = &ctx.names[pose.master];
+) -> Plan {
+    let (sup, mas) = (pose.supportive, pose.master);
     let segments = vec![
         reach_segment(
             (SegmentName::Sup1, sup),
-            (
-                ctx.support_width(pose.supportive),
-                ctx.support_grip(pose.supportive),
-            ),
+            (ctx.support_width(sup), ctx.support_grip(sup)),
             &path.sup1,
         ),
         rot_segment(ctx, pose, &path.rot),
         reach_segment(
             (SegmentName::Mas1, mas),
-            (ctx.power_width(pose.master), ctx.power_grip(pose.master)),
+            (ctx.power_width(mas), ctx.power_grip(mas)),
             &path.mas1,
         ),
         reach_segment(
             (SegmentName::Sup2, sup),
-            (
-                ctx.power_width(pose.supportive),
-                ctx.power_grip(pose.supportive),
-            ),
+            (ctx.power_width(sup), ctx.power_grip(sup)),
             &path.sup2,
         ),
     ];
-    plan_entry(ctx, candidate_id, score, pose, segments)
+    plan_of(candidate_id, score, pose, segments)
 }
 
-/// A plan-file entry of candidate `candidate_id` with these segments (no `physics` yet).
-pub(crate) fn plan_entry(
-    ctx: &PlanningContext,
+/// A plan of candidate `candidate_id` with these segments.
+pub(crate) fn plan_of(
     candidate_id: usize,
     score: f64,
     pose: &PowerGraspPose,
-    segments: Vec<SegmentJson>,
-) -> PlanJson {
-    PlanJson {
+    segments: Vec<Segment>,
+) -> Plan {
+    Plan {
         candidate: candidate_id,
         score,
-        master: ctx.names[pose.master].clone(),
-        supportive: ctx.names[pose.supportive].clone(),
-        object_goal_pose: PoseJson::from(&pose.p_obj),
+        roles: Roles {
+            master: pose.master,
+            supportive: pose.supportive,
+        },
+        object_goal_pose: pose.p_obj,
         segments,
-        physics: None,
-        robustness: None,
+        support_grip_force: None,
     }
 }
 
-/// μ_rot as the plan file's `rot` segment: the supportive arm's configurations, timed along θ,
+/// μ_rot as the plan's `rot` segment: the supportive arm's configurations, timed along θ,
 /// with the part's pose at each.
-pub fn rot_segment(
-    ctx: &PlanningContext,
-    pose: &PowerGraspPose,
-    rot: &RotationPath,
-) -> SegmentJson {
+pub fn rot_segment(ctx: &PlanningContext, pose: &PowerGraspPose, rot: &RotationPath) -> Segment {
     let arm = ctx.arm(pose.supportive);
     let t = time_along(
         &rot.q,
@@ -194,23 +229,25 @@ pub fn rot_segment(
         .zip(&t)
         .zip(&rot.object)
         .map(
-            |((q, &t), object): ((&Joints, &f64), &Isometry3<f64>)| PointJson {
+            |((q, &t), object): ((&Joints, &f64), &Isometry3<f64>)| Waypoint {
                 t,
                 q: *q,
-                object_pose: Some(PoseJson::from(object)),
+                object_pose: Some(*object),
             },
         )
         .collect();
-    SegmentJson {
+    Segment {
         name: SegmentName::Rot,
-        robot: ctx.names[pose.supportive].clone(),
+        arm: pose.supportive,
         kind: SegmentName::Rot.kind(),
         grasp: SegmentName::Rot.grasp(),
         retreat_to: None,
         approach_from: None,
-        grip_width: Some(ctx.support_width(pose.supportive)),
-        fingers: fingers_json(ctx.support_grip(pose.supportive)),
-        pad_contact: ctx.support_pads[pose.supportive],
+        closing: Closing {
+            width: Some(ctx.support_width(pose.supportive)),
+            fingers: fingers_of(ctx.support_grip(pose.supportive)),
+            pad_contact: ctx.support_pads[pose.supportive],
+        },
         points,
     }
 }
@@ -218,17 +255,13 @@ pub fn rot_segment(
 /// A plan-file entry with only its `rot` segment: what the grip check reads, before the reach
 /// motions exist.
 pub fn rot_only_plan_json(
+    set: &PlanSet,
     ctx: &PlanningContext,
     candidate_id: usize,
     score: f64,
     pose: &PowerGraspPose,
     rot: &RotationPath,
 ) -> PlanJson {
-    plan_entry(
-        ctx,
-        candidate_id,
-        score,
-        pose,
-        vec![rot_segment(ctx, pose, rot)],
-    )
+    let plan = plan_of(candidate_id, score, pose, vec![rot_segment(ctx, pose, rot)]);
+    plan_json(&set.arms, &plan)
 }

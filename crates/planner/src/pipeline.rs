@@ -7,8 +7,10 @@
 use std::time::Instant;
 
 use pregrasp_geometry::{ConvexHull, Mesh};
-use pregrasp_io::plan_file::{Outcome, PlanFile, PlanJson, PlanStatus};
+use pregrasp_io::plan_file::{Outcome, PhysicsJson, PlanFile, PlanStatus};
+use pregrasp_io::plan_model::plan_json;
 use pregrasp_io::scene::Scene;
+use pregrasp_model::{Plan, PlanSet};
 use rayon::prelude::*;
 
 use crate::axes::{rotation_axis_candidates_with_hull, AxesResult, RotationAxisCandidate};
@@ -16,7 +18,7 @@ use crate::check::PlanChecker;
 use crate::clock::Stage;
 use crate::context::{PartKnowledge, PlanningContext};
 use crate::hold::{HoldCheck, HoldResult};
-use crate::output::{plan_file_header, plan_json, rot_only_plan_json};
+use crate::output::{self, plan_file_header, plan_set, rot_only_plan_json};
 use crate::paths::{integrated_path, IntegratedPath, NoPath};
 use crate::poses::{object_pose_for_power_grasp, PoseRejection, PowerGraspPose};
 use crate::rotate::RotationPath;
@@ -63,12 +65,14 @@ pub const DEFAULT_WAVE: usize = 4;
 /// What became of one candidate.
 #[derive(Clone, Debug)]
 pub enum CandidateOutcome {
-    /// Algorithms 2 and 3 succeeded; `plan` is the plan-file entry (with its `physics`
-    /// object), `check` the first rule it failed when re-verified (`None`: valid).
+    /// Algorithms 2 and 3 succeeded; `plan` is the plan, `physics` its grip check, `check` the
+    /// first rule it failed when re-verified (`None`: valid).
     Planned {
         pose: PowerGraspPose,
         path: Box<IntegratedPath>,
-        plan: Box<PlanJson>,
+        plan: Box<Plan>,
+        /// The grip check's `physics` object of the plan, when it ran.
+        physics: Option<Box<PhysicsJson>>,
         check: Option<String>,
         /// How close a grasping gripper comes to the support along the plan (m), from the
         /// same check.
@@ -193,21 +197,15 @@ pub fn plan(
     let arms = scene.robots.each_ref().map(|r| r.arm.clone());
     let part = ctx.world.part();
     let grippers = ctx.scene.robots.each_ref().map(|r| r.gripper_model());
-    let checker = PlanChecker::sharing_part(
-        &header,
-        mesh,
-        &arms,
-        &grippers,
-        part,
-        Some(&ctx.grips),
-        hull,
-    );
+    let set = plan_set(scene, &candidates);
+    let checker =
+        PlanChecker::sharing_part(&set, mesh, &arms, &grippers, part, Some(&ctx.grips), hull);
     let hold_check = HoldCheck::new(scene, &header, mesh, hull);
     let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose| {
         // The grip check reads μ_rot alone: Algorithm 3 asks it once a candidate's straight
         // lines hold, and a rotation the pinch cannot hold gets no transits.
         let hold = |rot: &RotationPath| {
-            let plan = rot_only_plan_json(&ctx, candidate.id, candidate.score, &pose, rot);
+            let plan = rot_only_plan_json(&set, &ctx, candidate.id, candidate.score, &pose, rot);
             match ctx
                 .clock
                 .time(Stage::Hold, || hold_check.check(&header, &plan))
@@ -221,18 +219,18 @@ pub fn plan(
         };
         let outcome = match integrated_path(&ctx, candidate, &pose, hold) {
             Ok((path, physics)) => {
-                let mut plan = plan_json(&ctx, candidate.id, candidate.score, &pose, &path);
+                let plan = output::plan(&ctx, candidate.id, candidate.score, &pose, &path);
                 let (check, closest_grasp_to_support) = match &checker {
                     Ok(checker) => ctx
                         .clock
-                        .time(Stage::Recheck, || verify(checker, &header, &plan)),
+                        .time(Stage::Recheck, || verify(checker, &set, &plan)),
                     Err(e) => (Some(format!("rule 0 ({e})")), None),
                 };
-                plan.physics = physics;
                 CandidateOutcome::Planned {
                     pose,
                     path: Box::new(path),
                     plan: Box::new(plan),
+                    physics: physics.map(Box::new),
                     check,
                     closest_grasp_to_support,
                 }
@@ -299,14 +297,20 @@ pub fn plan(
         let mut json = candidate.to_json();
         match outcome {
             CandidateOutcome::Planned {
-                pose, plan, check, ..
+                pose,
+                plan,
+                physics,
+                check,
+                ..
             } => {
                 json.theta_goal = Some(pose.theta_goal);
                 if let Some(rule) = check {
                     json.outcome = Outcome::rejected(format!("failed the plan check: {rule}"));
                 } else if kept < options.max_plans {
                     json.outcome = Outcome::Planned;
-                    file.plans.push((**plan).clone());
+                    let mut entry = plan_json(&set.arms, plan);
+                    entry.physics = physics.as_deref().cloned();
+                    file.plans.push(entry);
                     kept += 1;
                 } else {
                     json.outcome = Outcome::rejected(format!(
@@ -424,8 +428,7 @@ fn rank(scores: &[f64], force: impl Fn(usize) -> f64) -> Vec<usize> {
 /// The grip force (N) the plan of `outcome` requires, infinite when it has none.
 fn required_force(outcome: &CandidateOutcome) -> f64 {
     match outcome {
-        CandidateOutcome::Planned { plan, .. } => plan
-            .physics
+        CandidateOutcome::Planned { physics, .. } => physics
             .as_ref()
             .and_then(|p| p.grip_force_required)
             .unwrap_or(f64::INFINITY),
@@ -435,12 +438,8 @@ fn required_force(outcome: &CandidateOutcome) -> f64 {
 
 /// The first rule `plan` (checked as a plan of `header`) fails, if any, and how close a
 /// grasping gripper comes to the support along it (from the same check).
-fn verify(
-    checker: &PlanChecker,
-    header: &PlanFile,
-    plan: &PlanJson,
-) -> (Option<String>, Option<f64>) {
-    let report = checker.check_plans(header, std::slice::from_ref(plan));
+fn verify(checker: &PlanChecker, set: &PlanSet, plan: &Plan) -> (Option<String>, Option<f64>) {
+    let report = checker.check_plans(set, std::slice::from_ref(plan));
     let failed = report
         .rules
         .into_iter()

@@ -20,8 +20,8 @@ use pregrasp_motion::StateValidator;
 use pregrasp_robot::Joints;
 
 use crate::context::{world_state, PlanningContext, FINE_RESOLUTION};
-use pregrasp_model::timeline::{Moment, CONTACT_ZONE};
 use crate::timing::{scaled, time_along, CONTACT_SCALE, TRANSIT_SCALE};
+use pregrasp_model::timeline::{Moment, CONTACT_ZONE};
 
 /// Iterations RRT-Connect may spend on one reach query (the deterministic stop).
 pub const RRT_MAX_ITERATIONS: usize = 4000;

@@ -18,14 +18,17 @@
 
 use nalgebra::Isometry3;
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::{PlanFile, PlanStatus, PoseJson, SegmentJson, SegmentName};
+use pregrasp_io::plan_file::{
+    FingersJson, PadContactJson, PlanFile, PlanJson, PlanStatus, PoseJson, SegmentJson, SegmentName,
+};
+use pregrasp_io::plan_model::segment_json;
 use pregrasp_io::scene::Scene;
 use pregrasp_robot::Joints;
 
 use crate::check::check_plan;
 use crate::context::{arm_models, PlanningContext};
 use crate::hold::HoldCheck;
-use crate::output::{fingers_json, plan_entry, plan_file_header, reach_segment};
+use crate::output::{fingers_of, plan_file_header, reach_segment};
 use crate::paths::{motion_seed, MAX_IK_TRIES};
 use crate::pipeline::PlanReport;
 use crate::poses::PowerGraspPose;
@@ -228,23 +231,38 @@ pub fn replan_remaining(
         }
     }
     rot_ran.grip_width = Some(ctx.support_width(sup));
-    rot_ran.fingers = fingers_json(ctx.support_grip(sup));
-    rot_ran.pad_contact = ctx.support_pads[sup];
+    rot_ran.fingers = fingers_of(ctx.support_grip(sup)).map(FingersJson::from);
+    rot_ran.pad_contact = ctx.support_pads[sup].map(PadContactJson::from);
     let mas1_segment: SegmentJson = match &mas1_motion {
-        Some(m) => reach_segment(
-            (SegmentName::Mas1, &names[mas]),
-            (ctx.power_width(mas), ctx.power_grip(mas)),
-            m,
+        Some(m) => segment_json(
+            &names[mas],
+            &reach_segment(
+                (SegmentName::Mas1, mas),
+                (ctx.power_width(mas), ctx.power_grip(mas)),
+                m,
+            ),
         ),
         None => mas1.clone(),
     };
-    let sup2_segment = reach_segment(
-        (SegmentName::Sup2, &names[sup]),
-        (ctx.power_width(sup), ctx.power_grip(sup)),
-        &sup2,
+    let sup2_segment = segment_json(
+        &names[sup],
+        &reach_segment(
+            (SegmentName::Sup2, sup),
+            (ctx.power_width(sup), ctx.power_grip(sup)),
+            &sup2,
+        ),
     );
     let segments = vec![sup1.clone(), rot_ran, mas1_segment, sup2_segment];
-    let mut resumed = plan_entry(&ctx, id, plan.score, &pose, segments);
+    let mut resumed = PlanJson {
+        candidate: id,
+        score: plan.score,
+        master: names[mas].clone(),
+        supportive: names[sup].clone(),
+        object_goal_pose: PoseJson::from(&pose.p_obj),
+        segments,
+        physics: None,
+        robustness: None,
+    };
     let hold = HoldCheck::new(&moved, &header, mesh, None);
     resumed.physics = hold.check(&header, &resumed).map(|h| h.json);
     let mut file = header;

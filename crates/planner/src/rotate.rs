@@ -13,8 +13,8 @@ use pregrasp_robot::Joints;
 use crate::axes::RotationAxisCandidate;
 use crate::context::{world_state, PlanningContext, FINE_RESOLUTION};
 use crate::poses::PowerGraspPose;
-use pregrasp_model::timeline::{lerp_joints, substeps, Moment};
 use pregrasp_collision::WorldState;
+use pregrasp_model::timeline::{lerp_joints, substeps, Moment};
 
 /// μ_rot from P_init (index 0) to P_obj (last index).
 #[derive(Clone, Debug)]

@@ -15,10 +15,12 @@ use std::path::Path;
 use std::sync::Arc;
 
 use nalgebra::Point3;
-use pregrasp_collision::{ArmModel, CollisionWorld, Grip, GripFailure, ObjectGeometry};
+use pregrasp_collision::{
+    ArmModel, CollisionError, CollisionWorld, Grip, GripFailure, ObjectGeometry,
+};
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::{PlanFile, PlanJson, PlanStatus, PoseJson};
-use pregrasp_io::scene::{DEFAULT_FINGER_SUPPORT_CLEARANCE, DEFAULT_LINK_CLEARANCE};
+use pregrasp_io::plan_file::PlanFile;
+use pregrasp_model::{GraspKind, Plan, PlanSet, PlanStatus, RobotModel};
 use pregrasp_robot::{ArmDescription, Gripper};
 
 use crate::context::{grips as close_grips, Grips};
@@ -149,7 +151,8 @@ pub fn check_plan(file: &PlanFile, mesh: &Mesh) -> CheckReport {
 }
 
 /// [`check_plan`] of the file read from `plan_path`: a robot description the plan names is
-/// found as its scene is ([`PlanFile::arms_and_grippers`]).
+/// found as its scene is ([`PlanFile::arms_and_grippers`]). The file is validated and turned
+/// into the typed model ([`PlanFile::to_model`]); the rules are judged on the model.
 pub fn check_plan_at(file: &PlanFile, plan_path: Option<&Path>, mesh: &Mesh) -> CheckReport {
     if let Err(e) = crate::plan_format::validate(file) {
         let mut structure = Rule::new();
@@ -160,79 +163,108 @@ pub fn check_plan_at(file: &PlanFile, plan_path: Option<&Path>, mesh: &Mesh) -> 
             malformed: Some(e),
         };
     }
+    let set = match file.to_model() {
+        Ok(set) => set,
+        Err(e) => return structure_failure(e.to_string()),
+    };
     let checker = file
         .arms_and_grippers(plan_path)
         .and_then(|(arms, grippers)| {
-            PlanChecker::sharing_part(file, mesh, &arms, &grippers, None, None, None)
+            PlanChecker::sharing_part(&set, mesh, &arms, &grippers, None, None, None)
+                .map_err(|e| e.to_string())
         });
     match checker {
-        Ok(checker) => checker.check(file),
-        Err(e) => {
-            let mut structure = Rule::new();
-            structure.fail(e);
-            CheckReport {
-                rules: vec![structure.result(0, STRUCTURE, |_| String::new())],
-                closest_grasp_to_support: None,
-                malformed: None,
-            }
-        }
+        Ok(checker) => checker.check(&set),
+        Err(e) => structure_failure(e),
     }
 }
 
-/// The models a plan file is checked with — arms, the collision world with the plan's
+/// A report whose rule 0 fails with `why` and judges nothing else.
+fn structure_failure(why: String) -> CheckReport {
+    let mut structure = Rule::new();
+    structure.fail(why);
+    CheckReport {
+        rules: vec![structure.result(0, STRUCTURE, |_| String::new())],
+        closest_grasp_to_support: None,
+        malformed: None,
+    }
+}
+
+/// Why a plan set's arms cannot be modelled for the check.
+#[derive(Debug, thiserror::Error)]
+pub enum CheckerError {
+    #[error("expected 2 robots, found {0}")]
+    RobotCount(usize),
+    #[error("robots[{arm}].model is {model}, the arm given is {given}")]
+    ModelMismatch {
+        arm: usize,
+        model: RobotModel,
+        given: String,
+    },
+    #[error(transparent)]
+    Arm(#[from] CollisionError),
+}
+
+/// A grasp at which a gripper does not close on the part: the check of rule 2 fails with it.
+#[derive(Clone, Debug)]
+struct UnclosedGrip {
+    grasp: GraspKind,
+    arm: String,
+    failure: GripFailure,
+}
+
+impl std::fmt::Display for UnclosedGrip {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} grasp of arm {}: {}",
+            self.grasp, self.arm, self.failure
+        )
+    }
+}
+
+/// The models a plan set is checked with — arms, the collision world with the plan's
 /// clearances, the widths the grippers close on, the part's hull — built once for any number of
-/// plans of the same file header (robots, grasps, planner settings, support, mesh).
+/// plans of the same cell (robots, grasps, planner settings, support, mesh).
 pub struct PlanChecker {
     arms: [ArmModel; 2],
     world: CollisionWorld,
-    grips: Result<HeldGrips, String>,
+    grips: Result<HeldGrips, UnclosedGrip>,
     lowest_candidates: Vec<Point3<f64>>,
     clearances: (f64, f64),
 }
 
 impl PlanChecker {
-    /// The models of `file`'s header; an error when its robots cannot be modelled.
-    pub fn new(file: &PlanFile, mesh: &Mesh) -> Result<PlanChecker, String> {
-        let (arms, grippers) = file.arms_and_grippers(None)?;
-        Self::sharing_part(file, mesh, &arms, &grippers, None, None, None)
-    }
-
-    /// [`PlanChecker::new`] with the part's collision geometry (its mesh `mesh`, with the BVH)
-    /// taken from another world of the same part rather than built again: the planner hands
-    /// its own, the geometry of the mesh alone; the checker's clearances and hull are its own.
-    /// `grips`: how the grippers close at the file's grasps, when the caller has closed them
-    /// on the same part (the planner verifying its own plans); closed again otherwise. `hull`:
-    /// the vertices of the mesh's convex hull, when the caller has them (Algorithm 1's).
+    /// The models of `set`'s cell, with the part's collision geometry (its mesh `mesh`, with
+    /// the BVH) taken from another world of the same part when `part` is given rather than
+    /// built again: the planner hands its own, the geometry of the mesh alone; the checker's
+    /// clearances and hull are its own. `grips`: how the grippers close at the grasps, when the
+    /// caller has closed them on the same part (the planner verifying its own plans); closed
+    /// again otherwise. `hull`: the vertices of the mesh's convex hull, when the caller has them
+    /// (Algorithm 1's).
     ///
-    /// `arms`, `grippers`: the file's ([`PlanFile::arm_descriptions`], [`PlanFile::grippers`],
-    /// or the scene's).
+    /// `arms`, `grippers`: the plan's ([`PlanFile::arms_and_grippers`], or the scene's).
     pub fn sharing_part(
-        file: &PlanFile,
+        set: &PlanSet,
         mesh: &Mesh,
         arms: &[ArmDescription; 2],
         grippers: &[Gripper; 2],
         part: Option<Arc<ObjectGeometry>>,
         grips: Option<&Grips>,
         hull: Option<&[Point3<f64>]>,
-    ) -> Result<PlanChecker, String> {
-        let arms = arm_models(file, arms, grippers)?;
-        let link_clearance = file
-            .planner
-            .link_clearance
-            .unwrap_or(DEFAULT_LINK_CLEARANCE);
-        let finger_clearance = file
-            .planner
-            .finger_support_clearance
-            .unwrap_or(DEFAULT_FINGER_SUPPORT_CLEARANCE);
+    ) -> Result<PlanChecker, CheckerError> {
+        let arms = arm_models(set, arms, grippers)?;
+        let link_clearance = set.settings.link_clearance;
+        let finger_clearance = set.settings.finger_support_clearance;
         let world = match part {
             Some(part) => {
-                CollisionWorld::with_part(Some(file.support_height), Some(part), arms.clone())
+                CollisionWorld::with_part(Some(set.support_height), Some(part), arms.clone())
             }
-            None => CollisionWorld::new(file.support_height, Some(mesh), arms.clone()),
+            None => CollisionWorld::new(set.support_height, Some(mesh), arms.clone()),
         }
         .with_margin(link_clearance)
         .with_grasp_support_margin(finger_clearance);
-        let grips = held_grips(file, &world, grips);
+        let grips = held_grips(set, &world, grips);
         let world = match &grips {
             Ok(g) => world.with_held_fingers([
                 &[g.support[0].state(), g.power[0].state()],
@@ -256,31 +288,28 @@ impl PlanChecker {
         })
     }
 
-    /// Checks every plan in `file` (whose header must be the one the checker was built for).
-    pub fn check(&self, file: &PlanFile) -> CheckReport {
-        self.check_plans(file, &file.plans)
+    /// Checks every plan of `set` (whose cell must be the one the checker was built for).
+    pub fn check(&self, set: &PlanSet) -> CheckReport {
+        self.check_plans(set, &set.plans)
     }
 
-    /// Checks `plans` as the plans of a file with header `file` (its own `plans` are not
-    /// read): the planner asks about one plan at a time without building a file around it.
-    pub fn check_plans(&self, file: &PlanFile, plans: &[PlanJson]) -> CheckReport {
+    /// Checks `plans` as the plans of `set`'s cell (its own `plans` are not read): the planner
+    /// asks about one plan at a time.
+    pub fn check_plans(&self, set: &PlanSet, plans: &[Plan]) -> CheckReport {
         let mut structure = Rule::new();
         let mut limits = Rule::new();
         let mut collisions = Rule::new();
         let mut states_checked = 0u64;
         let mut rotation = Rule::new();
         let mut grasps = Rule::new();
-        let planned = file.status == PlanStatus::Planned;
+        let planned = set.status == PlanStatus::Planned;
         if planned && plans.is_empty() {
-            structure.fail(format!(
-                "status is \"{}\" but there is no plan",
-                file.status
-            ));
+            structure.fail(format!("status is \"{}\" but there is no plan", set.status));
         }
         if !planned && !plans.is_empty() {
             structure.fail(format!(
                 "status is \"{}\" but plans are present",
-                file.status
+                set.status
             ));
         }
         let (link_clearance, finger_clearance) = self.clearances;
@@ -288,14 +317,14 @@ impl PlanChecker {
         let grips = match &self.grips {
             Ok(g) => Some(g.clone()),
             Err(e) => {
-                collisions.fail(e.clone());
+                collisions.fail(e.to_string());
                 None
             }
         };
         let mut finger_support = f64::INFINITY;
         for (index, plan) in plans.iter().enumerate() {
             let mut cx = PlanCheck {
-                file,
+                set,
                 plan,
                 index,
                 arms,
@@ -371,23 +400,26 @@ struct HeldGrips {
 
 /// Closes, on the mesh, each gripper at each grasp.
 fn held_grips(
-    file: &PlanFile,
+    set: &PlanSet,
     world: &CollisionWorld,
     known: Option<&Grips>,
-) -> Result<HeldGrips, String> {
-    let power = file.grasps.power.each_ref().map(PoseJson::to_isometry);
+) -> Result<HeldGrips, UnclosedGrip> {
     let closed = match known {
         Some(g) => g.clone(),
-        None => close_grips(world, &file.grasps.support.to_isometry(), &power),
+        None => close_grips(world, &set.grasps.support, &set.grasps.power),
     };
-    let name = |arm: usize| &file.robots[arm].name;
+    let unclosed = |grasp: GraspKind, arm: usize, failure: GripFailure| UnclosedGrip {
+        grasp,
+        arm: set.arms[arm].name.clone(),
+        failure,
+    };
     let [s0, s1] = closed.support;
     let [p0, p1] = closed.power;
     let support = |arm: usize, g: Result<Grip, GripFailure>| {
-        g.map_err(|e| format!("support grasp of arm {}: {e}", name(arm)))
+        g.map_err(|e| unclosed(GraspKind::Support, arm, e))
     };
     let power = |arm: usize, g: Result<Grip, GripFailure>| {
-        g.map_err(|e| format!("power grasp of arm {}: {e}", name(arm)))
+        g.map_err(|e| unclosed(GraspKind::Power, arm, e))
     };
     let gaps = HeldGrips {
         support: [support(0, s0)?, support(1, s1)?],
@@ -432,25 +464,29 @@ fn collision_result(
 
 /// The file's arms, `arms` their models (one per robot, scene order).
 fn arm_models(
-    file: &PlanFile,
+    set: &PlanSet,
     arms: &[ArmDescription; 2],
     grippers: &[Gripper; 2],
-) -> Result<[ArmModel; 2], String> {
-    if file.robots.len() != 2 {
-        return Err(format!("expected 2 robots, found {}", file.robots.len()));
+) -> Result<[ArmModel; 2], CheckerError> {
+    if set.arms.len() != 2 {
+        return Err(CheckerError::RobotCount(set.arms.len()));
     }
-    let build = |i: usize| -> Result<ArmModel, String> {
-        let r = &file.robots[i];
+    let build = |i: usize| -> Result<ArmModel, CheckerError> {
+        let r = &set.arms[i];
         if r.model.builtin() != arms[i].ur {
-            return Err(format!(
-                "robots[{i}].model is {}, the arm given is {}",
-                r.model,
-                arms[i].name()
-            ));
+            return Err(CheckerError::ModelMismatch {
+                arm: i,
+                model: r.model,
+                given: arms[i].name().to_string(),
+            });
         }
         let gripper = grippers[i].clone();
-        ArmModel::from_description(&r.name, arms[i].clone(), r.base.to_isometry(), gripper)
-            .map_err(|e| e.to_string())
+        Ok(ArmModel::from_description(
+            &r.name,
+            arms[i].clone(),
+            r.base,
+            gripper,
+        )?)
     };
     Ok([build(0)?, build(1)?])
 }

@@ -2,7 +2,7 @@
 //! lines, and the rotation about its axis.
 
 use nalgebra::{Isometry3, Point3, Vector3};
-use pregrasp_io::plan_file::SegmentJson;
+use pregrasp_model::Segment;
 use pregrasp_robot::{GripperState, Joints};
 
 use pregrasp_model::timeline::{lerp_joints, lerp_pose, CONTACT_ZONE};
@@ -44,7 +44,7 @@ impl<'a> PlanCheck<'a> {
     pub(super) fn check_reach(
         &mut self,
         arm: usize,
-        seg: &SegmentJson,
+        seg: &Segment,
         q: &[Joints; 2],
         gripper: &[GripperState; 2],
         holding: &[bool; 2],
@@ -75,7 +75,7 @@ impl<'a> PlanCheck<'a> {
         });
         let standoff = self.tool(arm, &pts[approach_from].q, precision);
         let d = (standoff.translation.vector - end.translation.vector).norm();
-        let expected = self.file.planner.approach_distance;
+        let expected = self.set.settings.approach_distance;
         self.grasps
             .value((d - expected).abs() / GRASP_POSITION_TOLERANCE, 1.0, || {
                 format!(
@@ -149,7 +149,7 @@ impl<'a> PlanCheck<'a> {
     pub(super) fn check_rotation(
         &mut self,
         arm: usize,
-        seg: &SegmentJson,
+        seg: &Segment,
         q: &[Joints; 2],
         gripper: &[GripperState; 2],
         holding: &[bool; 2],
@@ -161,12 +161,12 @@ impl<'a> PlanCheck<'a> {
         let pts = &seg.points;
         let n = pts.len();
         let weights = self.arms[arm].joint_sweep_radii();
-        let support = self.file.support_height;
-        let axis_band = self.file.planner.support_distance + self.file.planner.lift + 0.001;
+        let support = self.set.support_height;
+        let axis_band = self.set.settings.support_distance + self.set.lift + 0.001;
         let init_inv = p_init.inverse();
         let poses: Vec<Isometry3<f64>> = pts
             .iter()
-            .map(|p| p.object_pose.as_ref().expect("checked").to_isometry())
+            .map(|p| p.object_pose.expect("checked"))
             .collect();
         let (dp, da) = pose_error(&poses[0], p_init);
         grasp_error(self.grasps, dp, da, || {

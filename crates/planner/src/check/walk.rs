@@ -4,9 +4,7 @@
 
 use nalgebra::{Isometry3, Point3};
 use pregrasp_collision::{ArmModel, CollisionWorld, ObjectPlacement, WorldState};
-use pregrasp_io::plan_file::{
-    GraspKind, PlanFile, PlanJson, PointJson, PoseJson, SegmentJson, SegmentKind, SegmentName,
-};
+use pregrasp_model::{GraspKind, Plan, PlanSet, Segment, SegmentKind, SegmentName, Waypoint};
 use pregrasp_robot::{GripperState, Joints};
 
 use pregrasp_model::timeline::substeps;
@@ -32,8 +30,8 @@ pub(super) fn pose_error(a: &Isometry3<f64>, b: &Isometry3<f64>) -> (f64, f64) {
 }
 
 pub(super) struct PlanCheck<'a> {
-    pub(super) file: &'a PlanFile,
-    pub(super) plan: &'a PlanJson,
+    pub(super) set: &'a PlanSet,
+    pub(super) plan: &'a Plan,
     pub(super) index: usize,
     pub(super) arms: &'a [ArmModel; 2],
     pub(super) world: &'a CollisionWorld,
@@ -56,7 +54,7 @@ pub(super) struct PlanCheck<'a> {
 /// arm point moves more than `resolution` between checked states; the last point is a single
 /// state.
 pub(super) fn edge(
-    pts: &[PointJson],
+    pts: &[Waypoint],
     k: usize,
     weights: &Joints,
     resolution: f64,
@@ -90,13 +88,14 @@ impl Queued {
 }
 
 /// "plan I SEG point K", for messages.
-pub(super) fn at(index: usize, seg: &SegmentJson, k: usize) -> String {
+pub(super) fn at(index: usize, seg: &Segment, k: usize) -> String {
     format!("plan {index} {} point {k}", seg.name)
 }
 
 impl<'a> PlanCheck<'a> {
-    pub(super) fn robot_index(&self, name: &str) -> Option<usize> {
-        self.file.robots.iter().position(|r| r.name == name)
+    /// The name of arm `arm`, for messages.
+    pub(super) fn name(&self, arm: usize) -> &str {
+        self.set.arms.get(arm).map_or("?", |a| a.name.as_str())
     }
 
     pub(super) fn tool(&self, arm: usize, q: &Joints, precision: bool) -> Isometry3<f64> {
@@ -111,7 +110,7 @@ impl<'a> PlanCheck<'a> {
 
     pub(super) fn run(&mut self) {
         let index = self.index;
-        let plan: &'a PlanJson = self.plan;
+        let plan: &'a Plan = self.plan;
         if plan.segments.len() != 4 {
             self.structure.fail(format!(
                 "plan {}: {} segments, expected 4",
@@ -120,14 +119,13 @@ impl<'a> PlanCheck<'a> {
             ));
             return;
         }
-        let (Some(sup), Some(mas)) = (
-            self.robot_index(&plan.supportive),
-            self.robot_index(&plan.master),
-        ) else {
+        let arms = self.set.arms.len();
+        let (sup, mas) = (plan.roles.supportive, plan.roles.master);
+        if sup >= arms || mas >= arms {
             self.structure
                 .fail(format!("plan {}: master/supportive name no robot", index));
             return;
-        };
+        }
         if sup == mas {
             self.structure.fail(format!(
                 "plan {}: master and supportive are the same arm",
@@ -137,15 +135,14 @@ impl<'a> PlanCheck<'a> {
         }
         for (seg, name) in plan.segments.iter().zip(SegmentName::ALL) {
             let kind = name.kind();
-            let robot_ok = if name.by_master() {
-                seg.robot == plan.master
-            } else {
-                seg.robot == plan.supportive
-            };
+            let robot_ok = seg.arm == if name.by_master() { mas } else { sup };
             if seg.name != *name || seg.kind != kind || !robot_ok {
                 self.structure.fail(format!(
                     "plan {}: segment \"{}\" ({}, robot {}) where {name} ({kind}) was expected",
-                    index, seg.name, seg.kind, seg.robot
+                    index,
+                    seg.name,
+                    seg.kind,
+                    self.name(seg.arm)
                 ));
                 return;
             }
@@ -154,23 +151,20 @@ impl<'a> PlanCheck<'a> {
                 return;
             }
         }
-        let Some(candidate) = self.file.candidates.iter().find(|c| c.id == plan.candidate) else {
+        let Some(candidate) = self.set.candidates.iter().find(|c| c.id == plan.candidate) else {
             self.structure.fail(format!(
                 "plan {}: candidate {} is not listed",
                 index, plan.candidate
             ));
             return;
         };
-        let axis = candidate.axis.map(|p| Point3::new(p[0], p[1], p[2]));
+        let axis: [Point3<f64>; 2] = candidate.axis;
 
-        let p_init = self.file.object.initial_pose.to_isometry();
-        let p_obj = plan.object_goal_pose.to_isometry();
-        let g_s = self.file.grasps.support.to_isometry();
-        let g_p = [
-            self.file.grasps.power[0].to_isometry(),
-            self.file.grasps.power[1].to_isometry(),
-        ];
-        let mut q = [self.file.robots[0].start, self.file.robots[1].start];
+        let p_init = self.set.object.initial_pose;
+        let p_obj = plan.object_goal_pose;
+        let g_s = self.set.grasps.support;
+        let g_p = self.set.grasps.power;
+        let mut q = [self.set.arms[0].start, self.set.arms[1].start];
         let mut gripper = [GripperState::Open; 2];
         let mut holding = [false; 2];
         let mut object = p_init;
@@ -185,7 +179,10 @@ impl<'a> PlanCheck<'a> {
             if jump > 1e-6 {
                 self.structure.fail(format!(
                     "plan {} {}: starts {:.4} rad away from where arm {} is",
-                    index, seg.name, jump, self.file.robots[arm].name
+                    index,
+                    seg.name,
+                    jump,
+                    self.name(arm)
                 ));
                 return;
             }
@@ -196,11 +193,7 @@ impl<'a> PlanCheck<'a> {
                     holding[arm] = true;
                     self.check_rotation(arm, seg, &q, &gripper, &holding, &axis, &p_init, &g_s);
                     let last = seg.points.last().expect("≥ 2 points");
-                    object = last
-                        .object_pose
-                        .as_ref()
-                        .map(PoseJson::to_isometry)
-                        .unwrap_or(object);
+                    object = last.object_pose.unwrap_or(object);
                     let (dp, da) = pose_error(&object, &p_obj);
                     grasp_error(self.grasps, dp, da, || {
                         format!("plan {} rot: last object_pose vs object_goal_pose", index)
@@ -227,7 +220,7 @@ impl<'a> PlanCheck<'a> {
         }
     }
 
-    pub(super) fn segment_structure(&self, seg: &SegmentJson) -> Result<(), String> {
+    pub(super) fn segment_structure(&self, seg: &Segment) -> Result<(), String> {
         let index = self.index;
         let n = seg.points.len();
         if n < 2 {
@@ -283,7 +276,7 @@ impl<'a> PlanCheck<'a> {
     /// counts as over the limit only if it is over it for every time stamp and joint value
     /// those numbers may have stood for — the joint change shrunk by twice the joint rounding,
     /// the interval grown by twice the time rounding.
-    pub(super) fn check_limits(&mut self, arm: usize, seg: &SegmentJson) {
+    pub(super) fn check_limits(&mut self, arm: usize, seg: &Segment) {
         let index = self.index;
         let model = &self.arms[arm];
         let lim = model.joint_limits();
@@ -339,13 +332,7 @@ impl<'a> PlanCheck<'a> {
     /// Rule 2 for the closing itself: the fingers of arm `arm`, closing at the last point
     /// `q` of `seg` on G_s (`support`) or its power grasp, keep the finger–support clearance
     /// in every pose they pass through ([`Grip::lowest`]).
-    pub(super) fn check_closing(
-        &mut self,
-        arm: usize,
-        seg: &SegmentJson,
-        q: &Joints,
-        support: bool,
-    ) {
+    pub(super) fn check_closing(&mut self, arm: usize, seg: &Segment, q: &Joints, support: bool) {
         let Some(grips) = self.grips else {
             return;
         };
@@ -355,7 +342,7 @@ impl<'a> PlanCheck<'a> {
             &grips.power[arm]
         };
         let flange = self.arms[arm].flange_world(q);
-        let above = grip.lowest(&flange) - self.file.support_height;
+        let above = grip.lowest(&flange) - self.set.support_height;
         *self.finger_support = self.finger_support.min(above);
         let clearance = self.world.grasp_support_margin();
         if above < clearance {
@@ -363,7 +350,7 @@ impl<'a> PlanCheck<'a> {
             self.collisions.fail(format!(
                 "{}: the closing fingers of arm {} come {:.2} mm from the support (clearance {:.2} mm)",
                 at(self.index, seg, n - 1),
-                self.file.robots[arm].name,
+                self.name(arm),
                 above * 1e3,
                 clearance * 1e3
             ));
