@@ -29,6 +29,7 @@ pub mod pipeline;
 pub use pregrasp_io::plan_format;
 pub mod poses;
 pub mod reach;
+pub mod rejection;
 pub mod replan;
 pub mod resume;
 pub mod robustness;

@@ -11,7 +11,9 @@ use crate::clock::Stage;
 use crate::context::{PlanningContext, FIXED_START_TOLERANCE};
 use crate::poses::PowerGraspPose;
 use crate::reach::{reach_lines, reach_transit, ReachMotion, ReachQuery};
+use crate::rejection::{MotionFailure, PathFailure};
 use crate::rotate::{rotation_path, RotationPath};
+use pregrasp_io::plan_file::SegmentName;
 use pregrasp_model::timeline::Moment;
 
 /// At most this many alternatives of each IK set are tried (they are sorted by distance to the
@@ -41,16 +43,14 @@ pub fn motion_seed(seed: u64, candidate: usize, motion: u64) -> u64 {
 
 /// The failure that got furthest through Algorithm 3 (μ_rot < μ_sup1 < μ_mas1 < μ_sup2), so a
 /// rejected candidate says where it came closest to a plan.
-struct Furthest {
-    stage: u8,
-    reason: String,
-}
+struct Furthest(PathFailure);
 
 impl Furthest {
-    fn note(&mut self, stage: u8, reason: String) {
-        if stage >= self.stage {
-            self.stage = stage;
-            self.reason = reason;
+    /// Motion `stage` failed: kept when it got as far as the failure kept so far.
+    fn note(&mut self, stage: SegmentName, cause: MotionFailure) {
+        let failure = PathFailure::Motion { stage, cause };
+        if failure.progress() >= self.0.progress() {
+            self.0 = failure;
         }
     }
 }
@@ -60,9 +60,21 @@ impl Furthest {
 pub enum NoPath<E> {
     /// No combination of the four motions exists: the failure that got furthest, naming the
     /// motion.
-    Motions(String),
+    Motions(PathFailure),
     /// μ_rot exists, but the caller's test of it refused it (the pinch cannot hold the part).
     Refused(E),
+}
+
+/// Whether both grippers may close on the part at the end of μ_sup2: the supportive arm `sup`
+/// at `goal` in `sup2_scene` (where the master holds the part) is free.
+pub(crate) fn final_grasp_free(
+    ctx: &PlanningContext,
+    sup2_scene: &Moment,
+    sup: usize,
+    goal: &pregrasp_robot::Joints,
+) -> Result<(), MotionFailure> {
+    let end = sup2_scene.clone().holding(sup, *goal, ctx.power_grip(sup));
+    ctx.check(&end).map_err(MotionFailure::FinalGrasp)
 }
 
 /// Algorithm 3 for one candidate: its integrated path with what `accept` said of its μ_rot, or
@@ -88,10 +100,7 @@ pub fn integrated_path<T: Send, E: Send>(
     let mas = pose.master;
     let starts = ctx.starts();
     let seed = ctx.scene.planner.seed;
-    let mut failure = Furthest {
-        stage: 0,
-        reason: String::from("no support-grasp IK solution"),
-    };
+    let mut failure = Furthest(PathFailure::NoSupportIk);
 
     'support: for c_ik_s in pose.support_ik.free(ctx).take(MAX_IK_TRIES) {
         let mut rot = match ctx
@@ -100,7 +109,7 @@ pub fn integrated_path<T: Send, E: Send>(
         {
             Ok(rot) => rot,
             Err(f) => {
-                failure.note(1, f.describe());
+                failure.note(SegmentName::Rot, MotionFailure::Rotation(f));
                 continue;
             }
         };
@@ -111,10 +120,7 @@ pub fn integrated_path<T: Send, E: Send>(
                 .map(|(a, b)| (a - b).abs())
                 .fold(0.0, f64::max);
             if arm != sup || off > FIXED_START_TOLERANCE {
-                failure.note(
-                    1,
-                    "μ_rot: does not start where the supportive arm stands after sup1".into(),
-                );
+                failure.note(SegmentName::Rot, MotionFailure::NotAtSup1End);
                 continue;
             }
             // The same configuration up to IK round-off: start exactly where the arm stands.
@@ -140,7 +146,7 @@ pub fn integrated_path<T: Send, E: Send>(
         {
             Ok(lines) => lines,
             Err(f) => {
-                failure.note(2, format!("μ_sup1: {}", f.describe()));
+                failure.note(SegmentName::Sup1, MotionFailure::Reach(f));
                 continue;
             }
         };
@@ -165,7 +171,7 @@ pub fn integrated_path<T: Send, E: Send>(
             {
                 Ok(lines) => lines,
                 Err(f) => {
-                    failure.note(3, format!("μ_mas1: {}", f.describe()));
+                    failure.note(SegmentName::Mas1, MotionFailure::Reach(f));
                     continue;
                 }
             };
@@ -177,9 +183,8 @@ pub fn integrated_path<T: Send, E: Send>(
 
             for goal in pose.power_ik[sup].free(ctx).take(MAX_IK_TRIES) {
                 // Both grippers end closed on the part: the final state must be free.
-                let end = sup2_scene.clone().holding(sup, *goal, ctx.power_grip(sup));
-                if let Err(c) = ctx.check(&end) {
-                    failure.note(4, format!("μ_sup2: final grasp: {} touches {}", c.a, c.b));
+                if let Err(f) = final_grasp_free(ctx, &sup2_scene, sup, goal) {
+                    failure.note(SegmentName::Sup2, f);
                     continue;
                 }
                 let sup2_query = ReachQuery {
@@ -196,7 +201,7 @@ pub fn integrated_path<T: Send, E: Send>(
                 {
                     Ok(lines) => lines,
                     Err(f) => {
-                        failure.note(4, format!("μ_sup2: {}", f.describe()));
+                        failure.note(SegmentName::Sup2, MotionFailure::Reach(f));
                         continue;
                     }
                 };
@@ -224,7 +229,7 @@ pub fn integrated_path<T: Send, E: Send>(
                     {
                         Ok(m) => sup1 = Some(m),
                         Err(f) => {
-                            failure.note(2, format!("μ_sup1: {}", f.describe()));
+                            failure.note(SegmentName::Sup1, MotionFailure::Reach(f));
                             continue 'support;
                         }
                     }
@@ -236,7 +241,7 @@ pub fn integrated_path<T: Send, E: Send>(
                     {
                         Ok(m) => mas1 = Some(m),
                         Err(f) => {
-                            failure.note(3, format!("μ_mas1: {}", f.describe()));
+                            failure.note(SegmentName::Mas1, MotionFailure::Reach(f));
                             continue 'master;
                         }
                     }
@@ -254,12 +259,12 @@ pub fn integrated_path<T: Send, E: Send>(
                         };
                         return Ok((path, accepted.expect("asked above")));
                     }
-                    Err(f) => failure.note(4, format!("μ_sup2: {}", f.describe())),
+                    Err(f) => failure.note(SegmentName::Sup2, MotionFailure::Reach(f)),
                 }
             }
         }
     }
-    Err(NoPath::Motions(failure.reason))
+    Err(NoPath::Motions(failure.0))
 }
 
 /// The four computations `a`, `b`, `c`, `d` side by side, when the pool has more than one

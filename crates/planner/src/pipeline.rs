@@ -21,6 +21,7 @@ use crate::hold::{HoldCheck, HoldResult};
 use crate::output::{self, plan_file_header, plan_set, rot_only_plan_json};
 use crate::paths::{integrated_path, IntegratedPath, NoPath};
 use crate::poses::{object_pose_for_power_grasp, PoseRejection, PowerGraspPose};
+use crate::rejection::{FailedRule, PathFailure, Rejection, Unheld};
 use crate::rotate::RotationPath;
 use pregrasp_model::timeline::Moment;
 
@@ -73,7 +74,7 @@ pub enum CandidateOutcome {
         plan: Box<Plan>,
         /// The grip check's `physics` object of the plan, when it ran.
         physics: Option<Box<PhysicsJson>>,
-        check: Option<String>,
+        check: Option<FailedRule>,
         /// How close a grasping gripper comes to the support along the plan (m), from the
         /// same check.
         closest_grasp_to_support: Option<f64>,
@@ -83,19 +84,20 @@ pub enum CandidateOutcome {
     /// was planned.
     Unheld {
         pose: PowerGraspPose,
-        reason: String,
+        reason: Unheld,
     },
     /// Algorithm 2 found no pose.
     NoPose(PoseRejection),
-    /// Algorithm 2 found a pose, Algorithm 3 no integrated path.
+    /// Algorithm 2 found a pose, Algorithm 3 no integrated path: the failure that got
+    /// furthest.
     NoPath {
         pose: PowerGraspPose,
-        reason: String,
+        failure: PathFailure,
     },
     /// Not planned: [`PlanOptions::only`] leaves it out.
     Skipped,
     /// Not planned: the arms' start configurations are already in collision (the plan file's
-    /// `reason` names the pair), so no candidate can be.
+    /// `reason` names the pair: [`Rejection::StartBlocked`]), so no candidate can be.
     StartBlocked,
     /// Algorithm 2 found a pose, but Algorithm 3 was not run: `max_plans` plans were kept from
     /// candidates that rank above it whatever it would give (see [`PlanOptions::wave`]).
@@ -159,12 +161,7 @@ pub fn plan(
 
     let t1 = Instant::now();
     let start = Moment::at_rest(ctx.starts(), ctx.p_init);
-    let start_problem = ctx.check(&start).err().map(|c| {
-        format!(
-            "start: {} touches {} at the arms' start configurations",
-            c.a, c.b
-        )
-    });
+    let start_problem = ctx.check(&start).err().map(Rejection::StartBlocked);
     let wanted = |c: &RotationAxisCandidate| {
         options
             .only
@@ -213,7 +210,7 @@ pub fn plan(
                 Some(HoldResult {
                     rejection: Some(reason),
                     ..
-                }) => Err(reason),
+                }) => Err(Unheld(reason)),
                 held => Ok(held.map(|h| h.json)),
             }
         };
@@ -224,7 +221,13 @@ pub fn plan(
                     Ok(checker) => ctx
                         .clock
                         .time(Stage::Recheck, || verify(checker, &set, &plan)),
-                    Err(e) => (Some(format!("rule 0 ({e})")), None),
+                    Err(e) => (
+                        Some(FailedRule {
+                            rule: 0,
+                            detail: e.to_string(),
+                        }),
+                        None,
+                    ),
                 };
                 CandidateOutcome::Planned {
                     pose,
@@ -235,7 +238,7 @@ pub fn plan(
                     closest_grasp_to_support,
                 }
             }
-            Err(NoPath::Motions(reason)) => CandidateOutcome::NoPath { pose, reason },
+            Err(NoPath::Motions(failure)) => CandidateOutcome::NoPath { pose, failure },
             Err(NoPath::Refused(reason)) => CandidateOutcome::Unheld { pose, reason },
         };
         progress();
@@ -305,7 +308,8 @@ pub fn plan(
             } => {
                 json.theta_goal = Some(pose.theta_goal);
                 if let Some(rule) = check {
-                    json.outcome = Outcome::rejected(format!("failed the plan check: {rule}"));
+                    let rejection = Rejection::CheckFailed(rule.clone());
+                    json.outcome = Outcome::rejected(rejection.named(&ctx.names).to_string());
                 } else if kept < options.max_plans {
                     json.outcome = Outcome::Planned;
                     let mut entry = plan_json(&set.arms, plan);
@@ -321,12 +325,15 @@ pub fn plan(
             }
             CandidateOutcome::NoPose(rejection) => {
                 json.theta_goal = None;
-                json.outcome = Outcome::rejected(rejection.describe(&ctx.names));
+                json.outcome = Outcome::rejected(rejection.named(&ctx.names).to_string());
             }
-            CandidateOutcome::NoPath { pose, reason }
-            | CandidateOutcome::Unheld { pose, reason } => {
+            CandidateOutcome::NoPath { pose, failure } => {
                 json.theta_goal = Some(pose.theta_goal);
-                json.outcome = Outcome::rejected(reason);
+                json.outcome = Outcome::rejected(failure.to_string());
+            }
+            CandidateOutcome::Unheld { pose, reason } => {
+                json.theta_goal = Some(pose.theta_goal);
+                json.outcome = Outcome::rejected(reason.to_string());
             }
             CandidateOutcome::Skipped => {
                 json.theta_goal = None;
@@ -335,11 +342,10 @@ pub fn plan(
             }
             CandidateOutcome::StartBlocked => {
                 json.theta_goal = None;
-                json.outcome = Outcome::rejected(
-                    start_problem
-                        .as_deref()
-                        .unwrap_or("start configurations in collision"),
-                );
+                json.outcome = Outcome::rejected(match &start_problem {
+                    Some(problem) => problem.named(&ctx.names).to_string(),
+                    None => "start configurations in collision".to_string(),
+                });
             }
             CandidateOutcome::NotEvaluated => {
                 json.theta_goal = None;
@@ -353,7 +359,10 @@ pub fn plan(
     }
     if file.plans.is_empty() {
         file.status = PlanStatus::NoPlan;
-        file.reason = Some(start_problem.unwrap_or_else(|| no_plan_reason(&ctx, &outcomes)));
+        file.reason = Some(match &start_problem {
+            Some(problem) => problem.named(&ctx.names).to_string(),
+            None => no_plan_reason(&ctx, &outcomes),
+        });
     }
     let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
     file.timing_ms.insert("axes".into(), ms(t_axes));
@@ -438,17 +447,12 @@ fn required_force(outcome: &CandidateOutcome) -> f64 {
 
 /// The first rule `plan` (checked as a plan of `header`) fails, if any, and how close a
 /// grasping gripper comes to the support along it (from the same check).
-fn verify(checker: &PlanChecker, set: &PlanSet, plan: &Plan) -> (Option<String>, Option<f64>) {
+fn verify(checker: &PlanChecker, set: &PlanSet, plan: &Plan) -> (Option<FailedRule>, Option<f64>) {
     let report = checker.check_plans(set, std::slice::from_ref(plan));
-    let failed = report
-        .rules
-        .into_iter()
-        .find(|r| r.ok == Some(false))
-        .map(|r| format!("rule {} ({})", r.rule, r.detail));
-    (failed, report.closest_grasp_to_support)
+    (FailedRule::first(&report), report.closest_grasp_to_support)
 }
 
-/// Names the stage at which every candidate failed.
+/// Names the stage at which every candidate failed: the words of the plan file's `reason`.
 fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) -> String {
     let outcomes: Vec<&CandidateOutcome> = all
         .iter()
@@ -495,7 +499,7 @@ fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) -> String {
         };
         return match furthest {
             0 => "no candidate: every power grasp within Δd_a of every axis".to_string(),
-            1 | 3 => format!("grasp: {}", at[0].describe(&ctx.names)),
+            1 | 3 => format!("grasp: {}", at[0].named(&ctx.names)),
             2 if at
                 .iter()
                 .all(|r| matches!(r, DummiesNeverClear { fingers: true, .. })) =>
@@ -520,7 +524,7 @@ fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) -> String {
         };
     }
     let unheld = outcomes.iter().find_map(|o| match o {
-        CandidateOutcome::Unheld { reason, .. } => Some(reason.as_str()),
+        CandidateOutcome::Unheld { reason, .. } => Some(reason),
         _ => None,
     });
     if let Some(reason) = unheld {
@@ -530,13 +534,15 @@ fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) -> String {
         );
     }
     let first = outcomes.iter().find_map(|o| match o {
-        CandidateOutcome::NoPath { reason, .. } => Some(reason.as_str()),
+        CandidateOutcome::NoPath { failure, .. } => Some(failure),
         _ => None,
     });
-    format!(
-        "Algorithm 3: no integrated path for any candidate (best candidate: {})",
-        first.unwrap_or("-")
-    )
+    match first {
+        Some(failure) => {
+            format!("Algorithm 3: no integrated path for any candidate (best candidate: {failure})")
+        }
+        None => "Algorithm 3: no integrated path for any candidate (best candidate: -)".into(),
+    }
 }
 
 #[cfg(test)]

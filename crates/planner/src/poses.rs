@@ -70,17 +70,29 @@ pub enum PoseRejection {
 }
 
 impl PoseRejection {
-    /// A short reason for the plan file's `outcome` (after `"rejected: "`), naming arms.
-    pub fn describe(&self, names: &[String; 2]) -> String {
-        match self {
-            PoseRejection::GraspNearAxis { arm, distance } => format!(
+    /// The words of the plan file's `outcome` (after `"rejected: "`), naming the arms by
+    /// `names`.
+    pub fn named<'a>(&'a self, names: &'a [String; 2]) -> impl std::fmt::Display + 'a {
+        NamedRejection(self, names)
+    }
+}
+
+struct NamedRejection<'a>(&'a PoseRejection, &'a [String; 2]);
+
+impl std::fmt::Display for NamedRejection<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let names = self.1;
+        match self.0 {
+            PoseRejection::GraspNearAxis { arm, distance } => write!(
+                f,
                 "power grasp of arm {} is {:.3} m from the axis, within Δd_a",
                 names[*arm], distance
             ),
             PoseRejection::DummiesNeverClear {
                 theta_max,
                 fingers: true,
-            } => format!(
+            } => write!(
+                f,
                 "the power grasps' closing fingers reach the support at every angle up to θ_max \
                  = {:.1}° (gripper dummies)",
                 theta_max.to_degrees()
@@ -88,31 +100,30 @@ impl PoseRejection {
             PoseRejection::DummiesNeverClear {
                 theta_max,
                 fingers: false,
-            } => format!(
+            } => write!(
+                f,
                 "gripper dummies do not clear the support within θ_max = {:.1}°",
                 theta_max.to_degrees()
             ),
-            PoseRejection::PowerGraspUnreachable { arm } => {
-                format!(
-                    "IK: power grasp unreachable for arm {} at P_obj",
-                    names[*arm]
-                )
-            }
-            PoseRejection::SupportGraspUnreachable { arm } => {
-                format!(
-                    "IK: support grasp unreachable for arm {} at P_obj",
-                    names[*arm]
-                )
-            }
-            PoseRejection::SupportClosingMeetsSupport { arm, height } if *height < 0.0 => {
-                format!(
-                    "support grasp of arm {}: its closing fingers reach {:.1} mm into the support \
-                     at P_init",
-                    names[*arm],
-                    -height * 1e3
-                )
-            }
-            PoseRejection::SupportClosingMeetsSupport { arm, height } => format!(
+            PoseRejection::PowerGraspUnreachable { arm } => write!(
+                f,
+                "IK: power grasp unreachable for arm {} at P_obj",
+                names[*arm]
+            ),
+            PoseRejection::SupportGraspUnreachable { arm } => write!(
+                f,
+                "IK: support grasp unreachable for arm {} at P_obj",
+                names[*arm]
+            ),
+            PoseRejection::SupportClosingMeetsSupport { arm, height } if *height < 0.0 => write!(
+                f,
+                "support grasp of arm {}: its closing fingers reach {:.1} mm into the support \
+                 at P_init",
+                names[*arm],
+                -height * 1e3
+            ),
+            PoseRejection::SupportClosingMeetsSupport { arm, height } => write!(
+                f,
                 "support grasp of arm {}: its closing fingers come within {:.1} mm of the support \
                  at P_init",
                 names[*arm],
@@ -122,7 +133,8 @@ impl PoseRejection {
                 arm,
                 support,
                 failure,
-            } => format!(
+            } => write!(
+                f,
                 "{} grasp of arm {}: {failure}",
                 if *support { "support" } else { "power" },
                 names[*arm]

@@ -46,18 +46,22 @@ pub enum ReachFailure {
     Transit(PlanStatus),
 }
 
-impl ReachFailure {
-    pub fn describe(&self) -> String {
-        let line = |what: &str, e: &CartesianError, c: &Option<Contact>| match (e, c) {
+/// The words after `"μ_sup1: "` (or the other reach motion's name) in the plan file.
+impl std::fmt::Display for ReachFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let line = |f: &mut std::fmt::Formatter<'_>,
+                    what: &str,
+                    e: &CartesianError,
+                    c: &Option<Contact>| match (e, c) {
             (CartesianError::Collision { .. }, Some(c)) => {
-                format!("straight {what}: {} touches {}", c.a, c.b)
+                write!(f, "straight {what}: {} touches {}", c.a, c.b)
             }
-            _ => format!("straight {what}: {e}"),
+            _ => write!(f, "straight {what}: {e}"),
         };
         match self {
-            ReachFailure::Retreat(e, c) => line("retreat", e, c),
-            ReachFailure::Approach(e, c) => line("approach", e, c),
-            ReachFailure::Transit(status) => format!("transit motion: {status:?}"),
+            ReachFailure::Retreat(e, c) => line(f, "retreat", e, c),
+            ReachFailure::Approach(e, c) => line(f, "approach", e, c),
+            ReachFailure::Transit(status) => write!(f, "transit motion: {status:?}"),
         }
     }
 }

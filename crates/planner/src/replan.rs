@@ -25,6 +25,7 @@ use crate::axes::RotationAxisCandidate;
 use crate::check::check_plan;
 use crate::context::{arm_models, PartKnowledge};
 use crate::pipeline::{axes_of, plan, PlanOptions, PlanReport};
+use crate::rejection::FailedRule;
 
 /// Two axis endpoints, in the object frame, closer than this (m) are the same hull vertex.
 pub const SAME_VERTEX: f64 = 0.002;
@@ -164,9 +165,18 @@ pub enum ResumeError {
     NoPlan(usize),
     #[error("plans[{plan}]: {problem}")]
     Plan { plan: usize, problem: String },
-    /// The measured pose cannot be where the executed segments left the part.
-    #[error("--object-pose: {0}")]
-    Measurement(String),
+    /// The measured pose cannot be where the executed segments left the part: held as
+    /// measured, the part would have been `off` (m) above the support (below when negative)
+    /// when `rot` began, more than `tolerance` (m).
+    #[error(
+        "--object-pose: held as measured, the part would have been {:.1} mm {} the support \
+         when rot began (at most {:.1} mm is measurement error): it slid in the pinch, or the \
+         measurement is off; measure again",
+        .off.abs() * 1e3,
+        if *.off > 0.0 { "above" } else { "below" },
+        .tolerance * 1e3
+    )]
+    Measurement { off: f64, tolerance: f64 },
 }
 
 /// A plan of a nominal file part of which has run (`replan --from rot`, `mas1`, `sup2`): its
@@ -266,12 +276,11 @@ pub fn replan_from_rot(
             *seg = sup1.clone();
         }
         let verdict = check_plan(&report.file, mesh);
-        if let Some(rule) = verdict.rules.iter().find(|r| r.ok == Some(false)) {
+        if let Some(rule) = FailedRule::first(&verdict) {
             report.file.plans.clear();
             report.file.status = PlanStatus::NoPlan;
             report.file.reason = Some(format!(
-                "replan --from rot: with the executed sup1 the plan fails rule {} ({})",
-                rule.rule, rule.detail
+                "replan --from rot: with the executed sup1 the plan fails {rule}"
             ));
             return Ok(Replanned {
                 report,

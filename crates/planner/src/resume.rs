@@ -29,10 +29,11 @@ use crate::check::check_plan;
 use crate::context::{arm_models, PlanningContext};
 use crate::hold::HoldCheck;
 use crate::output::{fingers_of, plan_file_header, reach_segment};
-use crate::paths::{motion_seed, MAX_IK_TRIES};
+use crate::paths::{final_grasp_free, motion_seed, MAX_IK_TRIES};
 use crate::pipeline::PlanReport;
 use crate::poses::PowerGraspPose;
 use crate::reach::{reach, ReachMotion, ReachQuery};
+use crate::rejection::{FailedRule, MotionFailure, PathFailure};
 use crate::replan::{held_grasp, RanPlan, ReplanRoute, Replanned, ResumeError};
 use pregrasp_model::timeline::Moment;
 
@@ -47,6 +48,36 @@ pub enum Resume {
     Mas1,
     /// `sup1`, `rot` and `mas1` have run: `sup2` is planned.
     Sup2,
+}
+
+impl Resume {
+    /// The first segment planned again.
+    pub fn segment(self) -> SegmentName {
+        match self {
+            Resume::Mas1 => SegmentName::Mas1,
+            Resume::Sup2 => SegmentName::Sup2,
+        }
+    }
+}
+
+/// Why what is left of a plan could not be planned again.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ResumeFailure {
+    /// No motion left: the last failure.
+    Path(PathFailure),
+    /// The plan with the measured part fails a rule of the plan check.
+    CheckFailed(FailedRule),
+}
+
+impl std::fmt::Display for ResumeFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ResumeFailure::Path(p) => p.fmt(f),
+            ResumeFailure::CheckFailed(rule) => {
+                write!(f, "the plan with the measured part fails {rule}")
+            }
+        }
+    }
 }
 
 /// Re-plans what is left of plan `plan_index` of `nominal` from `from`, the part measured at
@@ -101,14 +132,10 @@ pub fn replan_remaining(
             .fold(f64::INFINITY, f64::min);
         let off = lowest - (scene.support_height + scene.planner.lift);
         if off.abs() > REST_TOLERANCE {
-            return Err(ResumeError::Measurement(format!(
-                "held as measured, the part would have been {:.1} mm {} the support when rot \
-                 began (at most {:.1} mm is measurement error): it slid in the pinch, or the \
-                 measurement is off; measure again",
-                off.abs() * 1e3,
-                if off > 0.0 { "above" } else { "below" },
-                REST_TOLERANCE * 1e3
-            )));
+            return Err(ResumeError::Measurement {
+                off,
+                tolerance: REST_TOLERANCE,
+            });
         }
         let lift = Isometry3::translation(0.0, 0.0, -moved.planner.lift);
         moved.object.pose = lift * start;
@@ -155,7 +182,8 @@ pub fn replan_remaining(
             .copied()
             .collect(),
     };
-    let mut failure = String::from("no collision-free IK at the power grasps");
+    let mut failure = PathFailure::NoPowerIk;
+    let failed = |stage, cause| PathFailure::Motion { stage, cause };
     let mut found = None;
     'master: for c_ik_p in masters {
         let mas1_motion: Option<ReachMotion> = match from {
@@ -172,7 +200,7 @@ pub fn replan_remaining(
                 match reach(&ctx, &query) {
                     Ok(m) => Some(m),
                     Err(f) => {
-                        failure = format!("μ_mas1: {}", f.describe());
+                        failure = failed(SegmentName::Mas1, MotionFailure::Reach(f));
                         continue;
                     }
                 }
@@ -181,9 +209,8 @@ pub fn replan_remaining(
         let sup2_scene =
             Moment::at_rest(starts, object_pose).holding(mas, c_ik_p, ctx.power_grip(mas));
         for goal in pose.power_ik[sup].free(&ctx).take(MAX_IK_TRIES) {
-            let end = sup2_scene.clone().holding(sup, *goal, ctx.power_grip(sup));
-            if let Err(c) = ctx.check(&end) {
-                failure = format!("μ_sup2: final grasp: {} touches {}", c.a, c.b);
+            if let Err(f) = final_grasp_free(&ctx, &sup2_scene, sup, goal) {
+                failure = failed(SegmentName::Sup2, f);
                 continue;
             }
             let query = ReachQuery {
@@ -199,27 +226,23 @@ pub fn replan_remaining(
                     found = Some((mas1_motion, sup2));
                     break 'master;
                 }
-                Err(f) => failure = format!("μ_sup2: {}", f.describe()),
+                Err(f) => failure = failed(SegmentName::Sup2, MotionFailure::Reach(f)),
             }
         }
     }
 
     let mut header = plan_file_header(&moved, PlanStatus::Planned, None);
     header.candidates = nominal.candidates.clone();
-    let label = match from {
-        Resume::Mas1 => "mas1",
-        Resume::Sup2 => "sup2",
-    };
-    let no_plan = |mut header: PlanFile, reason: String| {
+    let no_plan = |mut header: PlanFile, failure: ResumeFailure| {
         header.status = PlanStatus::NoPlan;
-        header.reason = Some(format!("replan --from {label}: {reason}"));
+        header.reason = Some(format!("replan --from {}: {failure}", from.segment()));
         Replanned {
             report: report(header),
             route: ReplanRoute::CandidateFailed,
         }
     };
     let Some((mas1_motion, sup2)) = found else {
-        return Ok(no_plan(header, failure));
+        return Ok(no_plan(header, ResumeFailure::Path(failure)));
     };
 
     // The file: the segments that ran, then the ones planned now.
@@ -268,13 +291,9 @@ pub fn replan_remaining(
     let mut file = header;
     file.plans = vec![resumed];
     let verdict = check_plan(&file, mesh);
-    if let Some(rule) = verdict.rules.iter().find(|r| r.ok == Some(false)) {
-        let reason = format!(
-            "the plan with the measured part fails rule {} ({})",
-            rule.rule, rule.detail
-        );
+    if let Some(rule) = FailedRule::first(&verdict) {
         file.plans.clear();
-        return Ok(no_plan(file, reason));
+        return Ok(no_plan(file, ResumeFailure::CheckFailed(rule)));
     }
     Ok(Replanned {
         report: report(file),

@@ -42,27 +42,28 @@ pub enum RotationFailure {
     Collision { theta: f64, a: String, b: String },
 }
 
-impl RotationFailure {
-    pub fn describe(&self) -> String {
+/// The words after `"μ_rot: "` in the plan file.
+impl std::fmt::Display for RotationFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            RotationFailure::Unreachable { theta } => {
-                format!(
-                    "μ_rot: support grasp unreachable at θ = {:.1}°",
-                    theta.to_degrees()
-                )
-            }
+            RotationFailure::Unreachable { theta } => write!(
+                f,
+                "support grasp unreachable at θ = {:.1}°",
+                theta.to_degrees()
+            ),
             RotationFailure::JointJump {
                 theta,
                 joint,
                 delta,
-            } => format!(
-                "μ_rot: joint {} jumps {:.1}° at θ = {:.1}°",
+            } => write!(
+                f,
+                "joint {} jumps {:.1}° at θ = {:.1}°",
                 joint + 1,
                 delta.to_degrees(),
                 theta.to_degrees()
             ),
             RotationFailure::Collision { theta, a, b } => {
-                format!("μ_rot: {a} touches {b} at θ = {:.1}°", theta.to_degrees())
+                write!(f, "{a} touches {b} at θ = {:.1}°", theta.to_degrees())
             }
         }
     }

@@ -107,6 +107,6 @@ fn a_part_the_executed_rotation_cannot_explain_is_refused() {
     let Err(err) = replan_remaining(&scene, &mesh, &nominal, 0, up, Resume::Mas1) else {
         panic!("a part 30 mm above where the pinch put it was planned");
     };
-    assert!(matches!(err, ResumeError::Measurement(_)), "{err}");
+    assert!(matches!(err, ResumeError::Measurement { .. }), "{err}");
     assert!(err.to_string().contains("above the support"), "{err}");
 }
