@@ -421,7 +421,8 @@ fn plan_detached(
     threads: Option<usize>,
 ) -> Result<PlanFile, String> {
     let report = thread_pool(threads)?
-        .install(|| pregrasp_planner::plan_scene(spec, mesh, options, &|_| {}, &|| {}));
+        .install(|| pregrasp_planner::plan_scene(spec, mesh, options, &|_| {}, &|| {}))
+        .map_err(|e| e.to_string())?;
     Ok(report.file)
 }
 

@@ -54,7 +54,8 @@ impl Replanner {
         let mesh = scene.mesh.clone();
         let known = {
             let (spec, mesh) = (spec.clone(), mesh.clone());
-            py.detach(move || Arc::new(PartKnowledge::new(&spec, &mesh)))
+            py.detach(move || PartKnowledge::new(&spec, &mesh).map(Arc::new))
+                .map_err(|e| SceneError::new_err(e.to_string()))?
         };
         Ok(Replanner {
             spec,
@@ -124,9 +125,10 @@ impl Replanner {
                     .map_err(|e| e.to_string()),
                 None if from_rot => replan_from_rot(&spec, &mesh, &nominal, plan_index, pose)
                     .map_err(|e| e.to_string()),
-                None => Ok(pregrasp_planner::replan::replan(
+                None => pregrasp_planner::replan::replan(
                     &spec, &mesh, &nominal, plan_index, pose, &options,
-                )),
+                )
+                .map_err(|e| e.to_string()),
             })?;
             Ok(again.report.file)
         });

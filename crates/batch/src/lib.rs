@@ -3,7 +3,7 @@
 //!
 //! - [`discover`]: the scene files (`*.toml`) under a folder, sorted, the output folder left out;
 //! - [`plan_one`]: one scene → one [`Record`] (a scene that cannot be loaded is a row with its
-//!   error, never the end of the batch; so is a panic while planning it); a scene whose inputs
+//!   error, never the end of the batch; so is one the planner refuses); a scene whose inputs
 //!   have not changed since its plan was written (the same scene text, mesh bytes and pregrasp
 //!   version: [`Stamp`]) is not planned again;
 //! - [`run`]: all of them with rayon, records in discovery order (deterministic), the outputs
@@ -247,8 +247,8 @@ fn failed(mut record: Record, reason: String) -> Record {
     record
 }
 
-/// [`plan_scene`] of one scene with a panic caught: a bug met by one scene is that scene's
-/// error row, and the batch goes on.
+/// [`plan_scene`] of one scene: a scene that cannot be planned is an error row, and the batch
+/// goes on.
 fn plan_isolated(dir: &Path, out: &Path, scene_path: &Path, options: &PlanOptions) -> Planned {
     let rel = scene_path
         .strip_prefix(dir)
@@ -268,27 +268,12 @@ fn plan_isolated(dir: &Path, out: &Path, scene_path: &Path, options: &PlanOption
         plan_file: None,
         view_file: None,
     };
-    let run = std::panic::AssertUnwindSafe(|| plan_scene(out, &rel, scene_path, options));
-    match std::panic::catch_unwind(run) {
-        Ok(Ok(planned)) => planned,
-        Ok(Err(reason)) => Planned {
+    match plan_scene(out, &rel, scene_path, options) {
+        Ok(planned) => planned,
+        Err(reason) => Planned {
             record: failed(blank, reason),
             files: None,
         },
-        Err(panic) => {
-            let what = panic
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| panic.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "unknown panic".into());
-            Planned {
-                record: failed(
-                    blank,
-                    format!("internal error while planning (a bug in pregrasp, please report it): {what}"),
-                ),
-                files: None,
-            }
-        }
     }
 }
 
@@ -346,7 +331,8 @@ fn plan_scene(
     let (file, files) = match reused {
         Some(file) => (file, None),
         None => {
-            let report = plan_scene_report(&scene, &mesh, options, &|_| {}, &|| {});
+            let report = plan_scene_report(&scene, &mesh, options, &|_| {}, &|| {})
+                .map_err(|e| format!("{}: {e}", scene_path.display()))?;
             let mut file = report.file;
             file.timing_ms
                 .insert("process".into(), started.elapsed().as_secs_f64() * 1e3);

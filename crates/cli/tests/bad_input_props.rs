@@ -29,8 +29,9 @@ fn chair_plan() -> &'static (Value, pregrasp_examples::Mesh) {
             max_plans: 1,
             ..Default::default()
         };
-        let file =
-            pregrasp_planner::pipeline::plan(&scene, &ex.mesh, &options, &|_| {}, &|| {}).file;
+        let file = pregrasp_planner::pipeline::plan(&scene, &ex.mesh, &options, &|_| {}, &|| {})
+            .unwrap()
+            .file;
         (serde_json::from_str(&file.to_json()).unwrap(), ex.mesh)
     })
 }

@@ -40,7 +40,7 @@ pub use arm::{ArmModel, MAX_ARM_SHAPES};
 pub use closing::{FingerShapes, PartClosing};
 pub use error::CollisionError;
 pub use grip::{close_on_part, pad_patches, Grip, GripFailure, PadPatch};
-pub use object::ObjectGeometry;
+pub use object::{check_mesh, ObjectGeometry};
 pub use shape::Placed;
 pub use sweep::{StatesCheck, Sweep, BOX_LIMIT, SWEEP_LIMIT};
 pub use validity::{joint_space, joint_space_with_payload, ArmValidity};

@@ -41,29 +41,7 @@ impl std::fmt::Debug for ObjectGeometry {
 impl ObjectGeometry {
     /// Builds the BVH of `mesh` (object frame, metres).
     pub fn new(mesh: &Mesh) -> Result<Self, CollisionError> {
-        if mesh.triangles.is_empty() {
-            return Err(CollisionError::EmptyMesh);
-        }
-        let n = mesh.vertices.len();
-        if let Some((t, tri)) = mesh
-            .triangles
-            .iter()
-            .enumerate()
-            .find(|(_, tri)| tri.iter().any(|&i| i as usize >= n))
-        {
-            return Err(CollisionError::BadTriangle {
-                triangle: t,
-                indices: *tri,
-                vertices: n,
-            });
-        }
-        if mesh
-            .vertices
-            .iter()
-            .any(|v| !v.coords.iter().all(|c| c.is_finite()))
-        {
-            return Err(CollisionError::NonFiniteVertex);
-        }
+        check_mesh(mesh)?;
         let trimesh = TriMesh::new(mesh.vertices.clone(), mesh.triangles.clone())
             .map_err(|e| CollisionError::Mesh(e.to_string()))?;
         let aabb = trimesh.local_aabb();
@@ -328,4 +306,33 @@ impl ObjectGeometry {
         });
         best.sqrt()
     }
+}
+
+/// Whether `mesh` can be a part: it has triangles, every index names a vertex and every
+/// vertex is finite (what [`ObjectGeometry::new`] checks before it builds the BVH).
+pub fn check_mesh(mesh: &Mesh) -> Result<(), CollisionError> {
+    if mesh.triangles.is_empty() {
+        return Err(CollisionError::EmptyMesh);
+    }
+    let n = mesh.vertices.len();
+    if let Some((t, tri)) = mesh
+        .triangles
+        .iter()
+        .enumerate()
+        .find(|(_, tri)| tri.iter().any(|&i| i as usize >= n))
+    {
+        return Err(CollisionError::BadTriangle {
+            triangle: t,
+            indices: *tri,
+            vertices: n,
+        });
+    }
+    if mesh
+        .vertices
+        .iter()
+        .any(|v| !v.coords.iter().all(|c| c.is_finite()))
+    {
+        return Err(CollisionError::NonFiniteVertex);
+    }
+    Ok(())
 }

@@ -158,7 +158,9 @@ fn fr3_chair(extra: &str) -> (pregrasp_io::plan_file::PlanFile, Vec<u8>) {
     )
     .unwrap();
     let options = pregrasp_planner::pipeline::PlanOptions::default();
-    let file = pregrasp_planner::pipeline::plan(&scene, &ex.mesh, &options, &|_| {}, &|| {}).file;
+    let file = pregrasp_planner::pipeline::plan(&scene, &ex.mesh, &options, &|_| {}, &|| {})
+        .unwrap()
+        .file;
     assert!(!file.plans.is_empty(), "{:?}", file.reason);
     let out = export(
         &file,

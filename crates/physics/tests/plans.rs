@@ -27,6 +27,7 @@ fn planned(name: &str) -> (PlanFile, Mesh) {
         &|_| {},
         &|| {},
     )
+    .unwrap()
     .file;
     assert!(!file.plans.is_empty(), "{name}: planned");
     (file, ex.mesh)
@@ -251,7 +252,9 @@ fn screening_stops_at_the_first_failing_point() {
     let ex = pregrasp_examples::by_name("stool_side").unwrap();
     let text = format!("{}\n[physics]\nreject = false\n", ex.scene_toml);
     let scene = Scene::from_str(&text, Path::new("examples/stool_side.toml")).unwrap();
-    let kept = plan(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
+    let kept = plan(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file;
     let k = kept
         .plans
         .iter()

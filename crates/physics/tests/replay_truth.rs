@@ -94,7 +94,9 @@ fn generated(name: &str) -> (PlanFile, Mesh) {
 fn plan_scene(name: &str, text: &str, mesh: Mesh) -> (PlanFile, Mesh) {
     let scene =
         Scene::from_str(text, Path::new(&format!("examples/{name}.toml"))).expect("scene parses");
-    let file = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
+    let file = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file;
     (file, mesh)
 }
 

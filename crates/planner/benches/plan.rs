@@ -29,7 +29,8 @@ fn bench_plan(c: &mut Criterion) {
                     &PlanOptions::default(),
                     &|_| {},
                     &|| {},
-                );
+                )
+                .unwrap();
                 assert_eq!(report.file.status, PlanStatus::Planned);
                 report
             };

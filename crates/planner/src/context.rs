@@ -16,6 +16,7 @@ use pregrasp_motion::{JointSpace, MotionValidator};
 use pregrasp_robot::{wrap_angle, ArmKinematics, GripperState, Joints};
 
 use crate::clock::StageClock;
+use crate::error::PlanError;
 use pregrasp_model::timeline::Moment;
 
 /// Resolution (m) at which motions are validated: no point of an arm moves farther than this
@@ -107,9 +108,10 @@ impl std::fmt::Debug for PartKnowledge {
 impl PartKnowledge {
     /// The part's geometry and closings for `scene` on `mesh` (as a planning context builds
     /// them).
-    pub fn new(scene: &Scene, mesh: &Mesh) -> PartKnowledge {
+    pub fn new(scene: &Scene, mesh: &Mesh) -> Result<PartKnowledge, PlanError> {
+        let ctx = PlanningContext::new(scene, mesh)?;
         let hull = ConvexHull::of_mesh(mesh).ok().map(Arc::new);
-        PartKnowledge::of(&PlanningContext::new(scene, mesh), hull)
+        Ok(PartKnowledge::of(&ctx, hull))
     }
 
     /// What `ctx` built, and `hull`, the convex hull of its mesh.
@@ -175,14 +177,20 @@ fn tool_points(scene: &Scene) -> [(f64, f64); 2] {
 }
 
 impl<'a> PlanningContext<'a> {
-    pub fn new(scene: &'a Scene, mesh: &'a Mesh) -> Self {
+    /// The models of `scene` with the part `mesh`; an error when an arm cannot be modelled or
+    /// the mesh cannot be a collision body.
+    pub fn new(scene: &'a Scene, mesh: &'a Mesh) -> Result<Self, PlanError> {
         PlanningContext::with_knowledge(scene, mesh, None)
     }
 
     /// [`PlanningContext::new`], taking the part's geometry and closings from `known` when it
     /// was built for this mesh, these grasps and tool points (built afresh otherwise).
-    pub fn with_knowledge(scene: &'a Scene, mesh: &'a Mesh, known: Option<&PartKnowledge>) -> Self {
-        let arms = arm_models(scene);
+    pub fn with_knowledge(
+        scene: &'a Scene,
+        mesh: &'a Mesh,
+        known: Option<&PartKnowledge>,
+    ) -> Result<Self, PlanError> {
+        let arms = arm_models(scene)?;
         let spaces = [
             pregrasp_collision::joint_space(&arms[0]),
             pregrasp_collision::joint_space(&arms[1]),
@@ -193,7 +201,8 @@ impl<'a> PlanningContext<'a> {
             Some(k) => {
                 CollisionWorld::with_part(Some(scene.support_height), Some(k.part.clone()), arms)
             }
-            None => CollisionWorld::new(scene.support_height, Some(mesh), arms),
+            None => CollisionWorld::try_new(Some(scene.support_height), Some(mesh), arms)
+                .map_err(PlanError::Mesh)?,
         }
         .with_margin(params.link_clearance + PLANNING_MARGIN)
         .with_grasp_support_margin(params.finger_support_clearance + FINE_PLANNING_MARGIN);
@@ -224,7 +233,7 @@ impl<'a> PlanningContext<'a> {
         let first = support_pad(0);
         let same = holds_support_alike(world.arms());
         let support_pads = [first, if same { first } else { support_pad(1) }];
-        PlanningContext {
+        Ok(PlanningContext {
             scene,
             mesh,
             p_init: scene.initial_object_pose(),
@@ -235,7 +244,7 @@ impl<'a> PlanningContext<'a> {
             support_pads,
             fixed_rot_start: None,
             clock: StageClock::default(),
-        }
+        })
     }
 
     /// The fingers of arm `arm` holding G_s (only called for an arm whose support grip
@@ -386,17 +395,18 @@ pub fn distinct_ik(kin: &dyn ArmKinematics, flange: &Isometry3<f64>, seed: &Join
 
 /// The two arm models of a scene, in world.
 ///
-/// # Panics
-/// If an arm and its gripper have more shapes than the collision model holds, which a scene
-/// loaded by `pregrasp_io` never has: loading refuses such a robot with an error naming it
-/// and the shape (`Cx::shapes_fit`), and a description's arm is merged down to fit
-/// (`pregrasp_urdf::describe_arm`). Only a [`Scene`] built in code can get here.
-pub fn arm_models(scene: &Scene) -> [ArmModel; 2] {
-    scene.robots.each_ref().map(|spec| {
+/// [`PlanError::Arm`] if an arm and its gripper have more shapes than the collision model
+/// holds, which a scene loaded by `pregrasp_io` never has: loading refuses such a robot with
+/// an error naming it and the shape (`Cx::shapes_fit`), and a description's arm is merged down
+/// to fit (`pregrasp_urdf::describe_arm`). Only a [`Scene`] built in code can have it.
+pub fn arm_models(scene: &Scene) -> Result<[ArmModel; 2], PlanError> {
+    let model = |i: usize| {
+        let spec = &scene.robots[i];
         let gripper = spec.gripper_model();
         ArmModel::from_description(&spec.name, spec.arm.clone(), spec.base, gripper)
-            .unwrap_or_else(|e| panic!("{e} (a scene loading would have refused)"))
-    })
+            .map_err(PlanError::Arm)
+    };
+    Ok([model(0)?, model(1)?])
 }
 
 /// Whether both arms hold G_s alike: they hold it by their precision points, so with the same

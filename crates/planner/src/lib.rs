@@ -21,6 +21,7 @@ pub mod check;
 pub mod clock;
 pub mod context;
 pub mod dummies;
+pub mod error;
 pub mod hold;
 pub mod output;
 pub mod paths;
@@ -40,18 +41,23 @@ pub mod timing;
 pub mod auto_grasps;
 pub mod axes;
 pub use axes::{rotation_axis_candidates, AxesResult, Direction, RotationAxisCandidate};
+pub use error::PlanError;
 
 /// A scene planned as `pregrasp plan` plans it: with its grasps found from the mesh when it
 /// asks for `[grasps] mode = "auto"` ([`auto_grasps::plan_auto`]), otherwise with its own grasps
 /// and plans ranked by robustness when `[planner] robustness_samples` > 0
 /// ([`robustness::plan_ranked_by_robustness`], which is the plain [`pipeline::plan`] when it is 0).
+///
+/// A scene without a plan is a report (`status = "no_plan"`, with its reason); an error is a
+/// scene or mesh the planner cannot work on ([`PlanError`]), which a scene loaded from a file
+/// never is but one built in code may be.
 pub fn plan_scene(
     scene: &pregrasp_io::scene::Scene,
     mesh: &pregrasp_geometry::Mesh,
     options: &pipeline::PlanOptions,
     on_candidates: &(dyn Fn(usize) + Sync),
     progress: &(dyn Fn() + Sync),
-) -> pipeline::PlanReport {
+) -> Result<pipeline::PlanReport, PlanError> {
     if scene.grasps.auto.is_some() {
         auto_grasps::plan_auto(scene, mesh, options, on_candidates, progress)
     } else {

@@ -17,6 +17,7 @@ use crate::axes::{rotation_axis_candidates_with_hull, AxesResult, RotationAxisCa
 use crate::check::PlanChecker;
 use crate::clock::Stage;
 use crate::context::{PartKnowledge, PlanningContext};
+use crate::error::{check_mesh, PlanError};
 use crate::hold::{HoldCheck, HoldResult};
 use crate::output::{self, plan_file_header, plan_set, rot_only_plan_json};
 use crate::paths::{integrated_path, IntegratedPath, NoPath};
@@ -139,20 +140,21 @@ pub struct PlanReport {
 ///
 /// Every plan is re-verified by a [`crate::check::PlanChecker`] (the rules of `check`) before it
 /// is kept; a plan that fails (which would be a bug) is dropped and its candidate says which
-/// rule failed.
+/// rule failed. An error is a scene or mesh the planner cannot work on ([`PlanError`]).
 pub fn plan(
     scene: &Scene,
     mesh: &Mesh,
     options: &PlanOptions,
     on_candidates: &(dyn Fn(usize) + Sync),
     progress: &(dyn Fn() + Sync),
-) -> PlanReport {
+) -> Result<PlanReport, PlanError> {
+    check_mesh(mesh)?;
     let t0 = Instant::now();
     let axes = axes_of(scene, mesh, options.known.as_deref());
     let t_axes = t0.elapsed();
 
     let t_ctx = Instant::now();
-    let mut ctx = PlanningContext::with_knowledge(scene, mesh, options.known.as_deref());
+    let mut ctx = PlanningContext::with_knowledge(scene, mesh, options.known.as_deref())?;
     let t_grips = t_ctx.elapsed();
     ctx.fixed_rot_start = options.fixed_rot_start;
     let ctx = ctx;
@@ -373,13 +375,13 @@ pub fn plan(
         file.timing_ms.insert(key.into(), spent);
     }
     file.timing_ms.insert("total".into(), ms(t0.elapsed()));
-    PlanReport {
+    Ok(PlanReport {
         file,
         physics_note: hold_check.unavailable().map(str::to_string),
         candidates,
         outcomes,
         hull: (!axes.hull.vertices.is_empty()).then_some(axes.hull),
-    }
+    })
 }
 
 /// Algorithm 1 for `scene` on `mesh`, on the hull `known` has of this mesh when it has one.

@@ -24,6 +24,7 @@ use pregrasp_io::scene::Scene;
 use crate::axes::RotationAxisCandidate;
 use crate::check::check_plan;
 use crate::context::{arm_models, PartKnowledge};
+use crate::error::PlanError;
 use crate::pipeline::{axes_of, plan, PlanOptions, PlanReport};
 use crate::rejection::FailedRule;
 
@@ -118,7 +119,8 @@ fn candidate_at(
 }
 
 /// Plans `scene` with the part at `object_pose`, keeping the rotation axis of plan
-/// `plan_index` of `nominal` when it still works.
+/// `plan_index` of `nominal` when it still works. An error is a scene or mesh the planner
+/// cannot work on.
 pub fn replan(
     scene: &Scene,
     mesh: &Mesh,
@@ -126,13 +128,13 @@ pub fn replan(
     plan_index: usize,
     object_pose: Isometry3<f64>,
     options: &PlanOptions,
-) -> Replanned {
+) -> Result<Replanned, PlanError> {
     let mut moved = scene.clone();
     moved.object.pose = object_pose;
     let matched = candidate_at(&moved, mesh, nominal, plan_index, options.known.as_deref());
-    let full = |route| -> Replanned {
-        let report = plan(&moved, mesh, options, &|_| {}, &|| {});
-        Replanned { report, route }
+    let full = |route| -> Result<Replanned, PlanError> {
+        let report = plan(&moved, mesh, options, &|_| {}, &|| {})?;
+        Ok(Replanned { report, route })
     };
     let Some(id) = matched else {
         return full(ReplanRoute::CandidateGone);
@@ -147,12 +149,12 @@ pub fn replan(
         },
         &|_| {},
         &|| {},
-    );
+    )?;
     if kept.file.status == PlanStatus::Planned {
-        Replanned {
+        Ok(Replanned {
             report: kept,
             route: ReplanRoute::KeptCandidate,
-        }
+        })
     } else {
         full(ReplanRoute::CandidateFailed)
     }
@@ -165,6 +167,9 @@ pub enum ResumeError {
     NoPlan(usize),
     #[error("plans[{plan}]: {problem}")]
     Plan { plan: usize, problem: String },
+    /// The scene or mesh cannot be planned at all.
+    #[error("{0}")]
+    Planning(#[from] PlanError),
     /// The measured pose cannot be where the executed segments left the part: held as
     /// measured, the part would have been `off` (m) above the support (below when negative)
     /// when `rot` began, more than `tolerance` (m).
@@ -249,7 +254,7 @@ pub fn replan_from_rot(
     let sup = ran.arm(scene, "supportive", &ran.plan.supportive)?;
     let mut moved = scene.clone();
     moved.object.pose = object_pose;
-    let arms = arm_models(&moved);
+    let arms = arm_models(&moved)?;
     moved.grasps.support = held_grasp(
         moved.initial_object_pose().inverse()
             * arms[sup].flange_world(&q_sup)
@@ -264,7 +269,7 @@ pub fn replan_from_rot(
         fixed_rot_start: Some((sup, q_sup)),
         ..PlanOptions::default()
     };
-    let mut report = plan(&moved, mesh, &options, &|_| {}, &|| {});
+    let mut report = plan(&moved, mesh, &options, &|_| {}, &|| {})?;
     let route = match (matched, report.file.plans.is_empty()) {
         (None, _) => ReplanRoute::CandidateGone,
         (Some(_), true) => ReplanRoute::CandidateFailed,

@@ -100,7 +100,7 @@ pub fn replan_remaining(
     );
     let sup = ran.arm(scene, "supportive", &plan.supportive)?;
     let mas = ran.arm(scene, "master", &plan.master)?;
-    let arms = arm_models(scene);
+    let arms = arm_models(scene)?;
     let q_s = rot.points.last().expect("a segment with points").q;
     let q_m = mas1.points.last().expect("a segment with points").q;
     let precision = arms[sup].gripper.precision_point();
@@ -141,7 +141,7 @@ pub fn replan_remaining(
         moved.object.pose = lift * start;
     }
 
-    let ctx = PlanningContext::new(&moved, mesh);
+    let ctx = PlanningContext::new(&moved, mesh)?;
     let starts = ctx.starts();
     let seed = moved.planner.seed;
     let id = plan.candidate;

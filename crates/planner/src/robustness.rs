@@ -22,6 +22,7 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 use crate::axes::rotation_axis_candidates;
+use crate::error::PlanError;
 use crate::paths::motion_seed;
 use crate::pipeline::{plan, PlanOptions};
 use crate::replan::matching_candidate;
@@ -157,7 +158,8 @@ pub fn displaced(
 }
 
 /// Runs the Monte-Carlo: `nominal` is the plan file of `scene` (its best plan's axis is the
-/// one followed). `progress` is called once per sample.
+/// one followed). `progress` is called once per sample. An error is a scene or mesh the
+/// planner cannot work on.
 pub fn robustness(
     scene: &Scene,
     mesh: &Mesh,
@@ -166,7 +168,7 @@ pub fn robustness(
     samples: usize,
     seed: u64,
     progress: &(dyn Fn() + Sync),
-) -> RobustnessReport {
+) -> Result<RobustnessReport, PlanError> {
     let centre = part_centre(mesh, &scene.object.pose);
     let plan_candidates: Vec<Option<&CandidateJson>> = nominal
         .plans
@@ -178,7 +180,7 @@ pub fn robustness(
         .flat_map(|l| (0..samples).map(move |s| (l, s)))
         .collect();
     // The part's geometry and closings hold for every placement (object frame): built once.
-    let known = std::sync::Arc::new(crate::context::PartKnowledge::new(scene, mesh));
+    let known = std::sync::Arc::new(crate::context::PartKnowledge::new(scene, mesh)?);
     let samples_out: Vec<Sample> = jobs
         .par_iter()
         .map(|&(level, k)| {
@@ -213,7 +215,7 @@ pub fn robustness(
                 known: Some(known.clone()),
                 ..PlanOptions::default()
             };
-            let report = plan(&moved, mesh, &options, &|_| {}, &|| {});
+            let report = plan(&moved, mesh, &options, &|_| {}, &|| {})?;
             let closest = report.closest_grasp_to_support(0);
             let file = report.file;
             let plans_again: Vec<usize> = (0..matched.len())
@@ -222,7 +224,7 @@ pub fn robustness(
                 })
                 .collect();
             progress();
-            Sample {
+            Ok(Sample {
                 level,
                 dx,
                 dy,
@@ -233,9 +235,9 @@ pub fn robustness(
                 axis_found: matched.first().is_some_and(Option::is_some),
                 reason: file.reason.clone(),
                 closest_grasp_to_support: closest,
-            }
+            })
         })
-        .collect();
+        .collect::<Result<_, PlanError>>()?;
     let summaries: Vec<LevelSummary> = levels
         .iter()
         .enumerate()
@@ -250,13 +252,13 @@ pub fn robustness(
         pos: always.iter().map(|e| e.pos).fold(0.0, f64::max),
         yaw: always.iter().map(|e| e.yaw).fold(0.0, f64::max),
     });
-    RobustnessReport {
+    Ok(RobustnessReport {
         seed,
         samples_per_level: samples,
         levels: summaries,
         samples: samples_out,
         axis_tolerance,
-    }
+    })
 }
 
 fn summarise<'a>(error: PlacementError, samples: impl Iterator<Item = &'a Sample>) -> LevelSummary {
@@ -339,7 +341,7 @@ pub fn plan_ranked_by_robustness(
     options: &PlanOptions,
     on_candidates: &(dyn Fn(usize) + Sync),
     progress: &(dyn Fn() + Sync),
-) -> crate::pipeline::PlanReport {
+) -> Result<crate::pipeline::PlanReport, PlanError> {
     let samples = scene.planner.robustness_samples as usize;
     if samples == 0 {
         return plan(scene, mesh, options, on_candidates, progress);
@@ -349,7 +351,7 @@ pub fn plan_ranked_by_robustness(
         max_plans: usize::MAX,
         ..options.clone()
     };
-    let mut report = plan(scene, mesh, &all, on_candidates, progress);
+    let mut report = plan(scene, mesh, &all, on_candidates, progress)?;
     let level = PlacementError {
         pos: scene.planner.robustness_pos,
         yaw: scene.planner.robustness_yaw,
@@ -362,7 +364,7 @@ pub fn plan_ranked_by_robustness(
         samples,
         scene.planner.seed,
         &|| {},
-    );
+    )?;
     let per = per_plan(&mc, report.file.plans.len());
     let file = &mut report.file;
     let mut order: Vec<usize> = (0..file.plans.len()).collect();
@@ -390,7 +392,7 @@ pub fn plan_ranked_by_robustness(
     );
     file.timing_ms
         .insert("total".into(), t0.elapsed().as_secs_f64() * 1e3);
-    report
+    Ok(report)
 }
 
 /// An SVG bar chart of the report: per level, the share of placements that planned (light)

@@ -32,7 +32,9 @@ fn auto_scene(text: &str, extra: &str) -> String {
 
 fn plan_text(text: &str, mesh: &pregrasp_geometry::Mesh) -> (Scene, PlanFile) {
     let scene = Scene::from_str(text, Path::new("auto.toml")).unwrap();
-    let file = plan_auto(&scene, mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
+    let file = plan_auto(&scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file;
     (scene, file)
 }
 
@@ -55,7 +57,9 @@ fn the_examples_plan_from_auto_grasps_and_pass_the_check() {
         assert!(check.is_valid(), "{name}: {:?}", check.rules);
         // The hand-placed scene's best plan, for the README's comparison.
         let hand = Scene::from_str(&ex.scene_toml, Path::new("hand.toml")).unwrap();
-        let hand_file = plan_auto(&hand, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
+        let hand_file = plan_auto(&hand, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {})
+            .unwrap()
+            .file;
         println!(
             "{name}: auto score {:.3} (candidate {}), hand-placed {:.3} (candidate {}); widths {:?} mm",
             file.plans[0].score,

@@ -43,7 +43,9 @@ fn auto_scene(text: &str) -> String {
 fn plan_text(text: &str, mesh: &Mesh) -> (Scene, PlanFile, f64) {
     let scene = Scene::from_str(text, Path::new("part.toml")).unwrap();
     let t0 = Instant::now();
-    let file = plan_auto(&scene, mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
+    let file = plan_auto(&scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file;
     (scene, file, t0.elapsed().as_secs_f64() * 1e3)
 }
 

@@ -58,7 +58,8 @@ fn the_examples_plan_as_their_golden_files() {
         let mesh = load_mesh(&root.join(&scene.object.mesh_path), scene.object.scale)
             .unwrap()
             .mesh;
-        let report = pregrasp_planner::plan_scene(&scene, &mesh, &options, &|_| {}, &|| {});
+        let report =
+            pregrasp_planner::plan_scene(&scene, &mesh, &options, &|_| {}, &|| {}).unwrap();
         let mut file = report.file;
         file.timing_ms.clear();
         compare(&format!("{name}.json"), &file.to_json());

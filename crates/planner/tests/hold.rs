@@ -27,7 +27,9 @@ fn chair(mass: Option<f64>, physics: &str) -> (Scene, pregrasp_geometry::Mesh) {
 }
 
 fn run(scene: &Scene, mesh: &pregrasp_geometry::Mesh) -> pregrasp_io::plan_file::PlanFile {
-    plan(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {}).file
+    plan(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file
 }
 
 #[test]
@@ -135,7 +137,7 @@ fn an_open_mesh_plans_without_the_grip_check() {
     let (scene, mut mesh) = chair(None, "");
     let closed = run(&scene, &mesh);
     mesh.triangles.pop();
-    let report = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {});
+    let report = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}).unwrap();
     let note = report.physics_note.as_deref().expect("the report says why");
     assert!(note.contains("not a closed surface"), "{note}");
     let file = report.file;

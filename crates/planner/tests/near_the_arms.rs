@@ -62,7 +62,7 @@ fn a_part_40_mm_from_a_foot_plans() {
     );
     let scene = Scene::from_str(&text, Path::new("near_foot.toml")).unwrap();
     let mesh = design.mesh();
-    let report = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {});
+    let report = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}).unwrap();
     let file = report.file;
     assert_eq!(file.status, PlanStatus::Planned, "{:?}", file.reason);
     let check = check_plan(&file, &mesh);
@@ -94,13 +94,15 @@ fn a_gripper_passes_within_35_mm_of_the_other_wrist() {
     );
     let scene = Scene::from_str(&text, Path::new("close_arms.toml")).unwrap();
     let mesh = design.mesh();
-    let file = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
+    let file = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file;
     assert_eq!(file.status, PlanStatus::Planned, "{:?}", file.reason);
     let check = check_plan(&file, &mesh);
     assert!(check.is_valid(), "{:?}", check.rules);
 
     // Closest approach of either gripper to the other arm's wrist links along the plans.
-    let arms = arm_models(&scene);
+    let arms = arm_models(&scene).unwrap();
     let mut closest = f64::INFINITY;
     for plan_entry in &file.plans {
         let mut q = [scene.robots[0].start, scene.robots[1].start];

@@ -89,7 +89,9 @@ fn plan_with(name: &str, arm: &Arm, x: f64, y: f64) -> (PathBuf, Scene, PlanFile
         .unwrap()
         .mesh;
     let options = PlanOptions::default();
-    let file = pregrasp_planner::plan_scene(&scene, &mesh, &options, &|_| {}, &|| {}).file;
+    let file = pregrasp_planner::plan_scene(&scene, &mesh, &options, &|_| {}, &|| {})
+        .unwrap()
+        .file;
     (scene_path, scene, file, mesh)
 }
 

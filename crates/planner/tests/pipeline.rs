@@ -18,7 +18,9 @@ fn example(name: &str) -> (Scene, Mesh) {
 }
 
 fn run(scene: &Scene, mesh: &Mesh) -> PlanFile {
-    plan(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {}).file
+    plan(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file
 }
 
 /// The plan file without its timings (the only part allowed to differ between runs).
@@ -249,7 +251,7 @@ fn waves_stop_once_the_kept_plans_outrank_the_rest_and_keep_the_same_plans() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| plan(&scene, &mesh, &options, &|_| {}, &|| {}))
+            .install(|| plan(&scene, &mesh, &options, &|_| {}, &|| {}).unwrap())
             .file
     };
     let every = with(1, usize::MAX, 2);

@@ -28,6 +28,7 @@ fn plan_design(name: &str, design: &PartDesign, planner: &str) -> PlanFile {
         &|_| {},
         &|| {},
     )
+    .unwrap()
     .file
 }
 

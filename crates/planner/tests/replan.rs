@@ -17,7 +17,9 @@ fn example(name: &str) -> (Scene, pregrasp_geometry::Mesh, PlanFile) {
     let ex = pregrasp_examples::by_name(name).unwrap();
     let scene =
         Scene::from_str(&ex.scene_toml, Path::new(&format!("examples/{name}.toml"))).unwrap();
-    let file = plan(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
+    let file = plan(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file;
     assert_eq!(file.status, PlanStatus::Planned, "{name}");
     (scene, ex.mesh, file)
 }
@@ -36,7 +38,8 @@ fn replan_at_the_nominal_pose_gives_the_nominal_plan() {
         0,
         scene.object.pose,
         &PlanOptions::default(),
-    );
+    )
+    .unwrap();
     assert_eq!(r.route, ReplanRoute::KeptCandidate);
     assert_eq!(r.report.file.plans.len(), 1);
     assert_eq!(r.report.file.plans[0], nominal.plans[0]);
@@ -51,7 +54,7 @@ fn a_shifted_part_keeps_its_axis_and_rotation() {
         let (scene, mesh, nominal) = example(name);
         let shift = Isometry3::translation(0.005, -0.003, 0.0);
         let moved = shift * scene.object.pose;
-        let r = replan(&scene, &mesh, &nominal, 0, moved, &PlanOptions::default());
+        let r = replan(&scene, &mesh, &nominal, 0, moved, &PlanOptions::default()).unwrap();
         assert_eq!(r.route, ReplanRoute::KeptCandidate, "{name}");
         let file = &r.report.file;
         let (a, b) = (&nominal.plans[0], &file.plans[0]);
@@ -94,7 +97,8 @@ fn a_turned_part_keeps_its_axis_and_passes_the_check() {
         0,
         turn * scene.object.pose,
         &PlanOptions::default(),
-    );
+    )
+    .unwrap();
     assert_eq!(r.route, ReplanRoute::KeptCandidate);
     assert!(check_plan(&r.report.file, &mesh).is_valid());
 }
@@ -111,7 +115,7 @@ fn the_robustness_report_is_the_same_for_one_and_two_threads() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| robustness(&scene, &mesh, &nominal, &levels, 3, 7, &|| {}))
+            .install(|| robustness(&scene, &mesh, &nominal, &levels, 3, 7, &|| {}).unwrap())
     };
     let (one, two) = (run(1), run(2));
     assert_eq!(one, two);
@@ -136,7 +140,9 @@ fn robustness_samples_rank_the_plans() {
     assert_ne!(text, ex.scene_toml, "the example has a [planner] table");
     let scene = Scene::from_str(&text, Path::new("examples/shelf_side.toml")).unwrap();
     let file =
-        plan_ranked_by_robustness(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
+        plan_ranked_by_robustness(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {})
+            .unwrap()
+            .file;
     assert_eq!(file.planner.robustness_samples, Some(4));
     assert!(!file.plans.is_empty());
     let shares: Vec<f64> = file
@@ -155,6 +161,7 @@ fn robustness_samples_rank_the_plans() {
         &|_| {},
         &|| {},
     )
+    .unwrap()
     .file;
     let strip = |mut f: PlanFile| {
         f.timing_ms.clear();
@@ -225,7 +232,7 @@ fn replans_reusing_the_parts_knowledge_are_the_replans_from_scratch() {
     for name in ["chair_side", "stool_side"] {
         let (scene, mesh, nominal) = example(name);
         let known = PlanOptions {
-            known: Some(Arc::new(PartKnowledge::new(&scene, &mesh))),
+            known: Some(Arc::new(PartKnowledge::new(&scene, &mesh).unwrap())),
             ..PlanOptions::default()
         };
         let centre = scene.object.pose * Point3::new(0.2, 0.2, 0.0);
@@ -235,8 +242,8 @@ fn replans_reusing_the_parts_knowledge_are_the_replans_from_scratch() {
             (0.0, 0.0, 0.5),
         ] {
             let pose = displaced(&scene.object.pose, &centre, dx, dy, yaw.to_radians());
-            let fresh = replan(&scene, &mesh, &nominal, 0, pose, &PlanOptions::default());
-            let reused = replan(&scene, &mesh, &nominal, 0, pose, &known);
+            let fresh = replan(&scene, &mesh, &nominal, 0, pose, &PlanOptions::default()).unwrap();
+            let reused = replan(&scene, &mesh, &nominal, 0, pose, &known).unwrap();
             let json = |f: &PlanFile| {
                 let mut f = f.clone();
                 f.timing_ms.clear();
@@ -254,12 +261,12 @@ fn replans_reusing_the_parts_knowledge_are_the_replans_from_scratch() {
     // Knowledge of other grasps does not fit: the closings are built afresh, same plan.
     let (mut scene, mesh, _) = example("chair_side");
     let known = PlanOptions {
-        known: Some(Arc::new(PartKnowledge::new(&scene, &mesh))),
+        known: Some(Arc::new(PartKnowledge::new(&scene, &mesh).unwrap())),
         ..PlanOptions::default()
     };
     scene.grasps.support.translation.vector.x += 0.01;
     let json = |options: &PlanOptions| {
-        let mut f = plan(&scene, &mesh, options, &|_| {}, &|| {}).file;
+        let mut f = plan(&scene, &mesh, options, &|_| {}, &|| {}).unwrap().file;
         f.timing_ms.clear();
         f.to_json()
     };

@@ -20,7 +20,9 @@ fn chair() -> (Scene, Mesh, PlanFile) {
         .unwrap()
         .mesh;
     let options = PlanOptions::default();
-    let file = pregrasp_planner::plan_scene(&scene, &mesh, &options, &|_| {}, &|| {}).file;
+    let file = pregrasp_planner::plan_scene(&scene, &mesh, &options, &|_| {}, &|| {})
+        .unwrap()
+        .file;
     assert_eq!(file.status, PlanStatus::Planned);
     (scene, mesh, file)
 }

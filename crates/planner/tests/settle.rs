@@ -105,7 +105,9 @@ fn a_noisy_measurement_of_the_plans_own_pose_replans_and_checks() {
     use pregrasp_planner::replan::replan;
 
     let (scene, mesh) = chair();
-    let nominal = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
+    let nominal = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file;
     assert_eq!(nominal.status, PlanStatus::Planned, "{:?}", nominal.reason);
     let tolerance = SettleTolerance::default();
     for (dz, roll, pitch) in [(0.003, 1.0, -1.0), (-0.003, -1.0, 1.0), (0.003, -1.0, -1.0)] {
@@ -118,7 +120,8 @@ fn a_noisy_measurement_of_the_plans_own_pose_replans_and_checks() {
             0,
             settled.pose,
             &PlanOptions::default(),
-        );
+        )
+        .unwrap();
         let file = again.report.file;
         assert_eq!(
             file.status,

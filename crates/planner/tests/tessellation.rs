@@ -40,7 +40,9 @@ fn planned(name: &str, mesh: &Mesh) -> Value {
     let ex = pregrasp_examples::by_name(name).expect("built-in example");
     let scene = Scene::from_str(&ex.scene_toml, Path::new(&format!("examples/{name}.toml")))
         .expect("scene parses");
-    let file: PlanFile = plan(&scene, mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
+    let file: PlanFile = plan(&scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file;
     let mut json = serde_json::to_value(&file).unwrap();
     json.as_object_mut().unwrap().remove("timing_ms");
     json

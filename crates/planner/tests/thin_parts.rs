@@ -63,7 +63,8 @@ fn real_stock_plans_and_passes_the_check_for_every_family() {
                     &PlanOptions::default(),
                     &|_| {},
                     &|| {},
-                );
+                )
+                .unwrap();
                 let file = report.file;
                 if file.status != PlanStatus::Planned {
                     failures.push(format!("{label}: {}", file.reason.unwrap_or_default()));
@@ -117,6 +118,7 @@ fn declaring_the_true_pad_centre_never_does_worse() {
                 &|_| {},
                 &|| {},
             )
+            .unwrap()
             .file;
             assert_eq!(
                 file.status,

@@ -48,7 +48,8 @@ fn plan_both(name: &str, rotation: &str) -> (Scene, Scene, PlanFile, PlanFile, M
         .unwrap()
         .mesh;
     let options = PlanOptions::default();
-    let plan = |s: &Scene| pregrasp_planner::plan_scene(s, &mesh, &options, &|_| {}, &|| {});
+    let plan =
+        |s: &Scene| pregrasp_planner::plan_scene(s, &mesh, &options, &|_| {}, &|| {}).unwrap();
     let (a, b) = (plan(&built_in).file, plan(&described).file);
     (built_in, described, a, b, mesh)
 }

@@ -184,7 +184,7 @@ fn plan_one(
     let mut status = String::new();
     for run in 0..=runs {
         let report =
-            pool.install(|| plan_auto(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}));
+            pool.install(|| plan_auto(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}))?;
         status = report.file.status.to_string();
         if run > 0 {
             for (k, stage) in PLAN_STAGES.iter().enumerate() {
@@ -236,7 +236,7 @@ fn replan(args: ReplanArgs) -> anyhow::Result<ExitCode> {
             .mesh;
         let nominal = pool.install(|| {
             pregrasp_planner::plan_scene(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
-        });
+        })?;
         if nominal.file.plans.is_empty() {
             println!("{}: no plan to replan", path.display());
             continue;
@@ -248,7 +248,7 @@ fn replan(args: ReplanArgs) -> anyhow::Result<ExitCode> {
         // its grasps (object frame), built once.
         let options = PlanOptions {
             known: Some(std::sync::Arc::new(
-                pregrasp_planner::context::PartKnowledge::new(&scene, &mesh),
+                pregrasp_planner::context::PartKnowledge::new(&scene, &mesh)?,
             )),
             ..PlanOptions::default()
         };
@@ -262,7 +262,8 @@ fn replan(args: ReplanArgs) -> anyhow::Result<ExitCode> {
             let dyaw = uniform() * args.yaw_deg.to_radians();
             let pose = displaced(&scene.object.pose, &centre, dx, dy, dyaw);
             let started = std::time::Instant::now();
-            let result = pool.install(|| replan(&scene, &mesh, &nominal.file, 0, pose, &options));
+            let result =
+                pool.install(|| replan(&scene, &mesh, &nominal.file, 0, pose, &options))?;
             let ms = started.elapsed().as_secs_f64() * 1e3;
             if k == 0 {
                 continue; // warm-up: the first query builds the models' caches

@@ -110,6 +110,7 @@ pub fn plan_scene_file(
         )
     });
     bar.finish_and_clear();
+    let report = report.with_context(|| format!("{}: cannot plan", scene_path.display()))?;
     let mut file = report.file.clone();
     file.timing_ms
         .insert("process".into(), started.elapsed().as_secs_f64() * 1e3);

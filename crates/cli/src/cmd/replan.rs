@@ -130,7 +130,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .with_context(|| format!("{}: object.mesh", scene_path.display()))?
         .mesh;
     // The part's BVH, hull and closings, built once for settling and every plan below.
-    let known = Arc::new(PartKnowledge::new(&scene, &mesh));
+    let known = Arc::new(PartKnowledge::new(&scene, &mesh)?);
     // A part held turned (after rot) does not lie on the support: it is taken as measured.
     let held_turned = matches!(args.from, From::Mas1 | From::Sup2);
     let pose = if args.as_measured || held_turned {
@@ -165,7 +165,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                     known: Some(known),
                     ..PlanOptions::default()
                 },
-            ),
+            )?,
             From::Rot => replan_from_rot(&scene, &mesh, &nominal, args.plan_index, pose)?,
             From::Mas1 | From::Sup2 => {
                 let resume = if args.from == From::Mas1 {

@@ -90,7 +90,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .num_threads(args.threads.unwrap_or(0))
         .build()?;
     let nominal =
-        pool.install(|| plan_auto(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}));
+        pool.install(|| plan_auto(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}))?;
     // An auto scene's placements keep the grasps its search chose at the nominal pose.
     let scene = scene.with_grasps_of(&nominal.file.grasps);
     if nominal.file.plans.is_empty() {
@@ -119,7 +119,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             args.seed,
             &|| bar.inc(1),
         )
-    });
+    })?;
     bar.finish_and_clear();
 
     let best = &nominal.file.plans[0];

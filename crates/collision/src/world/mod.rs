@@ -74,7 +74,9 @@ impl CollisionWorld {
     ///
     /// # Panics
     /// If the mesh is unusable (no triangles, bad indices, non-finite vertices); use
-    /// [`CollisionWorld::try_new`] to get the error instead.
+    /// [`CollisionWorld::try_new`] to get the error instead. For tests and benches, and for
+    /// meshes already checked ([`crate::check_mesh`], which a mesh loaded by `pregrasp_io`
+    /// passes): the planner builds its worlds with `try_new`.
     pub fn new(support_height: f64, object_mesh: Option<&Mesh>, arms: [ArmModel; 2]) -> Self {
         match Self::try_new(Some(support_height), object_mesh, arms) {
             Ok(w) => w,

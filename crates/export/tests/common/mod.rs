@@ -18,7 +18,9 @@ pub fn chair_side() -> &'static (PlanFile, Mesh) {
         let ex = pregrasp_examples::by_name("chair_side").expect("built-in example");
         let scene = Scene::from_str(&ex.scene_toml, Path::new("examples/chair_side.toml"))
             .expect("example scene parses");
-        let file = plan(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {}).file;
+        let file = plan(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {})
+            .unwrap()
+            .file;
         assert_eq!(file.status, PlanStatus::Planned, "{:?}", file.reason);
         (file, ex.mesh)
     })

@@ -38,11 +38,13 @@ use rayon::prelude::*;
 
 use crate::axes::{rotation_axis_candidates, RotationAxisCandidate};
 use crate::context::{arm_models, distinct_ik};
+use crate::error::{check_mesh, PlanError};
 use crate::output::plan_file_header;
 use crate::pipeline::{plan, PlanOptions, PlanReport};
 use crate::poses::{distance_to_line, ROLE_TOLERANCE};
 use bars::{bar_sites, BarSite, Slab};
 use cheap::GraspTests;
+use pregrasp_collision::CollisionError;
 
 /// Rotation axes (best S_rot first) around which grasp sets are built.
 pub const AXES_CONSIDERED: usize = 4;
@@ -144,13 +146,13 @@ pub fn grasp_sets(
     axes: &[RotationAxisCandidate],
     tests: &GraspTests,
     p_init: &Isometry3<f64>,
-) -> Vec<GraspSet> {
+) -> Result<Vec<GraspSet>, PlanError> {
     // A scene with hand-placed grasps pins none here: every grasp is searched.
     let pins = scene.grasps.auto.unwrap_or(AutoGrasps {
         support_pinned: false,
         power_pinned: false,
     });
-    let arms = arm_models(scene);
+    let arms = arm_models(scene)?;
     let fingers = pregrasp_robot::FingerKinematics::robotiq_2f85();
     let precision_z = scene
         .robots
@@ -342,21 +344,23 @@ pub fn grasp_sets(
     }
     passed.extend(rest);
     passed.extend(failed);
-    passed
+    Ok(passed)
 }
 
 /// The pipeline on an auto scene: grasps found, the best few sets planned, the best plan kept.
-/// On a scene with hand-placed grasps it is [`plan`].
+/// On a scene with hand-placed grasps it is [`plan`]. An error is a scene or mesh the planner
+/// cannot work on.
 pub fn plan_auto(
     scene: &Scene,
     mesh: &Mesh,
     options: &PlanOptions,
     on_candidates: &(dyn Fn(usize) + Sync),
     progress: &(dyn Fn() + Sync),
-) -> PlanReport {
+) -> Result<PlanReport, PlanError> {
     let Some(pins) = scene.grasps.auto else {
         return plan(scene, mesh, options, on_candidates, progress);
     };
+    check_mesh(mesh)?;
     let t0 = std::time::Instant::now();
     let (slab, sites) = bar_sites(mesh, &scene.object.pose);
     let axes = rotation_axis_candidates(
@@ -370,10 +374,10 @@ pub fn plan_auto(
         Vec::new()
     } else {
         let part = TriMesh::new(mesh.vertices.clone(), mesh.triangles.clone())
-            .expect("bar_sites built this mesh");
-        let arms = arm_models(scene);
+            .map_err(|e| PlanError::Mesh(CollisionError::Mesh(e.to_string())))?;
+        let arms = arm_models(scene)?;
         let tests = GraspTests::new(scene, mesh, &part, &arms, axes.p_init);
-        grasp_sets(scene, &slab, &sites, &axes.candidates, &tests, &axes.p_init)
+        grasp_sets(scene, &slab, &sites, &axes.candidates, &tests, &axes.p_init)?
     };
     let t_sets = t0.elapsed().as_secs_f64() * 1e3 - t_sites;
     let summary =
@@ -413,13 +417,13 @@ pub fn plan_auto(
         file.grasps.auto = Some(summary(0, 0, None, [0.0; 3]));
         file.timing_ms
             .insert("total".into(), t0.elapsed().as_secs_f64() * 1e3);
-        return PlanReport {
+        return Ok(PlanReport {
             file,
             physics_note: None,
             candidates: axes.candidates,
             outcomes: Vec::new(),
             hull: (!axes.hull.vertices.is_empty()).then_some(axes.hull),
-        };
+        });
     }
     // Batches of 1, 2, 4, then SETS_PLANNED sets, in order, until a batch has a plan.
     on_candidates(sets.len());
@@ -444,7 +448,7 @@ pub fn plan_auto(
                 progress();
                 r
             })
-            .collect();
+            .collect::<Result<_, PlanError>>()?;
         reports.extend(planned);
         if reports.iter().any(|r| !r.file.plans.is_empty()) {
             break;
@@ -473,5 +477,5 @@ pub fn plan_auto(
     file.timing_ms.insert("auto_sets".into(), t_sets);
     file.timing_ms
         .insert("total".into(), t0.elapsed().as_secs_f64() * 1e3);
-    report
+    Ok(report)
 }

@@ -2,7 +2,7 @@
 //!
 //! `mesh-loader` 0.1.13 trusts its input: on a hostile file it panics, allocates what a count
 //! declares, loops forever or, through its recursive `<node>` reader, overflows the stack. A
-//! library must return an error on any input instead, and `catch_unwind` is not an option, so
+//! library must return an error on any input instead, and catching the panic is not an option, so
 //! [`validate`] parses the file first with the XML parser `mesh-loader` uses (`roxmltree`
 //! 0.20, same version) and models exactly what `mesh-loader` will do with it. Only a file
 //! that passes reaches `mesh-loader`. The checks, and the `mesh-loader` code each one covers:
