@@ -47,7 +47,7 @@ fn check_arm(c: &mut Criterion) {
         ),
     ];
     let plate = plate_10k();
-    let world = CollisionWorld::new(0.0, Some(&plate), arms);
+    let world = CollisionWorld::try_new(Some(0.0), Some(&plate), arms).expect("a valid mesh");
     let mut state = WorldState::new([UP, UP]);
     state.object = ObjectPlacement::Fixed(plate_pose());
     let space = joint_space(&world.arms()[0]);

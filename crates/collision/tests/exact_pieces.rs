@@ -24,7 +24,8 @@ fn arms() -> [ArmModel; 2] {
 }
 
 fn world_with_box(center: Point3<f64>) -> CollisionWorld {
-    CollisionWorld::new(-1.0, None, arms())
+    CollisionWorld::try_new(Some(-1.0), None, arms())
+        .expect("a valid mesh")
         .with_margin(MARGIN)
         .with_obstacle_cuboid(
             "box",

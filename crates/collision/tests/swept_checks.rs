@@ -21,10 +21,15 @@ fn cell() -> CollisionWorld {
         ArmModel::new(name, UrModel::Ur5e, base, Gripper2F85::default())
     };
     let mesh = frame_mesh(0.5, 0.3, 0.05, 0.02);
-    CollisionWorld::new(0.0, Some(&mesh), [arm("left", 0.45), arm("right", -0.45)])
-        .with_margin(0.008)
-        .with_grasp_support_margin(0.0026)
-        .with_held_fingers([&[GripperState::at_gap(0.02)], &[GripperState::at_gap(0.02)]])
+    CollisionWorld::try_new(
+        Some(0.0),
+        Some(&mesh),
+        [arm("left", 0.45), arm("right", -0.45)],
+    )
+    .expect("a valid mesh")
+    .with_margin(0.008)
+    .with_grasp_support_margin(0.0026)
+    .with_held_fingers([&[GripperState::at_gap(0.02)], &[GripperState::at_gap(0.02)]])
 }
 
 /// The part's pose: lying 0.5 m in front of the arms, turned by `theta` about its long edge.

@@ -45,7 +45,7 @@ fn capsule_of(arm: &ArmModel, q: &Joints, name: &str) -> (Point3<f64>, Point3<f6
 
 #[test]
 fn arm_through_the_table_collides_with_the_support() {
-    let world = CollisionWorld::new(0.0, None, two_arms());
+    let world = CollisionWorld::try_new(Some(0.0), None, two_arms()).expect("a valid mesh");
     let up = WorldState::new([UP, [0.0; 6]]);
     assert_eq!(world.check(&up), Ok(()));
     // Shoulder lift turned down: the upper arm points into the table.
@@ -71,7 +71,7 @@ fn arm_through_the_table_collides_with_the_support() {
 
 #[test]
 fn base_link_may_touch_the_support_it_is_mounted_on() {
-    let world = CollisionWorld::new(0.0, None, two_arms());
+    let world = CollisionWorld::try_new(Some(0.0), None, two_arms()).expect("a valid mesh");
     let s = WorldState::new([UP, UP]);
     assert_eq!(world.check(&s), Ok(()));
     let (d, a, b) = world.clearance(&s);
@@ -81,7 +81,7 @@ fn base_link_may_touch_the_support_it_is_mounted_on() {
 
 #[test]
 fn margin_turns_a_near_miss_into_a_contact() {
-    let world = CollisionWorld::new(0.0, None, two_arms());
+    let world = CollisionWorld::try_new(Some(0.0), None, two_arms()).expect("a valid mesh");
     let s = WorldState::new([UP, UP]);
     let (d, a, b) = world.clearance(&s);
     assert!(d > 0.01);
@@ -115,7 +115,7 @@ fn arm_through_a_frame_opening_is_free_through_its_bar_collides() {
     // Opening 0.30 × 0.30, bars 0.05 wide: a forearm (r < 0.06) passes through the middle.
     let (outer, bar) = (0.40, 0.05);
     let mesh = frame_mesh(outer, outer, bar, 0.03);
-    let world = CollisionWorld::new(-1.0, Some(&mesh), two_arms());
+    let world = CollisionWorld::try_new(Some(-1.0), Some(&mesh), two_arms()).expect("a valid mesh");
     let q = UP;
     let (through_opening, r) = frame_across_forearm(&world.arms()[0], &q, 0.0);
     assert!(r + 0.01 < 0.5 * (outer - 2.0 * bar));
@@ -150,7 +150,7 @@ fn gripper_may_touch_the_bar_it_grasps_only_with_the_grasp_flag() {
     let g = arms[0].gripper.clone();
     // A 30 mm square bar along the finger-width axis (flange y), centred on the power point.
     let bar = box_mesh(Point3::origin(), Vector3::new(0.015, 0.15, 0.015), 1);
-    let world = CollisionWorld::new(-1.0, Some(&bar), arms);
+    let world = CollisionWorld::try_new(Some(-1.0), Some(&bar), arms).expect("a valid mesh");
     let q = UP;
     let flange = world.arms()[0].flange_world(&q);
     let mut s = WorldState::new([q, [0.0; 6]]);
@@ -192,7 +192,7 @@ fn two_arms_touching_name_both_links() {
         ]
     };
     let s = WorldState::new([[0.0; 6], [0.0; 6]]);
-    let near = CollisionWorld::new(-1.0, None, facing(1.4));
+    let near = CollisionWorld::try_new(Some(-1.0), None, facing(1.4)).expect("a valid mesh");
     let c = near.check(&s).unwrap_err();
     assert!(
         c.a.starts_with("left/") && c.b.starts_with("right/"),
@@ -204,7 +204,7 @@ fn two_arms_touching_name_both_links() {
         c1.a.starts_with("right/") && c1.b.starts_with("left/"),
         "{c1:?}"
     );
-    let far = CollisionWorld::new(-1.0, None, facing(2.6));
+    let far = CollisionWorld::try_new(Some(-1.0), None, facing(2.6)).expect("a valid mesh");
     assert_eq!(far.check(&s), Ok(()));
     let (d, a, b) = far.clearance(&s);
     assert!(d > 0.0, "{a}–{b} at {d}");
@@ -217,11 +217,13 @@ fn two_arms_touching_name_both_links() {
 
 #[test]
 fn static_cuboid_obstacle_is_named() {
-    let world = CollisionWorld::new(-1.0, None, two_arms()).with_obstacle_cuboid(
-        "box",
-        Isometry3::translation(-0.2, 0.0, 0.163),
-        Vector3::new(0.05, 0.3, 0.05),
-    );
+    let world = CollisionWorld::try_new(Some(-1.0), None, two_arms())
+        .expect("a valid mesh")
+        .with_obstacle_cuboid(
+            "box",
+            Isometry3::translation(-0.2, 0.0, 0.163),
+            Vector3::new(0.05, 0.3, 0.05),
+        );
     let c = world
         .check(&WorldState::new([[0.0; 6], [0.0; 6]]))
         .unwrap_err();
@@ -233,7 +235,8 @@ fn static_cuboid_obstacle_is_named() {
 fn attached_part_moves_with_the_flange_and_hits_obstacles() {
     let plate = box_mesh(Point3::origin(), Vector3::new(0.1, 0.1, 0.005), 2);
     let g = Gripper2F85::default();
-    let world = CollisionWorld::new(-1.0, Some(&plate), two_arms());
+    let world =
+        CollisionWorld::try_new(Some(-1.0), Some(&plate), two_arms()).expect("a valid mesh");
     let flange = world.arms()[0].flange_world(&UP);
     let part_world = flange * g.power_point();
     // A cuboid just around where the held plate is, far from the gripper itself.
@@ -268,7 +271,7 @@ fn attached_part_moves_with_the_flange_and_hits_obstacles() {
 
 #[test]
 fn arm_validity_rejects_limits_and_contacts() {
-    let world = CollisionWorld::new(0.0, None, two_arms());
+    let world = CollisionWorld::try_new(Some(0.0), None, two_arms()).expect("a valid mesh");
     let v = ArmValidity::new(&world, 0, WorldState::new([[0.0; 6], UP]));
     assert!(v.is_valid(&UP));
     assert!(!v.is_valid(&[0.0, FRAC_PI_2, 0.0, 0.0, 0.0, 0.0]));

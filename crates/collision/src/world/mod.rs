@@ -69,23 +69,9 @@ pub struct CollisionWorld {
 static NEXT_WORLD_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
 
 impl CollisionWorld {
-    /// A world with the support plane at `z = support_height`, the part's mesh (object
-    /// frame, if any) and two arms.
-    ///
-    /// # Panics
-    /// If the mesh is unusable (no triangles, bad indices, non-finite vertices); use
-    /// [`CollisionWorld::try_new`] to get the error instead. For tests and benches, and for
-    /// meshes already checked ([`crate::check_mesh`], which a mesh loaded by `pregrasp_io`
-    /// passes): the planner builds its worlds with `try_new`.
-    pub fn new(support_height: f64, object_mesh: Option<&Mesh>, arms: [ArmModel; 2]) -> Self {
-        match Self::try_new(Some(support_height), object_mesh, arms) {
-            Ok(w) => w,
-            Err(e) => panic!("{e}"),
-        }
-    }
-
-    /// Like [`CollisionWorld::new`], reporting a bad mesh; `support_height = None` means
-    /// no support plane.
+    /// A world with the support plane at `z = support_height` (`None`: no support plane), the
+    /// part's mesh (object frame, if any) and two arms; an error for an unusable mesh (no
+    /// triangles, bad indices, non-finite vertices).
     pub fn try_new(
         support_height: Option<f64>,
         object_mesh: Option<&Mesh>,

@@ -202,7 +202,7 @@ pub enum CheckerError {
         given: String,
     },
     #[error(transparent)]
-    Arm(#[from] CollisionError),
+    Collision(#[from] CollisionError),
 }
 
 /// A grasp at which a gripper does not close on the part: the check of rule 2 fails with it.
@@ -260,7 +260,7 @@ impl PlanChecker {
             Some(part) => {
                 CollisionWorld::with_part(Some(set.support_height), Some(part), arms.clone())
             }
-            None => CollisionWorld::new(set.support_height, Some(mesh), arms.clone()),
+            None => CollisionWorld::try_new(Some(set.support_height), Some(mesh), arms.clone())?,
         }
         .with_margin(link_clearance)
         .with_grasp_support_margin(finger_clearance);
