@@ -402,6 +402,21 @@ pub fn distinct_ik(kin: &dyn ArmKinematics, flange: &Isometry3<f64>, seed: &Join
 pub fn arm_models(scene: &Scene) -> Result<[ArmModel; 2], PlanError> {
     let model = |i: usize| {
         let spec = &scene.robots[i];
+        // Transits are timed under these limits (`pregrasp_motion::time_parameterize`).
+        let limits = [
+            ("speed", spec.arm.kin.max_joint_speed()),
+            ("acceleration", spec.arm.kin.max_joint_accel()),
+        ];
+        for (what, values) in limits {
+            if let Some(j) = values.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
+                return Err(PlanError::JointLimit {
+                    arm: spec.name.clone(),
+                    joint: j + 1,
+                    what,
+                    value: values[j],
+                });
+            }
+        }
         let gripper = spec.gripper_model();
         ArmModel::from_description(&spec.name, spec.arm.clone(), spec.base, gripper)
             .map_err(PlanError::Arm)

@@ -15,6 +15,17 @@ pub enum PlanError {
     /// non-finite vertex).
     #[error("{0}")]
     Mesh(CollisionError),
+    /// An arm's joint speed or acceleration limit is not a positive finite number (a robot
+    /// description read by `pregrasp_urdf` never has one: it refuses such a joint).
+    #[error(
+        "arm {arm:?}: joint {joint} has a {what} limit of {value} (it must be positive and finite)"
+    )]
+    JointLimit {
+        arm: String,
+        joint: usize,
+        what: &'static str,
+        value: f64,
+    },
 }
 
 /// [`PlanError::Mesh`] unless `mesh` can be the part: the checks of
