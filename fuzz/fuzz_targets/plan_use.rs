@@ -7,7 +7,7 @@
 use std::sync::OnceLock;
 
 use libfuzzer_sys::fuzz_target;
-use pregrasp_export::{export, Format, Options};
+use pregrasp_export::{export, Drawing, Format, Options};
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_physics::{analyse_plan, PartMass, PhysicsSettings};
 
@@ -27,8 +27,21 @@ fuzz_target!(|data: &[u8]| {
     let Ok(file) = PlanFile::from_json_str(text, "fuzz.json") else {
         return;
     };
-    for index in 0..file.plans.len().min(2) {
-        let _ = export(&file, index, &Format::ALL, &Options::default(), Some(mesh()));
+    if let Ok(set) = file.to_model() {
+        // glTF as `pregrasp export` makes it: with the arms it could load.
+        let loaded = file.arms_and_grippers(None).ok();
+        let formats: &[Format] = match loaded {
+            Some(_) => &Format::ALL,
+            None => &[Format::UrScript, Format::Csv, Format::Ros2],
+        };
+        let drawing = loaded.as_ref().map(|(arms, grippers)| Drawing {
+            mesh: mesh(),
+            arms,
+            grippers,
+        });
+        for index in 0..set.plans.len().min(2) {
+            let _ = export(&set, index, formats, &Options::default(), drawing.as_ref());
+        }
     }
     let settings = PhysicsSettings::default();
     if let Ok(part) = PartMass::resolve(&file, mesh(), None, settings.density) {

@@ -6,7 +6,8 @@
 //! replaced by it). `gripper` is 0 open, 1 closed, with the commands at `t` applied.
 //! Numbers are written in Rust's shortest round-trip form.
 
-use crate::timeline::Timeline;
+use pregrasp_model::Timeline;
+
 use crate::{float, Options, OutFile};
 
 /// The row times: the rate grid merged with every plan-point time, sorted, unique.

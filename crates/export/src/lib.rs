@@ -1,4 +1,4 @@
-//! Exports a plan of a plan file (`docs/plan-format.md`) for the cell (`docs/export.md`):
+//! Exports a plan of a plan set (`docs/plan-format.md`) for the cell (`docs/export.md`):
 //!
 //! - [`urscript`]: one URScript program per arm — `servoj` at 500 Hz, Robotiq 2F-85 commands
 //!   through the URCap's socket, a digital-I/O hand-off between the two controllers;
@@ -6,39 +6,55 @@
 //! - [`ros2`]: per arm and segment it moves in, a `trajectory_msgs/msg/JointTrajectory` as YAML;
 //! - [`gltf`]: one binary glTF 2.0 file, both arms, grippers, table and part, animated.
 //!
-//! Everything is produced in memory first ([`export`]); [`write_all`] then writes the files
-//! through temporary names and renames them, so a failed export leaves nothing half-written.
-//! Output is deterministic: the same plan and options give the same bytes.
+//! The plan comes as the typed model (`pregrasp_model::PlanSet`) and is walked on its one time
+//! line (`pregrasp_model::Timeline`). Everything is produced in memory ([`export`]); the caller
+//! writes the files (the CLI all or none). Output is deterministic: the same plan and options
+//! give the same bytes.
 
 pub mod csv;
 pub mod gltf;
 pub mod ros2;
-pub mod timeline;
 pub mod urscript;
 
-use std::path::Path;
-
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::PlanFile;
-
-pub use timeline::Timeline;
+use pregrasp_model::{PlanSet, Timeline, TimelineError};
+use pregrasp_robot::{ArmDescription, Gripper, UrModel};
 
 /// Everything that can go wrong in an export. Messages are complete sentences for the CLI.
 #[derive(Debug, thiserror::Error)]
 pub enum ExportError {
-    #[error("the plan file has status \"{status}\" and no plan to export ({reason})")]
-    NoPlan {
-        status: pregrasp_io::plan_file::PlanStatus,
-        reason: String,
-    },
-    #[error("--plan {index} is out of range: the plan file has {count} plan(s), 0..{count}")]
-    PlanIndex { index: usize, count: usize },
+    /// The plan cannot be laid on one time line ([`TimelineError`]): no plan, an index out of
+    /// range, a segment naming no arm, without points or not continuous.
+    #[error(transparent)]
+    Timeline(#[from] TimelineError),
     #[error("unknown export format {0:?} (expected urscript, csv, ros2, gltf or all)")]
     Format(String),
     #[error("bad option: {0}")]
     Option(String),
-    #[error("plan cannot be exported: {0}")]
-    Plan(String),
+    #[error(
+        "plan cannot be exported: robot name {name:?} cannot name a file (letters, digits, `_`, \
+         `-` only)"
+    )]
+    ArmName { name: String },
+    #[error(
+        "plan cannot be exported: URScript export needs exactly two robots, the plan has {count}"
+    )]
+    ArmCount { count: usize },
+    #[error(
+        "plan cannot be exported: {models} arm models and {grippers} grippers for {arms} arms"
+    )]
+    Drawing {
+        models: usize,
+        grippers: usize,
+        arms: usize,
+    },
+    #[error(
+        "plan cannot be exported: two plan points are too close in time for glTF's 32-bit key \
+         times"
+    )]
+    KeyTimes,
+    #[error("plan cannot be exported: glTF document does not serialise: {0}")]
+    Gltf(String),
     #[error("the glTF export needs the part's mesh")]
     NoMesh,
     #[error(
@@ -50,8 +66,25 @@ pub enum ExportError {
         format: &'static str,
         why: &'static str,
     },
-    #[error(transparent)]
-    Write(#[from] pregrasp_io::output::OutputError),
+}
+
+/// Each arm's built-in model, or [`ExportError::NotUr`] for `format` (which needs them, for
+/// `why`).
+pub fn ur_models(
+    set: &PlanSet,
+    format: &'static str,
+    why: &'static str,
+) -> Result<Vec<UrModel>, ExportError> {
+    set.arms
+        .iter()
+        .map(|a| {
+            a.model.builtin().ok_or_else(|| ExportError::NotUr {
+                arm: a.name.clone(),
+                format,
+                why,
+            })
+        })
+        .collect()
 }
 
 /// An export format.
@@ -200,31 +233,26 @@ pub struct OutFile {
     pub bytes: Vec<u8>,
 }
 
-/// Exports plan `index` of `file` in `formats`. `mesh` (the part, in metres) is needed for
-/// glTF only. Nothing is written. Arms from a robot description are found from the current
-/// directory ([`export_at`] finds them from the plan file's).
-pub fn export(
-    file: &PlanFile,
-    index: usize,
-    formats: &[Format],
-    options: &Options,
-    mesh: Option<&Mesh>,
-) -> Result<Vec<OutFile>, ExportError> {
-    export_at(file, None, index, formats, options, mesh)
+/// What the glTF file draws besides the plan: the part (object frame, metres) and, per arm of
+/// the plan set, its description and gripper as the caller loaded them.
+#[derive(Clone, Copy, Debug)]
+pub struct Drawing<'a> {
+    pub mesh: &'a Mesh,
+    pub arms: &'a [ArmDescription],
+    pub grippers: &'a [Gripper],
 }
 
-/// [`export`] of the plan file read from `plan_path` (which finds the robot descriptions the
-/// glTF export draws, as [`PlanFile::arm_descriptions`] does).
-pub fn export_at(
-    file: &PlanFile,
-    plan_path: Option<&std::path::Path>,
+/// Exports plan `index` of `set` in `formats`. `drawing` is needed for glTF only. Nothing is
+/// written: the caller writes the files (all or none).
+pub fn export(
+    set: &PlanSet,
     index: usize,
     formats: &[Format],
     options: &Options,
-    mesh: Option<&Mesh>,
+    drawing: Option<&Drawing<'_>>,
 ) -> Result<Vec<OutFile>, ExportError> {
     options.validate()?;
-    let timeline = Timeline::new(file, index)?;
+    let timeline = Timeline::new(set, index)?;
     for a in &timeline.arms {
         if a.name.is_empty()
             || !a
@@ -232,53 +260,27 @@ pub fn export_at(
                 .chars()
                 .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
         {
-            return Err(ExportError::Plan(format!(
-                "robot name {:?} cannot name a file (letters, digits, `_`, `-` only)",
-                a.name
-            )));
+            return Err(ExportError::ArmName {
+                name: a.name.clone(),
+            });
         }
     }
     let mut out = Vec::new();
     for f in formats {
         match f {
-            Format::UrScript => out.extend(urscript::export(&timeline, options)?),
+            Format::UrScript => out.extend(urscript::export(set, &timeline, options)?),
             Format::Csv => out.extend(csv::export(&timeline, options)),
-            Format::Ros2 => out.extend(ros2::export(&timeline, options)),
+            Format::Ros2 => out.extend(ros2::export(set, &timeline, options)),
             Format::Gltf => {
-                let mesh = mesh.ok_or(ExportError::NoMesh)?;
-                let (arms, grippers) = file
-                    .arms_and_grippers(plan_path)
-                    .map_err(ExportError::Plan)?;
+                let drawing = drawing.ok_or(ExportError::NoMesh)?;
                 out.push(OutFile {
                     name: "plan.glb".into(),
-                    bytes: gltf::export(&timeline, mesh, &arms, &grippers)?,
+                    bytes: gltf::export(set, &timeline, drawing)?,
                 });
             }
         }
     }
     Ok(out)
-}
-
-/// Writes `files` into `dir` (created if missing) as one set of outputs
-/// ([`pregrasp_io::output::Outputs`]): each is staged beside its name first and only when all
-/// are written are they renamed to their names; on failure nothing named has been touched and
-/// no temporary file or folder made stays. `inputs` are the files the export read (`(path,
-/// what)`), which it must not overwrite.
-pub fn write_all(
-    dir: &Path,
-    files: &[OutFile],
-    inputs: &[(&Path, &str)],
-) -> Result<Vec<std::path::PathBuf>, ExportError> {
-    let mut out = pregrasp_io::output::Outputs::new();
-    for (path, what) in inputs {
-        out.reading(path, what);
-    }
-    for f in files {
-        let id = out.declare_creating_dirs(&dir.join(&f.name))?;
-        out.write(id, &f.bytes)?;
-    }
-    out.commit()?;
-    Ok(files.iter().map(|f| dir.join(&f.name)).collect())
 }
 
 /// `x` as text that reads back as the same `f64` and always has a decimal point (YAML and

@@ -9,7 +9,9 @@
 //! `(q[k+1] − q[k−1]) / (t[k+1] − t[k−1])`, and zero at the segment's ends (the arm stops
 //! there; the next segment may belong to the other arm).
 
-use crate::timeline::{Segment, Timeline};
+use pregrasp_model::timeline::Segment;
+use pregrasp_model::{PlanSet, Timeline};
+
 use crate::{float, Options, OutFile};
 
 /// ur_robot_driver's joint names, base to flange.
@@ -52,9 +54,9 @@ fn list(v: &[f64]) -> String {
     format!("[{}]", items.join(", "))
 }
 
-/// The YAML text of one segment.
-pub fn segment_yaml(timeline: &Timeline, seg: &Segment, prefix: &str) -> String {
-    let arm = &timeline.arms[seg.arm];
+/// The YAML text of one segment of `set`'s plan.
+pub fn segment_yaml(set: &PlanSet, seg: &Segment, prefix: &str) -> String {
+    let arm = &set.arms[seg.arm];
     let mut s = format!(
         "# pregrasp plan: arm {} ({}), segment {} ({}), {} points, {} s\n",
         arm.name,
@@ -88,13 +90,13 @@ pub fn segment_yaml(timeline: &Timeline, seg: &Segment, prefix: &str) -> String 
 }
 
 /// One file per (arm, segment it moves in).
-pub fn export(timeline: &Timeline, options: &Options) -> Vec<OutFile> {
+pub fn export(set: &PlanSet, timeline: &Timeline, options: &Options) -> Vec<OutFile> {
     timeline
         .segments
         .iter()
         .map(|seg| OutFile {
             name: format!("{}_{}.yaml", timeline.arms[seg.arm].name, seg.name),
-            bytes: segment_yaml(timeline, seg, &options.ros_prefix).into_bytes(),
+            bytes: segment_yaml(set, seg, &options.ros_prefix).into_bytes(),
         })
         .collect()
 }

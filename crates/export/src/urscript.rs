@@ -41,11 +41,10 @@
 
 use std::fmt::Write;
 
-use pregrasp_io::plan_file::GraspKind;
+use pregrasp_model::{GraspKind, PlanSet, Timeline};
 use pregrasp_robot::Joints;
 
-use crate::timeline::Timeline;
-use crate::{float, ExportError, Options, OutFile};
+use crate::{float, ur_models, ExportError, Options, OutFile};
 
 /// The control period of a UR controller (s): `servoj` targets are 2 ms apart.
 pub const DT: f64 = 0.002;
@@ -227,10 +226,11 @@ const PRELUDE: &str = r#"
   end
 "#;
 
-/// The program of arm `arm`.
-pub fn arm_script(timeline: &Timeline, arm: usize, o: &Options) -> String {
-    let a = &timeline.arms[arm];
-    let peer = &timeline.arms[1 - arm];
+/// The program of arm `arm` of `set`, whose plan `timeline` is.
+pub fn arm_script(set: &PlanSet, timeline: &Timeline, arm: usize, o: &Options) -> String {
+    let a = &set.arms[arm];
+    let peer = &set.arms[1 - arm];
+    let knots = &timeline.arms[arm].knots;
     let mut s = String::new();
     let w = &mut s;
     let fname: String = a
@@ -331,7 +331,7 @@ pub fn arm_script(timeline: &Timeline, arm: usize, o: &Options) -> String {
     let _ = writeln!(w, "  pg_grip_set(\"SET SPE {}\")", o.grip_speed);
     let _ = writeln!(w, "  pg_grip_set(\"SET FOR {}\")", o.grip_force);
     let _ = writeln!(w, "  pg_grip_set(\"SET GTO 1\")");
-    let first = a.knots[0].1;
+    let first = knots[0].1;
     let _ = writeln!(w, "  # to the first point at a safe speed");
     let _ = writeln!(
         w,
@@ -392,7 +392,7 @@ pub fn arm_script(timeline: &Timeline, arm: usize, o: &Options) -> String {
                 o.grip_force
             };
             let _ = writeln!(w, "  pg_grip_set(\"SET FOR {force}\")");
-            let pos = match (&seg.fingers, seg.grip_width) {
+            let pos = match (seg.closing.fingers, seg.closing.width) {
                 (Some(f), _) => grip_pos_for_driver(f.driver, o.grip_squeeze),
                 (None, Some(g)) => grip_pos((g - o.grip_squeeze).max(0.0)),
                 (None, None) => 255,
@@ -426,18 +426,21 @@ pub fn arm_script(timeline: &Timeline, arm: usize, o: &Options) -> String {
 }
 
 /// `<name>.script` for both arms.
-pub fn export(timeline: &Timeline, options: &Options) -> Result<Vec<OutFile>, ExportError> {
-    if timeline.arms.len() != 2 {
-        return Err(ExportError::Plan(format!(
-            "URScript export needs exactly two robots, the plan has {}",
-            timeline.arms.len()
-        )));
+pub fn export(
+    set: &PlanSet,
+    timeline: &Timeline,
+    options: &Options,
+) -> Result<Vec<OutFile>, ExportError> {
+    if set.arms.len() != 2 {
+        return Err(ExportError::ArmCount {
+            count: set.arms.len(),
+        });
     }
-    timeline.ur_models("urscript", "URScript runs on UR controllers")?;
+    ur_models(set, "urscript", "URScript runs on UR controllers")?;
     Ok((0..2)
         .map(|a| OutFile {
-            name: format!("{}.script", timeline.arms[a].name),
-            bytes: arm_script(timeline, a, options).into_bytes(),
+            name: format!("{}.script", set.arms[a].name),
+            bytes: arm_script(set, timeline, a, options).into_bytes(),
         })
         .collect())
 }

@@ -5,11 +5,11 @@
 
 mod common;
 
-use pregrasp_export::{export, Format, Options};
+use pregrasp_export::{Format, Options};
 
 fn files(format: Format, options: &Options) -> Vec<(String, String)> {
     let (file, _) = common::chair_side();
-    export(file, 0, &[format], options, None)
+    common::export_file(file, 0, &[format], options, None)
         .unwrap()
         .into_iter()
         .map(|f| (f.name, String::from_utf8(f.bytes).unwrap()))

@@ -2,8 +2,9 @@
 
 mod common;
 
-use pregrasp_export::{export, write_all, ExportError, Format, Options, OutFile};
+use pregrasp_export::{export, Drawing, ExportError, Format, Options};
 use pregrasp_io::plan_file::PlanStatus;
+use pregrasp_model::TimelineError;
 
 #[test]
 fn a_plan_file_without_plans_is_refused() {
@@ -12,8 +13,12 @@ fn a_plan_file_without_plans_is_refused() {
     none.status = PlanStatus::NoPlan;
     none.reason = Some("no candidate axis".into());
     none.plans.clear();
-    let err = export(&none, 0, &Format::ALL, &Options::default(), Some(mesh)).unwrap_err();
-    assert!(matches!(err, ExportError::NoPlan { .. }));
+    let err =
+        common::export_file(&none, 0, &Format::ALL, &Options::default(), Some(mesh)).unwrap_err();
+    assert!(matches!(
+        err,
+        ExportError::Timeline(TimelineError::NoPlan { .. })
+    ));
     let msg = err.to_string();
     assert!(
         msg.contains("no_plan") && msg.contains("no candidate axis"),
@@ -25,12 +30,16 @@ fn a_plan_file_without_plans_is_refused() {
 fn an_out_of_range_plan_index_is_refused() {
     let (file, mesh) = common::chair_side();
     let n = file.plans.len();
-    let err = export(file, n, &Format::ALL, &Options::default(), Some(mesh)).unwrap_err();
-    assert!(matches!(err, ExportError::PlanIndex { index, count } if index == n && count == n));
+    let err =
+        common::export_file(file, n, &Format::ALL, &Options::default(), Some(mesh)).unwrap_err();
+    assert!(matches!(
+        err,
+        ExportError::Timeline(TimelineError::PlanIndex { index, count }) if index == n && count == n
+    ));
     assert!(err.to_string().contains("out of range"));
     if n > 1 {
         // Another ranked plan exports as well.
-        export(file, 1, &[Format::UrScript], &Options::default(), None).unwrap();
+        common::export_file(file, 1, &[Format::UrScript], &Options::default(), None).unwrap();
     }
 }
 
@@ -75,12 +84,12 @@ fn bad_options_and_a_missing_mesh_are_refused() {
         },
     ] {
         assert!(matches!(
-            export(file, 0, &[Format::Csv], &o, None),
+            common::export_file(file, 0, &[Format::Csv], &o, None),
             Err(ExportError::Option(_))
         ));
     }
     assert!(matches!(
-        export(file, 0, &[Format::Gltf], &Options::default(), None),
+        common::export_file(file, 0, &[Format::Gltf], &Options::default(), None),
         Err(ExportError::NoMesh)
     ));
 }
@@ -90,15 +99,15 @@ fn a_discontinuous_plan_is_refused() {
     let (file, _) = common::chair_side();
     let mut bad = file.clone();
     bad.plans[0].segments[1].points[0].q[0] += 0.1;
-    let err = export(&bad, 0, &[Format::Csv], &Options::default(), None).unwrap_err();
+    let err = common::export_file(&bad, 0, &[Format::Csv], &Options::default(), None).unwrap_err();
     assert!(err.to_string().contains("rad from where"), "{err}");
 }
 
 #[test]
-fn all_formats_export_deterministically_and_write_all_or_nothing() {
+fn all_formats_export_deterministically() {
     let (file, mesh) = common::chair_side();
-    let a = export(file, 0, &Format::ALL, &Options::default(), Some(mesh)).unwrap();
-    let b = export(file, 0, &Format::ALL, &Options::default(), Some(mesh)).unwrap();
+    let a = common::export_file(file, 0, &Format::ALL, &Options::default(), Some(mesh)).unwrap();
+    let b = common::export_file(file, 0, &Format::ALL, &Options::default(), Some(mesh)).unwrap();
     assert_eq!(a, b);
     let names: Vec<&str> = a.iter().map(|f| f.name.as_str()).collect();
     for r in &file.robots {
@@ -106,34 +115,45 @@ fn all_formats_export_deterministically_and_write_all_or_nothing() {
         assert!(names.contains(&format!("{}.csv", r.name).as_str()));
     }
     assert!(names.contains(&"plan.glb"));
-    let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("out");
-    let written = write_all(&out, &a, &[]).unwrap();
-    assert_eq!(written.len(), a.len());
-    for f in &a {
-        assert_eq!(std::fs::read(out.join(&f.name)).unwrap(), f.bytes);
-    }
-    // A target that cannot be written: nothing else is written, no temporary file is left.
-    let out2 = tmp.path().join("out2");
-    std::fs::create_dir_all(out2.join("b.csv")).unwrap();
-    let files = vec![
-        OutFile {
-            name: "a.csv".into(),
-            bytes: b"x".to_vec(),
-        },
-        OutFile {
-            name: "b.csv".into(),
-            bytes: b"y".to_vec(),
-        },
-    ];
-    assert!(write_all(&out2, &files, &[]).is_err());
-    let left: Vec<String> = std::fs::read_dir(&out2)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    assert_eq!(
-        left,
-        vec!["b.csv".to_string()],
-        "only the directory in the way"
+}
+
+/// What the plan set itself gets wrong, typed: a segment naming no arm, an arm whose name
+/// cannot name a file, a drawing that does not match the arms.
+#[test]
+fn a_set_the_formats_cannot_take_is_refused_with_a_typed_error() {
+    let (file, mesh) = common::chair_side();
+    let set = file.to_model().unwrap();
+    let mut stray = set.clone();
+    stray.plans[0].segments[2].arm = 5;
+    let err = export(&stray, 0, &[Format::Csv], &Options::default(), None).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            ExportError::Timeline(TimelineError::UnknownArm { arm: 5, .. })
+        ),
+        "{err}"
+    );
+    let mut named = set.clone();
+    named.arms[1].name = "a/b".into();
+    let err = export(&named, 0, &[Format::Csv], &Options::default(), None).unwrap_err();
+    assert!(matches!(err, ExportError::ArmName { .. }), "{err}");
+    assert!(err.to_string().contains("cannot name a file"), "{err}");
+    let (arms, grippers) = file.arms_and_grippers(None).unwrap();
+    let drawing = Drawing {
+        mesh,
+        arms: &arms[..1],
+        grippers: &grippers,
+    };
+    let err = export(
+        &set,
+        0,
+        &[Format::Gltf],
+        &Options::default(),
+        Some(&drawing),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(err, ExportError::Drawing { models: 1, .. }),
+        "{err}"
     );
 }

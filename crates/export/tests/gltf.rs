@@ -11,11 +11,12 @@ use pregrasp_io::plan_file::SegmentName;
 use std::collections::HashMap;
 
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
-use pregrasp_export::{export, Format, Options};
+use pregrasp_export::{Format, Options};
 
 fn glb() -> Vec<u8> {
     let (file, mesh) = common::chair_side();
-    let out = export(file, 0, &[Format::Gltf], &Options::default(), Some(mesh)).unwrap();
+    let out =
+        common::export_file(file, 0, &[Format::Gltf], &Options::default(), Some(mesh)).unwrap();
     assert_eq!(out.len(), 1);
     assert_eq!(out[0].name, "plan.glb");
     out[0].bytes.clone()
@@ -162,7 +163,7 @@ fn fr3_chair(extra: &str) -> (pregrasp_io::plan_file::PlanFile, Vec<u8>) {
         .unwrap()
         .file;
     assert!(!file.plans.is_empty(), "{:?}", file.reason);
-    let out = export(
+    let out = common::export_file(
         &file,
         0,
         &[Format::Gltf],

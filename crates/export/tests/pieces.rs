@@ -2,8 +2,8 @@
 
 use pregrasp_export::float;
 use pregrasp_export::ros2::sec_nanosec;
-use pregrasp_export::timeline::sample_knots;
 use pregrasp_export::urscript::{grip_pos, ticks, DT};
+use pregrasp_model::timeline::sample_knots;
 
 #[test]
 fn floats_round_trip_and_always_have_a_point() {

@@ -11,7 +11,7 @@ use pregrasp_io::plan_file::{GraspKind, SegmentKind};
 use std::collections::HashSet;
 
 use pregrasp_export::urscript::{force_register, grip_pos, grip_pos_for_driver, DT};
-use pregrasp_export::{export, Format, Options};
+use pregrasp_export::{Format, Options};
 
 /// One statement of a program, as the reader understands it.
 #[derive(Clone, Debug, PartialEq)]
@@ -102,7 +102,7 @@ fn read(script: &str) -> Vec<Op> {
 
 fn scripts(options: &Options) -> Vec<(String, String)> {
     let (file, _) = common::chair_side();
-    export(file, 0, &[Format::UrScript], options, None)
+    common::export_file(file, 0, &[Format::UrScript], options, None)
         .unwrap()
         .into_iter()
         .map(|f| (f.name, String::from_utf8(f.bytes).unwrap()))

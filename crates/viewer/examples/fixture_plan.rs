@@ -7,7 +7,12 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use pregrasp_io::plan_file::write_atomic;
-use pregrasp_viewer::{fixture, render_html, ViewOptions};
+use pregrasp_viewer::ViewOptions;
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::{fixture, render};
 
 fn main() -> ExitCode {
     let Some(dir) = std::env::args_os().nth(1).map(PathBuf::from) else {
@@ -27,11 +32,11 @@ fn main() -> ExitCode {
         let options = ViewOptions::default();
         write_atomic(
             &dir.join("plan.html"),
-            render_html(&plan, &plate, &options).as_bytes(),
+            render(&plan, &plate, &options).as_bytes(),
         )?;
         write_atomic(
             &dir.join("no-plan.html"),
-            render_html(&none, &plate, &options).as_bytes(),
+            render(&none, &plate, &options).as_bytes(),
         )?;
         Ok(())
     };

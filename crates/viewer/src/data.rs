@@ -1,16 +1,20 @@
-//! The JSON document embedded in the page: the plan as it is, plus what the browser needs
+//! The JSON document embedded in the page: the plan file as it is, plus what the browser needs
 //! to draw it — the mesh, the hull's feature edges and each arm's kinematic and geometric
-//! model. Everything is in metres and radians; poses use the plan file's `PoseJson`.
+//! model. Everything is in metres and radians; poses are written as the plan file writes them
+//! ([`PoseJson`]).
 
+use nalgebra::Isometry3;
 use pregrasp_geometry::{ConvexHull, Mesh};
-use pregrasp_io::plan_file::{GraspKind, PlanFile, PoseJson, RobotJson};
+use pregrasp_model::{ArmSetup, GraspKind, PlanSet};
 use pregrasp_robot::{
     arm_geometry, ArmDescription, Gripper, Gripper2F85, GripperState, Joints, LinkShape, Primitive,
     UrKinematics,
 };
 use serde::Serialize;
+use serde_json::value::RawValue;
 
 use crate::options::ViewOptions;
+use crate::Page;
 
 /// The page no longer loads three.js; the view data's `three_version` field says `none`.
 pub const THREE_VERSION: &str = "none";
@@ -28,13 +32,13 @@ pub struct ViewData<'a> {
     pub title: String,
     pub three_version: &'static str,
     pub options: OptionsJson,
-    /// The plan file, field for field.
-    pub plan: &'a PlanFile,
+    /// The plan file, field for field: the caller's JSON text, verbatim.
+    pub plan: &'a RawValue,
     /// The part in its object frame.
     pub mesh: MeshJson,
     /// Feature edges of the part's convex hull, object frame: `[ax, ay, az, bx, by, bz]`.
     pub hull_edges: Vec<[f32; 6]>,
-    /// One entry per `plan.robots`, same order.
+    /// One entry per `plan.robots` (the plan set's arms), same order.
     pub robots: Vec<RobotModelJson>,
 }
 
@@ -91,6 +95,28 @@ pub struct GripperShapesJson {
     pub closed_precision: Option<Vec<ShapeJson>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub closed_power: Option<Vec<ShapeJson>>,
+}
+
+/// A pose as the plan file writes it: translation and quaternion `[x, y, z, w]`, with `w ≥ 0`
+/// so that equal rotations are written equally.
+#[derive(Serialize, Debug, Clone, Copy, PartialEq)]
+pub struct PoseJson {
+    pub xyz: [f64; 3],
+    pub quat_xyzw: [f64; 4],
+}
+
+impl From<&Isometry3<f64>> for PoseJson {
+    fn from(pose: &Isometry3<f64>) -> Self {
+        let t = pose.translation.vector;
+        let mut q = *pose.rotation.quaternion();
+        if q.w < 0.0 {
+            q = -q;
+        }
+        PoseJson {
+            xyz: [t.x, t.y, t.z],
+            quat_xyzw: [q.i, q.j, q.k, q.w],
+        }
+    }
 }
 
 #[derive(Serialize)]
@@ -177,56 +203,48 @@ impl From<&LinkShape> for ShapeJson {
 
 impl<'a> ViewData<'a> {
     /// Collects everything the page draws. The hull is `hull` when the caller has it (the
-    /// planner's, in the object frame), else recomputed from `mesh`; a degenerate mesh simply
+    /// planner's, in the object frame), else recomputed from the mesh; a degenerate mesh simply
     /// has no feature edges.
-    pub fn new(
-        plan: &'a PlanFile,
-        mesh: &Mesh,
-        hull: Option<&ConvexHull>,
-        options: &ViewOptions,
-    ) -> ViewData<'a> {
+    pub fn new(page: &Page<'a>, hull: Option<&ConvexHull>, options: &ViewOptions) -> ViewData<'a> {
+        let set = page.set;
         ViewData {
             format: VIEW_FORMAT,
-            title: page_title(plan, options),
+            title: page_title(page, options),
             three_version: THREE_VERSION,
             options: OptionsJson {
                 initial_plan: options.initial_plan,
                 speed: options.speed,
                 autoplay: options.autoplay,
             },
-            plan,
-            mesh: mesh_json(mesh),
+            plan: page.plan_json,
+            mesh: mesh_json(page.mesh),
             hull_edges: match hull {
                 Some(hull) => feature_edges(hull),
-                None => hull_edges(mesh),
+                None => hull_edges(page.mesh),
             },
-            robots: {
-                // Arms from a robot description are loaded as `check` loads them.
-                let arms = plan.arm_descriptions(options.plan_path.as_deref()).ok();
-                let grippers = plan.grippers(options.plan_path.as_deref()).ok();
-                plan.robots
-                    .iter()
-                    .enumerate()
-                    .map(|(i, r)| {
-                        let gripper = match &grippers {
-                            Some(g) => g[i].clone(),
-                            None => gripper_of(r),
-                        };
-                        robot_model(r, plan, arms.as_ref().map(|a| &a[i]), &gripper)
-                    })
-                    .collect()
-            },
+            robots: set
+                .arms
+                .iter()
+                .enumerate()
+                .map(|(i, a)| {
+                    let gripper = match page.grippers.and_then(|g| g.get(i)) {
+                        Some(g) => g.clone(),
+                        None => gripper_of(a),
+                    };
+                    let arm = page.arms.and_then(|arms| arms.get(i));
+                    robot_model(set, i, arm, &gripper)
+                })
+                .collect(),
         }
     }
 }
 
-/// `options.title`, else the scene name, else the scene file.
-pub fn page_title(plan: &PlanFile, options: &ViewOptions) -> String {
+/// `options.title`, else the page's own (the caller's: the scene name, or the scene file).
+pub fn page_title(page: &Page<'_>, options: &ViewOptions) -> String {
     options
         .title
         .clone()
-        .or_else(|| plan.scene.name.clone())
-        .unwrap_or_else(|| format!("pregrasp plan: {}", plan.scene.file))
+        .unwrap_or_else(|| page.title.to_string())
 }
 
 fn mesh_json(mesh: &Mesh) -> MeshJson {
@@ -259,30 +277,32 @@ fn feature_edges(hull: &ConvexHull) -> Vec<[f32; 6]> {
         .collect()
 }
 
-/// The 2F-85 as the plan file configures it (precision and power points on flange z): the
-/// gripper drawn when the file's own cannot be loaded.
-pub fn gripper_of(robot: &RobotJson) -> Gripper {
+/// The 2F-85 as the plan configures it (precision and power points on flange z): the gripper
+/// drawn when the arm's own could not be loaded.
+pub fn gripper_of(arm: &ArmSetup) -> Gripper {
     Gripper2F85 {
-        precision_point_z: robot.precision_point.xyz[2],
-        power_point_z: robot.power_point.xyz[2],
+        precision_point_z: arm.precision_point.translation.vector.z,
+        power_point_z: arm.power_point.translation.vector.z,
     }
     .into()
 }
 
+/// The page's model of arm `index` of `set`; `arm` is its description, when loaded.
 fn robot_model(
-    robot: &RobotJson,
-    plan: &PlanFile,
+    set: &PlanSet,
+    index: usize,
     arm: Option<&ArmDescription>,
     gripper: &Gripper,
 ) -> RobotModelJson {
+    let robot = &set.arms[index];
     let shapes = |state| gripper_shapes(gripper, state);
     // The fingers this robot holds the part with, as the plans record them.
     let held = |grasp: GraspKind| {
-        plan.plans
+        set.plans
             .iter()
             .flat_map(|p| &p.segments)
-            .filter(|s| s.robot == robot.name && s.grasp == grasp)
-            .find_map(|s| s.held_fingers(gripper))
+            .filter(|s| s.arm == index && s.grasp == grasp)
+            .find_map(|s| s.closing.held(gripper))
     };
     let grippers = GripperShapesJson {
         open: shapes(GripperState::Open),
@@ -292,7 +312,7 @@ fn robot_model(
     };
     let Some(model) = robot.model.builtin() else {
         return match arm {
-            Some(arm) => described_model(robot, plan, arm, grippers),
+            Some(arm) => described_model(set, index, arm, grippers),
             // A description that could not be loaded: the page draws no arm.
             None => RobotModelJson {
                 name: robot.name.clone(),
@@ -331,7 +351,7 @@ fn robot_model(
             .map(ShapeJson::from)
             .collect(),
         gripper: grippers,
-        fk_check: fk_check_configs(robot, plan)
+        fk_check: fk_check_configs(set, index)
             .into_iter()
             .map(|q| FkCheckJson {
                 q,
@@ -342,14 +362,14 @@ fn robot_model(
 }
 
 /// Configurations the page re-derives by its own FK: the start, a generic fixed pose, and
-/// the first and last point of each of this robot's segments in the plans (capped).
-fn fk_check_configs(robot: &RobotJson, plan: &PlanFile) -> Vec<Joints> {
-    let mut qs = vec![robot.start, [0.3, -1.2, 1.5, -0.8, 1.1, 0.4]];
-    let segments = plan
+/// the first and last point of each of arm `index`'s segments in the plans (capped).
+fn fk_check_configs(set: &PlanSet, index: usize) -> Vec<Joints> {
+    let mut qs = vec![set.arms[index].start, [0.3, -1.2, 1.5, -0.8, 1.1, 0.4]];
+    let segments = set
         .plans
         .iter()
         .flat_map(|p| &p.segments)
-        .filter(|s| s.robot == robot.name);
+        .filter(|s| s.arm == index);
     for seg in segments {
         qs.extend(seg.points.first().map(|p| p.q));
         qs.extend(seg.points.last().map(|p| p.q));
@@ -395,13 +415,14 @@ fn gripper_shapes(gripper: &Gripper, state: GripperState) -> Vec<ShapeJson> {
     out
 }
 
-/// The page's model of `robot`, an arm from its description `arm`.
+/// The page's model of arm `index` of `set`, an arm from its description `arm`.
 fn described_model(
-    robot: &RobotJson,
-    plan: &PlanFile,
+    set: &PlanSet,
+    index: usize,
     arm: &ArmDescription,
     gripper: GripperShapesJson,
 ) -> RobotModelJson {
+    let robot = &set.arms[index];
     let steps = arm.kin.chain_steps();
     let links = arm
         .geometry
@@ -426,7 +447,7 @@ fn described_model(
         }),
         links,
         gripper,
-        fk_check: fk_check_configs(robot, plan)
+        fk_check: fk_check_configs(set, index)
             .into_iter()
             .map(|q| FkCheckJson {
                 q,

@@ -4,11 +4,11 @@
 //! (`web/*.js`), and its Content-Security-Policy ([`CONTENT_SECURITY_POLICY`]) lets the
 //! browser load nothing from anywhere, so a page that tried would fail loudly, not quietly.
 
-use pregrasp_geometry::{ConvexHull, Mesh};
-use pregrasp_io::plan_file::PlanFile;
+use pregrasp_geometry::ConvexHull;
 
 use crate::data::ViewData;
 use crate::options::ViewOptions;
+use crate::Page;
 
 /// The page's Content-Security-Policy: nothing is fetched (`default-src 'none'`), only the
 /// page's own inline style and script run, and nothing may be framed or submitted.
@@ -29,23 +29,22 @@ const SCRIPT: &str = concat!(
     include_str!("web/viewer.js"),
 );
 
-/// One self-contained HTML page showing `plan` with the part `mesh` (object frame, metres).
+/// One self-contained HTML page showing `page`'s plan set with its part.
 ///
-/// Every robot of a plan file has a known model (the file's reader refuses others); the data's
-/// `known` flag stays for robots the page cannot draw.
-pub fn render_html(plan: &PlanFile, mesh: &Mesh, options: &ViewOptions) -> String {
-    render_html_with_hull(plan, mesh, None, options)
+/// Every arm has a known model; the data's `known` flag stays for an arm the page cannot draw
+/// (one from a robot description the caller could not load).
+pub fn render_html(page: &Page<'_>, options: &ViewOptions) -> String {
+    render_html_with_hull(page, None, options)
 }
 
 /// [`render_html`] with the part's convex hull given (object frame) when the caller has it —
 /// the planner's, so that planning and drawing one plan compute one hull.
 pub fn render_html_with_hull(
-    plan: &PlanFile,
-    mesh: &Mesh,
+    page: &Page<'_>,
     hull: Option<&ConvexHull>,
     options: &ViewOptions,
 ) -> String {
-    let data = ViewData::new(plan, mesh, hull, options);
+    let data = ViewData::new(page, hull, options);
     let json = serde_json::to_string(&data).expect("view data serialises");
     fill_template(TEMPLATE, |key| match key {
         "TITLE" => Some(escape_html(&data.title)),

@@ -3,7 +3,7 @@
 /// Options of [`crate::render_html`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct ViewOptions {
-    /// Page title; `None`: the scene name (or the scene file) from the plan.
+    /// Page title; `None`: the page's own ([`crate::Page::title`]).
     pub title: Option<String>,
     /// Index into `plan.plans` shown first (clamped to the plans present).
     pub initial_plan: usize,
@@ -11,9 +11,6 @@ pub struct ViewOptions {
     pub speed: f64,
     /// Start playing as soon as the page has loaded.
     pub autoplay: bool,
-    /// Where the plan file was read from: finds the robot descriptions of arms given by one,
-    /// as `check` does (`None`: from the current directory).
-    pub plan_path: Option<std::path::PathBuf>,
 }
 
 impl Default for ViewOptions {
@@ -23,7 +20,6 @@ impl Default for ViewOptions {
             initial_plan: 0,
             speed: 1.0,
             autoplay: true,
-            plan_path: None,
         }
     }
 }

@@ -5,7 +5,11 @@
 use pregrasp_io::plan_file::GraspKind;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_robot::{UrKinematics, UrModel};
-use pregrasp_viewer::{fixture, render_html, ViewOptions, CONTENT_SECURITY_POLICY};
+use pregrasp_viewer::{ViewOptions, CONTENT_SECURITY_POLICY};
+
+mod common;
+
+use common::{fixture, render as render_html};
 use serde_json::Value;
 
 const DATA_OPEN: &str = r#"<script type="application/json" id="pregrasp-data">"#;
@@ -194,7 +198,6 @@ fn options_and_title_reach_the_page() {
         initial_plan: 1,
         speed: 2.0,
         autoplay: false,
-        plan_path: None,
     };
     let html = render_html(&plan, &fixture::plate_mesh(), &options);
     let data = embedded(&html);
@@ -256,5 +259,38 @@ fn holding_grippers_are_drawn_at_their_grip_width() {
         assert!(
             r["gripper"]["closed_precision"].is_array() || r["gripper"]["closed_power"].is_array()
         );
+    }
+}
+
+/// The page embeds the plan file's JSON text as the caller gives it, byte for byte, and takes
+/// its title from the caller when the options give none.
+#[test]
+fn the_callers_plan_text_and_title_are_embedded_verbatim() {
+    let plan = fixture::demo_plan("plate.stl").expect("fixture builds");
+    let text = plan.to_json();
+    let json = serde_json::value::RawValue::from_string(text.trim_end().to_string()).unwrap();
+    let mut set = plan.to_model().unwrap();
+    // What the Rust side draws comes from the set, not from the embedded text.
+    for seg in set.plans.iter_mut().flat_map(|p| p.segments.iter_mut()) {
+        seg.closing.width = Some(0.03);
+    }
+    let mesh = fixture::plate_mesh();
+    let page = pregrasp_viewer::Page {
+        set: &set,
+        plan_json: &json,
+        title: "from the caller",
+        mesh: &mesh,
+        arms: None,
+        grippers: None,
+    };
+    let html = pregrasp_viewer::render_html(&page, &ViewOptions::default());
+    let escaped = pregrasp_viewer::escape_json_for_script(text.trim_end());
+    assert!(html.contains(&format!(r#""plan":{escaped},"mesh":"#)));
+    assert_eq!(embedded(&html)["title"], "from the caller");
+    // Built-in arms are drawn without descriptions; the grippers fall back to the 2F-85,
+    // closed where the set's segments say.
+    for r in embedded(&html)["robots"].as_array().unwrap() {
+        assert_eq!(r["known"], true);
+        assert!(r["gripper"]["closed_power"].is_array());
     }
 }

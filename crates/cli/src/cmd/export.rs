@@ -1,13 +1,15 @@
 //! `pregrasp export PLAN.json --format F -o DIR [--plan K]`: the plan for the cell — URScript
 //! per arm, CSV, ROS 2 trajectories, glTF (`docs/export.md`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Context;
-use pregrasp_export::{export_at, write_all, Format, Options};
+use pregrasp_export::{export, Drawing, Format, Options, OutFile};
 use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::output::{OutputError, Outputs};
 use pregrasp_io::plan_file::PlanFile;
+use pregrasp_model::Timeline;
 
 use super::EXIT_OK;
 
@@ -101,9 +103,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     options.validate()?;
     let file = PlanFile::read(&args.plan)?;
     let shown = args.plan.display().to_string();
+    let set = file.to_model().with_context(|| shown.clone())?;
     // Refuse a plan-less file or a bad index before reading any mesh.
-    pregrasp_export::Timeline::new(&file, args.plan_index).with_context(|| shown.clone())?;
-    let mesh = if formats.contains(&Format::Gltf) {
+    Timeline::new(&set, args.plan_index).with_context(|| shown.clone())?;
+    let drawn = if formats.contains(&Format::Gltf) {
         let path = args
             .mesh
             .clone()
@@ -113,22 +116,91 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         for w in &loaded.warnings {
             eprintln!("warning: {w}");
         }
-        Some(loaded.mesh)
+        match file.arms_and_grippers(Some(&args.plan)) {
+            Ok((arms, grippers)) => Some((loaded.mesh, arms, grippers)),
+            Err(e) => {
+                // The other formats' refusals come first, as glTF is made last.
+                let others: Vec<Format> = formats
+                    .iter()
+                    .copied()
+                    .filter(|f| *f != Format::Gltf)
+                    .collect();
+                export(&set, args.plan_index, &others, &options, None)
+                    .with_context(|| shown.clone())?;
+                anyhow::bail!("{shown}: plan cannot be exported: {e}");
+            }
+        }
     } else {
         None
     };
-    let files = export_at(
-        &file,
-        Some(&args.plan),
-        args.plan_index,
-        &formats,
-        &options,
-        mesh.as_ref(),
-    )
-    .with_context(|| shown.clone())?;
+    let drawing = drawn.as_ref().map(|(mesh, arms, grippers)| Drawing {
+        mesh,
+        arms,
+        grippers,
+    });
+    let files = export(&set, args.plan_index, &formats, &options, drawing.as_ref())
+        .with_context(|| shown.clone())?;
     let written = write_all(&args.output, &files, &[(args.plan.as_path(), "the plan")])?;
     for p in &written {
         println!("wrote {}", p.display());
     }
     Ok(ExitCode::from(EXIT_OK))
+}
+
+/// Writes `files` into `dir` (created if missing) as one set of outputs ([`Outputs`]): each is
+/// staged beside its name first and only when all are written are they renamed to their
+/// names; on failure nothing named has been touched and no temporary file or folder made
+/// stays. `inputs` are the files the export read (`(path, what)`), which it must not
+/// overwrite.
+pub fn write_all(
+    dir: &Path,
+    files: &[OutFile],
+    inputs: &[(&Path, &str)],
+) -> Result<Vec<PathBuf>, OutputError> {
+    let mut out = Outputs::new();
+    for (path, what) in inputs {
+        out.reading(path, what);
+    }
+    for f in files {
+        let id = out.declare_creating_dirs(&dir.join(&f.name))?;
+        out.write(id, &f.bytes)?;
+    }
+    out.commit()?;
+    Ok(files.iter().map(|f| dir.join(&f.name)).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn files_are_written_all_or_nothing() {
+        let tmp = tempfile::tempdir().unwrap();
+        let files = |names: [&str; 2]| -> Vec<OutFile> {
+            names
+                .iter()
+                .map(|n| OutFile {
+                    name: n.to_string(),
+                    bytes: n.as_bytes().to_vec(),
+                })
+                .collect()
+        };
+        let out = tmp.path().join("out");
+        let written = write_all(&out, &files(["a.csv", "b.csv"]), &[]).unwrap();
+        assert_eq!(written, vec![out.join("a.csv"), out.join("b.csv")]);
+        assert_eq!(std::fs::read(out.join("b.csv")).unwrap(), b"b.csv");
+        // A target that cannot be written: nothing else is written, no temporary file is left.
+        let out2 = tmp.path().join("out2");
+        std::fs::create_dir_all(out2.join("b.csv")).unwrap();
+        assert!(write_all(&out2, &files(["a.csv", "b.csv"]), &[]).is_err());
+        let left: Vec<String> = std::fs::read_dir(&out2)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(
+            left,
+            vec!["b.csv".to_string()],
+            "only the directory in the way"
+        );
+    }
 }

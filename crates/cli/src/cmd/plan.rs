@@ -118,12 +118,13 @@ pub fn plan_scene_file(
     file.locate_inputs(output);
     outputs.write(plan_out, file.to_json().as_bytes())?;
     if let Some(id) = html_out {
-        let page = pregrasp_viewer::render_html_with_hull(
+        let page = super::view::page_html(
             &file,
+            None,
             &loaded.mesh,
             report.hull.as_ref(),
             &Default::default(),
-        );
+        )?;
         outputs.write(id, page.as_bytes())?;
     }
     outputs.commit()?;

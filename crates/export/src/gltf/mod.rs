@@ -13,7 +13,7 @@
 //! (cylinders, capsules, boxes), tessellated, or the convex pieces of an arm from its robot
 //! description. The gripper hangs under the flange as several
 //! nodes, `<arm>_gripper_open` and one `<arm>_gripper_<segment>` per segment that closes it
-//! (fingers at that segment's `grip_width`); a STEP-interpolated scale channel shows the one
+//! (fingers where that segment's closing stopped); a STEP-interpolated scale channel shows the one
 //! in use (scale 1) and hides the others (scale 0) — a switch, not a motion.
 //!
 //! The part (`part`, its mesh in the object frame) has translation and rotation channels; the
@@ -30,11 +30,10 @@ use gltf_json as json;
 use json::validation::{Checked::Valid, USize64};
 use json::Index;
 use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
-use pregrasp_geometry::Mesh;
-use pregrasp_robot::{ArmDescription, Gripper, GripperState};
+use pregrasp_model::{PlanSet, Timeline};
+use pregrasp_robot::GripperState;
 
-use crate::timeline::Timeline;
-use crate::ExportError;
+use crate::{Drawing, ExportError};
 
 /// Largest joint turn (rad) between two animation keys.
 pub const MAX_KEY_STEP: f64 = 0.5;
@@ -221,20 +220,24 @@ pub fn key_times(timeline: &Timeline) -> Vec<f64> {
     out
 }
 
-/// The `.glb` bytes of `timeline` with the part `mesh` (object frame, metres); `arms` are the
-/// timeline's arms ([`pregrasp_io::plan_file::PlanFile::arm_descriptions`]).
+/// The `.glb` bytes of `set`'s plan `timeline` with the part and the arms of `drawing` (one
+/// description and gripper per arm of `set`, in its order).
 pub fn export(
+    set: &PlanSet,
     timeline: &Timeline,
-    mesh: &Mesh,
-    arms: &[ArmDescription],
-    grippers: &[Gripper],
+    drawing: &Drawing<'_>,
 ) -> Result<Vec<u8>, ExportError> {
-    if arms.len() != timeline.arms.len() || grippers.len() != arms.len() {
-        return Err(ExportError::Plan(format!(
-            "{} arm models for {} arms",
-            arms.len(),
-            timeline.arms.len()
-        )));
+    let Drawing {
+        mesh,
+        arms,
+        grippers,
+    } = *drawing;
+    if arms.len() != set.arms.len() || grippers.len() != set.arms.len() {
+        return Err(ExportError::Drawing {
+            models: arms.len(),
+            grippers: grippers.len(),
+            arms: set.arms.len(),
+        });
     }
     let mut b = Builder {
         root: json::Root {
@@ -259,8 +262,8 @@ pub fn export(
     });
 
     // Table.
-    let n_arms = timeline.arms.len().max(1) as f64;
-    let centre = timeline
+    let n_arms = set.arms.len().max(1) as f64;
+    let centre = set
         .arms
         .iter()
         .fold(Vector3::zeros(), |acc, a| acc + a.base.translation.vector)
@@ -299,9 +302,7 @@ pub fn export(
     let times = key_times(timeline);
     let input_data: Vec<f32> = times.iter().map(|x| *x as f32).collect();
     if input_data.windows(2).any(|w| w[1] <= w[0]) {
-        return Err(ExportError::Plan(
-            "two plan points are too close in time for glTF's 32-bit key times".into(),
-        ));
+        return Err(ExportError::KeyTimes);
     }
     let input = b.floats(&input_data, 1, true, None);
     let mut channels = Vec::new();
@@ -334,6 +335,7 @@ pub fn export(
     };
 
     for (ai, arm) in timeline.arms.iter().enumerate() {
+        let setup = &set.arms[ai];
         let geometry = &arms[ai].geometry;
         let gripper = &grippers[ai];
         let steps = arms[ai].kin.chain_steps();
@@ -348,7 +350,7 @@ pub fn export(
             t
         };
         let base_mesh = b.mesh(&format!("{}_link0", arm.name), &shapes_of(0), m_arm);
-        let base_pose = arm.base * steps.frame0;
+        let base_pose = setup.base * steps.frame0;
         let base = b.node(json::Node {
             mesh: Some(base_mesh),
             translation: Some(trans(&base_pose.translation.vector)),
@@ -359,7 +361,7 @@ pub fn export(
         let mut parent = base;
         let q_keys: Vec<[f64; 6]> = times.iter().map(|t| timeline.q_at(ai, *t)).collect();
         for j in 0..6 {
-            let q0 = arm.start[j];
+            let q0 = setup.start[j];
             let axis = steps.axes[j];
             let joint = b.node(json::Node {
                 rotation: Some(json::scene::UnitQuaternion(quat(
@@ -517,7 +519,7 @@ pub fn export(
     let mut text = b
         .root
         .to_vec()
-        .map_err(|e| ExportError::Plan(format!("glTF document does not serialise: {e}")))?;
+        .map_err(|e| ExportError::Gltf(e.to_string()))?;
     while text.len() % 4 != 0 {
         text.push(b' ');
     }

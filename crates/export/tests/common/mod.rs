@@ -6,6 +6,7 @@ use pregrasp_io::plan_file::PlanStatus;
 use std::path::Path;
 use std::sync::OnceLock;
 
+use pregrasp_export::{export, Drawing, ExportError, Format, Options, OutFile};
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
@@ -24,6 +25,28 @@ pub fn chair_side() -> &'static (PlanFile, Mesh) {
         assert_eq!(file.status, PlanStatus::Planned, "{:?}", file.reason);
         (file, ex.mesh)
     })
+}
+
+/// Exports plan `index` of `file` as `pregrasp export` does: the file as a plan set, and for
+/// glTF (`mesh` given) its arms and grippers loaded from their descriptions.
+pub fn export_file(
+    file: &PlanFile,
+    index: usize,
+    formats: &[Format],
+    options: &Options,
+    mesh: Option<&Mesh>,
+) -> Result<Vec<OutFile>, ExportError> {
+    let set = file.to_model().expect("the plan file is a plan set");
+    let loaded = mesh.map(|m| {
+        let (arms, grippers) = file.arms_and_grippers(None).expect("the arms load");
+        (m, arms, grippers)
+    });
+    let drawing = loaded.as_ref().map(|(mesh, arms, grippers)| Drawing {
+        mesh,
+        arms,
+        grippers,
+    });
+    export(&set, index, formats, options, drawing.as_ref())
 }
 
 /// Plan points of plan `index` as (plan time, robot name, q): segments back to back.

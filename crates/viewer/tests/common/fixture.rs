@@ -1,5 +1,6 @@
-//! A realistic demo plan, built from the robot's real FK/IK, for the viewer's tests and the
-//! browser test (`cargo run -p pregrasp-viewer --example fixture_plan -- DIR`).
+//! A realistic demo plan file, built from the robot's real FK/IK, for the viewer's tests and
+//! the browser test (`cargo run -p pregrasp-viewer --example fixture_plan -- DIR`, which
+//! includes this file).
 //!
 //! Scene: a 0.6 × 0.4 × 0.03 m plate (object frame at the centre of its bottom face) lying on
 //! the support `z = 0`, lifted by 1 mm (P_init); two UR5e with 2F-85 grippers on the near
