@@ -44,9 +44,12 @@ fuzz_target!(|data: &[u8]| {
         }
     }
     let settings = PhysicsSettings::default();
-    if let Ok(part) = PartMass::resolve(&file, mesh(), None, settings.density) {
-        for index in 0..file.plans.len().min(2) {
-            let _ = analyse_plan(&file, index, &part, &settings);
+    let Ok(set) = file.to_model() else {
+        return;
+    };
+    if let Ok(part) = PartMass::resolve(set.object.mass, mesh(), None, settings.density) {
+        for index in 0..set.plans.len().min(2) {
+            let _ = analyse_plan(&set, index, &part, &settings);
         }
     }
 });

@@ -1,11 +1,12 @@
 //! The typed model pregrasp's crates share, built once and passed by reference: a plan set
 //! (the cell, the candidates, the plans with typed segments and waypoints, [`plan`]), the plan
-//! on one time line ([`timeline`], the only place its rules live), and the plan format's closed
-//! vocabularies ([`terms`]). Nothing here reads or writes files: `pregrasp-io` converts the
-//! model to and from the plan file, and the planner, the checker, physics, the exports and the
-//! viewer take the model.
+//! on one time line ([`timeline`], the only place its rules live), the plan format's closed
+//! vocabularies ([`terms`]) and the ranges of its physical values ([`ranges`]). Nothing here
+//! reads or writes files: `pregrasp-io` converts the model to and from the plan file, and the
+//! planner, the checker, physics, the exports and the viewer take the model.
 
 pub mod plan;
+pub mod ranges;
 pub mod terms;
 pub mod timeline;
 
@@ -13,6 +14,7 @@ pub use plan::{
     as_written, ArmSetup, Candidate, Closing, DescriptionRef, Grasps, ObjectSetup, PadContact,
     Plan, PlanSet, PlanSettings, Roles, Segment, Waypoint,
 };
+pub use ranges::{OutOfRange, PhysicsValue, ValueRange, MAX_MASS};
 pub use terms::{
     GraspKind, GripVerdict, PlanStatus, RobotModel, RotationDirection, SegmentKind, SegmentName,
     Word,

@@ -22,13 +22,14 @@ pub mod plan_report;
 mod polish;
 pub mod settings;
 pub mod statics;
+mod words;
 
 pub use error::PhysicsError;
 pub use grip_force::{min_grip_force, min_grip_force_from, WarmStart};
 pub use mass::{MassError, MassProperties};
-pub use part_mass::PartMass;
+pub use part_mass::{MassSource, PartMass};
 pub use plan::{analyse_one, analyse_plan, screen_one, screen_plan, SUPPORT_CONTACT_TOLERANCE};
-pub use plan_report::{PlanPhysics, StateReport, StateStatus, Verdict};
+pub use plan_report::{At, GripWarning, PlanPhysics, StateReport, StateStatus, Unheld, Verdict};
 pub use settings::{
     PhysicsSettings, SettingsError, DEFAULT_DENSITY, DEFAULT_MU_PAD, DEFAULT_MU_SUPPORT,
     DEFAULT_SAFETY_FACTOR, GRAVITY, GRIP_FORCE_RANGE, PAD_PATCH_TORSION_RADIUS,

@@ -1,8 +1,9 @@
 //! The part's mass and centre of mass, as the grip check of a plan needs them.
 
+use std::fmt;
+
 use nalgebra::Point3;
 use pregrasp_geometry::Mesh;
-use pregrasp_io::plan_file::PlanFile;
 
 use crate::error::PhysicsError;
 use crate::mass::MassProperties;
@@ -12,9 +13,9 @@ use crate::mass::MassProperties;
 pub struct PartMass {
     /// kg.
     pub mass: f64,
-    /// Where the mass comes from, for reports: `"--mass"`, `"plan object.mass"` or
-    /// `"700 kg/m³ × mesh volume 0.00459 m³"`.
-    pub source: String,
+    /// Where the mass comes from, for reports (written by its `Display`).
+    #[serde(serialize_with = "crate::words::as_text")]
+    pub source: MassSource,
     /// Volume enclosed by the mesh (m³).
     pub volume: f64,
     /// Centre of mass in the object frame (uniform density), m.
@@ -24,40 +25,66 @@ pub struct PartMass {
     pub hull: Vec<Point3<f64>>,
 }
 
+/// Where [`PartMass::mass`] comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MassSource {
+    /// Given by the caller, who names it (`"--mass"`).
+    Given(&'static str),
+    /// The plan's `object.mass` (the scene's).
+    Plan,
+    /// `density` (kg/m³) × the mesh's `volume` (m³): no mass was given.
+    Density { density: f64, volume: f64 },
+}
+
+impl fmt::Display for MassSource {
+    /// `--mass`, `plan object.mass`, `700 kg/m³ × mesh volume 0.004590 m³ (no mass given)`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MassSource::Given(label) => f.write_str(label),
+            MassSource::Plan => f.write_str("plan object.mass"),
+            MassSource::Density { density, volume } => write!(
+                f,
+                "{density} kg/m³ × mesh volume {volume:.6} m³ (no mass given)"
+            ),
+        }
+    }
+}
+
 impl PartMass {
-    /// Mass from `given` (e.g. `--mass`, labelled `given_label`), else the plan's `object.mass`,
-    /// else `settings.density` × the mesh's volume; centre of mass from the mesh.
+    /// Mass from `given` (a mass and the label that names it, e.g. `--mass`), else the plan's
+    /// `plan_mass` (its `object.mass`), else `density` × the mesh's volume; centre of mass from
+    /// the mesh.
     pub fn resolve(
-        file: &PlanFile,
+        plan_mass: Option<f64>,
         mesh: &Mesh,
-        given: Option<(f64, &str)>,
+        given: Option<(f64, &'static str)>,
         density: f64,
     ) -> Result<PartMass, PhysicsError> {
-        PartMass::resolve_with_hull(file, mesh, None, given, density)
+        PartMass::resolve_with_hull(plan_mass, mesh, None, given, density)
     }
 
     /// [`PartMass::resolve`] with the vertices of the mesh's convex hull given by a caller
     /// that has them (the planner computed the hull for Algorithm 1); computed when `None`.
     pub fn resolve_with_hull(
-        file: &PlanFile,
+        plan_mass: Option<f64>,
         mesh: &Mesh,
         hull: Option<&[Point3<f64>]>,
-        given: Option<(f64, &str)>,
+        given: Option<(f64, &'static str)>,
         density: f64,
     ) -> Result<PartMass, PhysicsError> {
         let props = MassProperties::from_mesh(mesh)?;
-        let (mass, source) = match (given, file.object.mass) {
-            (Some((m, label)), _) => (m, label.to_string()),
-            (None, Some(m)) => (m, "plan object.mass".to_string()),
+        let (mass, source) = match (given, plan_mass) {
+            (Some((m, label)), _) => (m, MassSource::Given(label)),
+            (None, Some(m)) => (m, MassSource::Plan),
             (None, None) => (
                 density * props.volume,
-                format!(
-                    "{density} kg/m³ × mesh volume {:.6} m³ (no mass given)",
-                    props.volume
-                ),
+                MassSource::Density {
+                    density,
+                    volume: props.volume,
+                },
             ),
         };
-        if !(mass.is_finite() && mass > 0.0 && mass <= pregrasp_io::scene::MAX_MASS) {
+        if !(mass.is_finite() && mass > 0.0 && mass <= pregrasp_model::MAX_MASS) {
             return Err(PhysicsError::BadMass(mass));
         }
         let hull = match hull {

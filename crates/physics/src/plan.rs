@@ -1,13 +1,13 @@
-//! The check of one plan of a plan file: every state of its `rot` segment as a quasi-static
+//! The check of one plan of a plan set: every state of its `rot` segment as a quasi-static
 //! problem ([`crate::statics`]), the worst state, and the grip force to set.
 
 use nalgebra::{Isometry3, Point3, Vector3};
-use pregrasp_io::plan_file::{PlanFile, PlanJson, SegmentJson, SegmentName};
+use pregrasp_model::{Plan, PlanSet, Segment, SegmentName};
 
 use crate::error::PhysicsError;
 use crate::grip_force::{min_grip_force_from, WarmStart};
 use crate::part_mass::PartMass;
-use crate::plan_report::{PlanPhysics, StateReport, StateStatus, Verdict};
+use crate::plan_report::{GripWarning, PlanPhysics, StateReport, StateStatus, Verdict};
 use crate::settings::{PhysicsSettings, GRAVITY};
 use crate::statics::{Pads, StaticOutcome, StaticProblem};
 
@@ -20,7 +20,7 @@ pub const SUPPORT_CONTACT_TOLERANCE: f64 = 0.001;
 /// A rotation about the part's real edge keeps the edge's points where they are; a rotation
 /// about a line off the edge drags them over the table.
 fn edge_slide(
-    rot: &SegmentJson,
+    rot: &Segment,
     plan: usize,
     part: &PartMass,
     support: f64,
@@ -56,14 +56,12 @@ struct State {
     pose: Isometry3<f64>,
 }
 
-fn rot_states(seg: &SegmentJson, plan: usize, substeps: usize) -> Result<Vec<State>, PhysicsError> {
+fn rot_states(seg: &Segment, plan: usize, substeps: usize) -> Result<Vec<State>, PhysicsError> {
     let mut poses = Vec::with_capacity(seg.points.len());
     for (i, p) in seg.points.iter().enumerate() {
         let pose = p
             .object_pose
-            .as_ref()
-            .ok_or(PhysicsError::NoObjectPose { plan, point: i })?
-            .to_isometry();
+            .ok_or(PhysicsError::NoObjectPose { plan, point: i })?;
         poses.push((p.t, pose));
     }
     let mut states = Vec::new();
@@ -88,16 +86,16 @@ fn rot_states(seg: &SegmentJson, plan: usize, substeps: usize) -> Result<Vec<Sta
     Ok(states)
 }
 
-/// Checks plan `plan_index` of `file`: every point of its `rot` segment, plus
+/// Checks plan `plan_index` of `set`: every point of its `rot` segment, plus
 /// `settings.substeps` interpolated states in each interval between neighbouring points where
 /// the worst state may lie (all of them with `settings.refine_all`).
 pub fn analyse_plan(
-    file: &PlanFile,
+    set: &PlanSet,
     plan_index: usize,
     part: &PartMass,
     settings: &PhysicsSettings,
 ) -> Result<PlanPhysics, PhysicsError> {
-    analyse(file, plan_index, part, settings, false)
+    analyse(set, plan_index, part, settings, false)
 }
 
 /// [`analyse_plan`] for a yes-or-no answer: it stops at the first point of `rot` that cannot
@@ -106,66 +104,64 @@ pub fn analyse_plan(
 /// follows. A rotation with no such point gets the whole analysis, the same report as
 /// [`analyse_plan`]'s.
 pub fn screen_plan(
-    file: &PlanFile,
+    set: &PlanSet,
     plan_index: usize,
     part: &PartMass,
     settings: &PhysicsSettings,
 ) -> Result<PlanPhysics, PhysicsError> {
-    analyse(file, plan_index, part, settings, true)
+    analyse(set, plan_index, part, settings, true)
 }
 
 fn analyse(
-    file: &PlanFile,
+    set: &PlanSet,
     plan_index: usize,
     part: &PartMass,
     settings: &PhysicsSettings,
     stop_at_failure: bool,
 ) -> Result<PlanPhysics, PhysicsError> {
-    let plan = file.plans.get(plan_index).ok_or(PhysicsError::NoSuchPlan {
+    let plan = set.plans.get(plan_index).ok_or(PhysicsError::NoSuchPlan {
         index: plan_index,
-        count: file.plans.len(),
+        count: set.plans.len(),
     })?;
-    run(file, plan, plan_index, part, settings, stop_at_failure)
+    run(set, plan, plan_index, part, settings, stop_at_failure)
 }
 
-/// [`screen_plan`] of `plan` as the plan numbered `plan_index` of a file with header `file`
-/// (whose own `plans` are not read): the planner asks about one rotation at a time without
-/// building a file around it.
+/// [`screen_plan`] of `plan` as the plan numbered `plan_index` of `set` (whose own `plans` are
+/// not read; only its candidates, object, support grasp, support height and lift): the planner
+/// asks about one rotation at a time, `plan` holding its `rot` segment alone.
 pub fn screen_one(
-    file: &PlanFile,
-    plan: &PlanJson,
+    set: &PlanSet,
+    plan: &Plan,
     plan_index: usize,
     part: &PartMass,
     settings: &PhysicsSettings,
 ) -> Result<PlanPhysics, PhysicsError> {
-    run(file, plan, plan_index, part, settings, true)
+    run(set, plan, plan_index, part, settings, true)
 }
 
 /// [`analyse_plan`] of `plan`, as [`screen_one`] reads it.
 pub fn analyse_one(
-    file: &PlanFile,
-    plan: &PlanJson,
+    set: &PlanSet,
+    plan: &Plan,
     plan_index: usize,
     part: &PartMass,
     settings: &PhysicsSettings,
 ) -> Result<PlanPhysics, PhysicsError> {
-    run(file, plan, plan_index, part, settings, false)
+    run(set, plan, plan_index, part, settings, false)
 }
 
 fn run(
-    file: &PlanFile,
-    plan: &PlanJson,
+    set: &PlanSet,
+    plan: &Plan,
     plan_index: usize,
     part: &PartMass,
     settings: &PhysicsSettings,
     stop_at_failure: bool,
 ) -> Result<PlanPhysics, PhysicsError> {
     let rot = plan
-        .segments
-        .iter()
-        .find(|s| s.name == SegmentName::Rot)
+        .segment(SegmentName::Rot)
         .ok_or(PhysicsError::NoRotation { plan: plan_index })?;
-    let candidate = file
+    let candidate = set
         .candidates
         .iter()
         .find(|c| c.id == plan.candidate)
@@ -173,24 +169,23 @@ fn run(
             plan: plan_index,
             id: plan.candidate,
         })?;
-    let p_init = file.object.initial_pose.to_isometry();
-    let p_init_inv = p_init.inverse();
+    let p_init_inv = set.object.initial_pose.inverse();
     // The axis endpoints as points of the part (object frame): they move with it.
-    let axis_obj = candidate.axis.map(|a| p_init_inv * Point3::from(a));
-    let g_s = file.grasps.support.to_isometry();
-    let width = rot.grip_width.unwrap_or(0.0).max(0.0);
+    let axis_obj = candidate.axis.map(|a| p_init_inv * a);
+    let g_s = set.grasps.support;
+    let width = rot.closing.width.unwrap_or(0.0).max(0.0);
     let weight = part.mass * GRAVITY;
     // Where the pads really bear on the part (the plan's `pad_contact`, from the closing on the
     // mesh): the contacts sit there, and each resists a twist as its patch does (unless the
     // settings give a torsion radius of their own). Without it: at the precision point, as
     // points.
-    let contact = rot.pad_contact;
+    let contact = rot.closing.pad_contact;
     let mut model = settings.contact_model();
     if model.pad_torsion_radius <= 0.0 {
         model.pad_torsion_radius = contact.map_or(0.0, |c| c.torsion_radius);
     }
-    let h = file.support_height;
-    let above_max = file.planner.lift.max(0.0) + SUPPORT_CONTACT_TOLERANCE;
+    let h = set.support_height;
+    let above_max = set.lift.max(0.0) + SUPPORT_CONTACT_TOLERANCE;
 
     // Each state starts its solver from the optimum of the state before it along `rot`.
     let solve = |s: &State, warm: &mut WarmStart| -> Result<StateReport, PhysicsError> {
@@ -345,32 +340,25 @@ fn run(
     if let Some(slide) = edge_slide(rot, plan_index, part, h, above_max)? {
         verdict = Verdict::SlidesAtSupport;
         recommended = None;
-        warnings.push(format!(
-            "the part's edge slides {:.1} mm along the support during rot: the rotation axis is \
-             not on the part's real edge",
-            slide * 1e3
-        ));
+        warnings.push(GripWarning::EdgeSlides { distance: slide });
     }
     let off = states.iter().filter(|s| s.support_contacts == 0).count();
     if off > 0 {
-        warnings.push(format!(
-            "{off} of {} states: neither axis endpoint is within {:.1} mm of the support — the \
-             part's edge is not on the line the plan claims, and the pads alone hold it there",
-            states.len(),
-            above_max * 1e3
-        ));
+        warnings.push(GripWarning::NoSupportContact {
+            states: off,
+            of: states.len(),
+            within: above_max,
+        });
     }
     let one = states.iter().filter(|s| s.support_contacts == 1).count();
     if one > 0 {
-        warnings.push(format!(
-            "{one} of {} states: only one axis endpoint touches the support",
-            states.len()
-        ));
+        warnings.push(GripWarning::OneSupportContact {
+            states: one,
+            of: states.len(),
+        });
     }
-    if rot.grip_width.is_none() {
-        warnings.push(
-            "rot has no grip_width: both pad contacts are taken at the precision point".into(),
-        );
+    if rot.closing.width.is_none() {
+        warnings.push(GripWarning::NoGripWidth);
     }
 
     Ok(PlanPhysics {
@@ -378,7 +366,7 @@ fn run(
         candidate: plan.candidate,
         part: part.clone(),
         settings: *settings,
-        robot: rot.robot.clone(),
+        arm: rot.arm,
         grip_width: width,
         states,
         worst,

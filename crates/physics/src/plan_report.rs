@@ -1,11 +1,14 @@
 //! What the grip check of one plan reports: each state of `rot` (status, required force,
-//! friction use) and the plan's verdict, written as the plan file's `physics` object.
+//! friction use), the plan's verdict, what it warns of ([`GripWarning`]) and why a planner
+//! would refuse the rotation ([`Unheld`]). The planner writes it as the plan file's `physics`
+//! object; the words of the warnings and reasons are their `Display`.
 
-use pregrasp_io::plan_file::PhysicsJson;
+use std::fmt;
 
 use crate::part_mass::PartMass;
 use crate::settings::PhysicsSettings;
 use crate::statics::Equilibrium;
+use crate::words::as_texts;
 
 /// How one state ends.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -46,7 +49,7 @@ pub struct StateReport {
 }
 
 /// The verdict on one plan (the plan file's vocabulary).
-pub use pregrasp_io::plan_terms::GripVerdict as Verdict;
+pub use pregrasp_model::GripVerdict as Verdict;
 
 /// The verdict by its plan-file word.
 fn verdict_word<S: serde::Serializer>(v: &Verdict, s: S) -> Result<S::Ok, S::Error> {
@@ -56,13 +59,13 @@ fn verdict_word<S: serde::Serializer>(v: &Verdict, s: S) -> Result<S::Ok, S::Err
 /// The check of one plan.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PlanPhysics {
-    /// Index into the plan file's `plans`.
+    /// Index into the plan set's `plans`.
     pub plan: usize,
     pub candidate: usize,
     pub part: PartMass,
     pub settings: PhysicsSettings,
-    /// The supportive arm, which holds `G_s` during `rot`.
-    pub robot: String,
+    /// The supportive arm, which holds `G_s` during `rot` (index into the plan set's `arms`).
+    pub arm: usize,
     /// Pad gap used (m): `rot.grip_width`, or 0 when the plan has none.
     pub grip_width: f64,
     pub states: Vec<StateReport>,
@@ -78,7 +81,8 @@ pub struct PlanPhysics {
     #[serde(serialize_with = "verdict_word")]
     pub verdict: Verdict,
     /// Things the verdict alone does not say (axis off the support, ...).
-    pub warnings: Vec<String>,
+    #[serde(serialize_with = "as_texts")]
+    pub warnings: Vec<GripWarning>,
     /// The analysis stopped at the first state that cannot be held ([`screen_plan`](crate::screen_plan)): `worst`
     /// is where the failure begins, and the states after it were not checked.
     #[serde(skip)]
@@ -91,64 +95,151 @@ impl PlanPhysics {
         self.verdict != Verdict::Holds || !self.warnings.is_empty()
     }
 
-    /// The plan file's `physics` object of this plan: the worst state's numbers and the
-    /// largest friction use over all states.
-    pub fn to_json(&self) -> PhysicsJson {
-        let max =
-            |f: fn(&StateReport) -> Option<f64>| self.states.iter().filter_map(f).reduce(f64::max);
-        let worst = self.states.get(self.worst);
-        PhysicsJson {
-            verdict: self.verdict,
-            mass: self.part.mass,
-            mass_source: self.part.source.clone(),
-            mu_pad: self.settings.mu_pad,
-            mu_support: self.settings.mu_support,
-            safety_factor: self.settings.safety_factor,
-            grip_force_min: self.n_max,
-            grip_force_required: self.required,
-            grip_force_recommended: self.recommended,
-            pad_friction_use: max(|s| s.pad_friction_use),
-            support_friction_use: max(|s| s.support_friction_use),
-            support_normal_max: max(|s| s.support_normal),
-            worst_t: worst.map_or(0.0, |s| s.t),
-            worst_theta_deg: worst.map_or(0.0, |s| s.theta_deg),
-            states: self.states.len(),
-            warnings: self.warnings.clone(),
-        }
-    }
-
     /// Why the planner drops this plan's candidate (`[physics] reject`), or `None` if it holds.
-    pub fn rejection(&self) -> Option<String> {
+    pub fn rejection(&self) -> Option<Unheld> {
         let worst = self.states.get(self.worst)?;
-        let at = format!(
-            "{} θ = {:.1}° (t = {:.2} s)",
-            if self.stopped_at_failure {
-                "from"
-            } else {
-                "at"
-            },
-            worst.theta_deg,
-            worst.t
-        );
+        let at = At {
+            from: self.stopped_at_failure,
+            theta_deg: worst.theta_deg,
+            t: worst.t,
+        };
         match self.verdict {
             Verdict::Holds => None,
             Verdict::SlidesAtSupport => Some(match self.warnings.first() {
-                Some(w) if w.contains("slides") => format!("physics: slides at the support: {w}"),
-                _ => format!(
-                    "physics: slides at the support {at} (μ_support = {})",
-                    self.settings.mu_support
-                ),
+                Some(&GripWarning::EdgeSlides { distance }) => Unheld::EdgeSlides { distance },
+                _ => Unheld::SlidesAtSupport {
+                    at,
+                    mu_support: self.settings.mu_support,
+                },
             }),
             Verdict::CannotHold => Some(match self.required {
-                Some(r) => format!(
-                    "physics: cannot hold: the pinch needs {r:.0} N (safety factor {} × {:.0} N {at}), \
-                     more than the gripper's {:.0} N",
-                    self.settings.safety_factor,
-                    self.n_max.unwrap_or(0.0),
-                    self.settings.grip_force.1
-                ),
-                None => format!("physics: cannot hold the part with any grip force {at}"),
+                Some(required) => Unheld::NeedsMoreForce {
+                    required,
+                    safety_factor: self.settings.safety_factor,
+                    n_max: self.n_max.unwrap_or(0.0),
+                    at,
+                    max_force: self.settings.grip_force.1,
+                },
+                None => Unheld::NoForce { at },
             }),
+        }
+    }
+}
+
+/// Something the verdict alone does not say about a plan's rotation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum GripWarning {
+    /// The points of the part resting on the support slide `distance` (m) along it during
+    /// `rot`: the axis is not the part's real edge.
+    EdgeSlides { distance: f64 },
+    /// In `states` of the `of` states checked neither axis endpoint is within `within` (m) of
+    /// the support.
+    NoSupportContact {
+        states: usize,
+        of: usize,
+        within: f64,
+    },
+    /// In `states` of the `of` states checked only one axis endpoint touches the support.
+    OneSupportContact { states: usize, of: usize },
+    /// `rot` records no grip width: both pad contacts are taken at the precision point.
+    NoGripWidth,
+}
+
+impl fmt::Display for GripWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            GripWarning::EdgeSlides { distance } => write!(
+                f,
+                "the part's edge slides {:.1} mm along the support during rot: the rotation axis \
+                 is not on the part's real edge",
+                distance * 1e3
+            ),
+            GripWarning::NoSupportContact { states, of, within } => write!(
+                f,
+                "{states} of {of} states: neither axis endpoint is within {:.1} mm of the support \
+                 — the part's edge is not on the line the plan claims, and the pads alone hold \
+                 it there",
+                within * 1e3
+            ),
+            GripWarning::OneSupportContact { states, of } => write!(
+                f,
+                "{states} of {of} states: only one axis endpoint touches the support"
+            ),
+            GripWarning::NoGripWidth => f.write_str(
+                "rot has no grip_width: both pad contacts are taken at the precision point",
+            ),
+        }
+    }
+}
+
+/// Where along `rot` a rotation stops being held: `at θ = 12.0° (t = 1.50 s)`, or `from …` when
+/// the screening stopped there ([`PlanPhysics::stopped_at_failure`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct At {
+    pub from: bool,
+    pub theta_deg: f64,
+    pub t: f64,
+}
+
+impl fmt::Display for At {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} θ = {:.1}° (t = {:.2} s)",
+            if self.from { "from" } else { "at" },
+            self.theta_deg,
+            self.t
+        )
+    }
+}
+
+/// Why the pinch does not hold the part during `rot` ([`PlanPhysics::rejection`]); its
+/// `Display` is the candidate's outcome in the plan file (`physics: …`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Unheld {
+    /// The part's edge slides `distance` (m) along the support ([`GripWarning::EdgeSlides`]).
+    EdgeSlides { distance: f64 },
+    /// The support's friction `mu_support` cannot keep the part from sliding.
+    SlidesAtSupport { at: At, mu_support: f64 },
+    /// The pinch needs `required` = `safety_factor` × `n_max` (N), more than the gripper's
+    /// `max_force`.
+    NeedsMoreForce {
+        required: f64,
+        safety_factor: f64,
+        n_max: f64,
+        at: At,
+        max_force: f64,
+    },
+    /// No grip force holds the part.
+    NoForce { at: At },
+}
+
+impl fmt::Display for Unheld {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Unheld::EdgeSlides { distance } => write!(
+                f,
+                "physics: slides at the support: {}",
+                GripWarning::EdgeSlides { distance }
+            ),
+            Unheld::SlidesAtSupport { at, mu_support } => write!(
+                f,
+                "physics: slides at the support {at} (μ_support = {mu_support})"
+            ),
+            Unheld::NeedsMoreForce {
+                required,
+                safety_factor,
+                n_max,
+                at,
+                max_force,
+            } => write!(
+                f,
+                "physics: cannot hold: the pinch needs {required:.0} N (safety factor \
+                 {safety_factor} × {n_max:.0} N {at}), more than the gripper's {max_force:.0} N"
+            ),
+            Unheld::NoForce { at } => {
+                write!(f, "physics: cannot hold the part with any grip force {at}")
+            }
         }
     }
 }

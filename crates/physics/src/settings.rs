@@ -11,12 +11,11 @@
 //! ```
 //!
 //! The scene loader (`pregrasp_io::scene`) reads and range-checks the table (with `reject`, which
-//! tells the planner whether to drop a rotation that does not hold); here its values are applied
-//! on top of the defaults.
+//! tells the planner whether to drop a rotation that does not hold); the planner
+//! (`pregrasp_planner::hold::physics_settings`) applies its values on top of these defaults.
+//! The ranges are the model's ([`pregrasp_model::ranges`]), shared with the scene and plan files.
 
-use std::path::Path;
-
-use pregrasp_io::scene::{check_physics_value, PhysicsParams, Scene};
+use pregrasp_model::{OutOfRange, PhysicsValue};
 
 use crate::statics::ContactModel;
 
@@ -75,14 +74,14 @@ impl Default for PhysicsSettings {
     }
 }
 
-/// A bad `[physics]` table or setting.
+/// A bad setting: `mu_pad: must be in (0, 10], found 0`.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum SettingsError {
-    /// The scene file could not be used (its message names the file and key).
-    #[error("{0}")]
-    Scene(String),
     #[error("{key}: {problem}")]
-    Value { key: String, problem: String },
+    Value {
+        key: PhysicsValue,
+        problem: OutOfRange,
+    },
 }
 
 impl PhysicsSettings {
@@ -96,42 +95,18 @@ impl PhysicsSettings {
     }
 
     /// Checks every value's range (the ranges of the scene's `[physics]` table,
-    /// [`pregrasp_io::scene::check_physics_value`]).
+    /// [`PhysicsValue::range`]).
     pub fn validate(&self) -> Result<(), SettingsError> {
         for (key, value) in [
-            ("mu_pad", self.mu_pad),
-            ("mu_support", self.mu_support),
-            ("safety_factor", self.safety_factor),
-            ("pad_torsion_radius", self.pad_torsion_radius),
-            ("density", self.density),
+            (PhysicsValue::MuPad, self.mu_pad),
+            (PhysicsValue::MuSupport, self.mu_support),
+            (PhysicsValue::SafetyFactor, self.safety_factor),
+            (PhysicsValue::PadTorsionRadius, self.pad_torsion_radius),
+            (PhysicsValue::Density, self.density),
         ] {
-            check_physics_value(key, value).map_err(|problem| SettingsError::Value {
-                key: key.into(),
-                problem,
-            })?;
+            key.check(value)
+                .map_err(|problem| SettingsError::Value { key, problem })?;
         }
         Ok(())
-    }
-
-    /// These settings with a scene's `[physics]` values applied on top (the scene loader has
-    /// checked their ranges).
-    pub fn with_scene(mut self, params: &PhysicsParams) -> Self {
-        let set = |field: &mut f64, value: Option<f64>| {
-            if let Some(v) = value {
-                *field = v;
-            }
-        };
-        set(&mut self.mu_pad, params.mu_pad);
-        set(&mut self.mu_support, params.mu_support);
-        set(&mut self.safety_factor, params.safety_factor);
-        set(&mut self.pad_torsion_radius, params.pad_torsion_radius);
-        set(&mut self.density, params.density);
-        self
-    }
-
-    /// These settings with the `[physics]` table of the scene file at `path` applied on top.
-    pub fn with_scene_file(self, path: &Path) -> Result<Self, SettingsError> {
-        let scene = Scene::load(path).map_err(|e| SettingsError::Scene(e.to_string()))?;
-        Ok(self.with_scene(&scene.physics))
     }
 }

@@ -158,11 +158,16 @@ pub enum StaticOutcome {
     CannotHold,
 }
 
-/// The solver failed to decide (numerical trouble), with its status.
+/// The solver failed to decide: numerical trouble (its status), or it refused the problem it
+/// was given (what it found wrong with it).
 #[derive(Debug, thiserror::Error, PartialEq)]
-#[error("the conic solver did not converge: {status}")]
-pub struct SolverError {
-    pub status: String,
+pub enum SolverError {
+    #[error("the conic solver did not converge: {0:?}")]
+    Status(SolverStatus),
+    #[error("the conic solver did not converge: BadInputData({0:?})")]
+    BadInput(&'static str),
+    #[error("the conic solver refused its settings")]
+    Settings,
 }
 
 /// The support friction that stands for "unlimited" when telling sliding from not holding.
@@ -241,10 +246,10 @@ fn run_clarabel(
         .max_iter(200)
         .build()
         .expect("valid solver settings");
-    let mut solver =
-        DefaultSolver::new(&p, &q, a, b, cones, settings).map_err(|e| SolverError {
-            status: format!("{e:?}"),
-        })?;
+    let mut solver = DefaultSolver::new(&p, &q, a, b, cones, settings).map_err(|e| match e {
+        clarabel::solver::SolverError::BadInputData(what) => SolverError::BadInput(what),
+        _ => SolverError::Settings,
+    })?;
     solver.solve();
     let sol = solver.solution;
     match sol.status {
@@ -254,9 +259,7 @@ fn run_clarabel(
             z: DVector::from_vec(sol.z),
         })),
         SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => Ok(None),
-        other => Err(SolverError {
-            status: format!("{other:?}"),
-        }),
+        other => Err(SolverError::Status(other)),
     }
 }
 

@@ -1,10 +1,12 @@
 //! The `[physics]` table of a scene file: read and range-checked by the scene loader, applied
-//! on top of the defaults here.
+//! on top of the defaults by the planner (`pregrasp_planner::hold::physics_settings`).
 
 use std::path::Path;
 
 use pregrasp_io::scene::{Scene, SceneError};
+use pregrasp_model::PhysicsValue;
 use pregrasp_physics::{PhysicsSettings, SettingsError};
+use pregrasp_planner::hold::physics_settings;
 
 /// The chair example's scene with `extra` appended.
 fn chair_scene(extra: &str) -> Result<Scene, SceneError> {
@@ -19,16 +21,13 @@ fn chair_scene(extra: &str) -> Result<Scene, SceneError> {
 fn physics_table_overrides_defaults() {
     let scene =
         chair_scene("[physics]\nmu_pad = 0.6\nmu_support = 0\nsafety_factor = 3\n").unwrap();
-    let s = PhysicsSettings::default().with_scene(&scene.physics);
+    let s = physics_settings(&scene.physics);
     assert_eq!((s.mu_pad, s.mu_support, s.safety_factor), (0.6, 0.0, 3.0));
     assert_eq!(s.density, PhysicsSettings::default().density);
     assert!(scene.physics.reject, "reject defaults to true");
 
     let none = chair_scene("").unwrap();
-    assert_eq!(
-        PhysicsSettings::default().with_scene(&none.physics),
-        PhysicsSettings::default()
-    );
+    assert_eq!(physics_settings(&none.physics), PhysicsSettings::default());
     assert!(none.physics.reject);
     assert!(
         !chair_scene("[physics]\nreject = false\n")
@@ -86,6 +85,14 @@ fn command_line_values_are_range_checked() {
         mu_pad: 0.0,
         ..PhysicsSettings::default()
     };
-    assert!(matches!(bad.validate(), Err(SettingsError::Value { key, .. }) if key == "mu_pad"));
+    let err = bad.validate().unwrap_err();
+    assert!(matches!(
+        err,
+        SettingsError::Value {
+            key: PhysicsValue::MuPad,
+            ..
+        }
+    ));
+    assert_eq!(err.to_string(), "mu_pad: must be in (0, 10], found 0");
     assert!(PhysicsSettings::default().validate().is_ok());
 }

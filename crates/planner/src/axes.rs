@@ -58,7 +58,7 @@ impl RotationAxisCandidate {
         Unit::new_normalize((self.axis[1] - self.axis[0]) * self.direction.sign())
     }
 
-    /// The candidate as the model records it (`theta_goal` unknown yet).
+    /// The candidate as the plan model records it (θ_goal unknown yet).
     pub fn to_model(&self) -> pregrasp_model::Candidate {
         pregrasp_model::Candidate {
             id: self.id,

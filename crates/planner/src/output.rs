@@ -6,13 +6,13 @@ use std::collections::BTreeMap;
 
 use nalgebra::Isometry3;
 use pregrasp_io::plan_file::{
-    GraspsJson, ObjectJson, PlanFile, PlanJson, PlanStatus, PoseJson, SceneRef, PLAN_FORMAT,
+    GraspsJson, ObjectJson, PlanFile, PlanStatus, PoseJson, SceneRef, PLAN_FORMAT,
 };
-use pregrasp_io::plan_model::{plan_json, robot_json};
+use pregrasp_io::plan_model::robot_json;
 use pregrasp_io::scene::{RobotSpec, Scene};
 use pregrasp_model::{
-    ArmSetup, Closing, DescriptionRef, Grasps, ObjectSetup, Plan, PlanSet, PlanSettings,
-    RobotModel, Roles, Segment, SegmentName, Waypoint,
+    as_written, ArmSetup, Closing, DescriptionRef, Grasps, ObjectSetup, Plan, PlanSet,
+    PlanSettings, RobotModel, Roles, Segment, SegmentName, Waypoint,
 };
 use pregrasp_robot::{FingerPair, GripperState, Joints};
 
@@ -50,9 +50,24 @@ pub fn arm_setup(r: &RobotSpec) -> ArmSetup {
 }
 
 /// The cell `scene` plans for, with Algorithm 1's `candidates` and no plans yet: what the plan
-/// checker and the grip check judge a candidate's plan against.
+/// checker and the grip check judge a candidate's plan against. Built once per run; every pose
+/// as the plan file will hold it ([`as_written`]), so that the checks judge the numbers a
+/// reader of the file finds.
 pub fn plan_set(scene: &Scene, candidates: &[RotationAxisCandidate]) -> PlanSet {
     let p = &scene.planner;
+    let arms = scene
+        .robots
+        .iter()
+        .map(|r| {
+            let a = arm_setup(r);
+            ArmSetup {
+                base: as_written(&a.base),
+                precision_point: as_written(&a.precision_point),
+                power_point: as_written(&a.power_point),
+                ..a
+            }
+        })
+        .collect();
     PlanSet {
         status: PlanStatus::Planned,
         reason: None,
@@ -66,13 +81,13 @@ pub fn plan_set(scene: &Scene, candidates: &[RotationAxisCandidate]) -> PlanSet 
         },
         object: ObjectSetup {
             scale: scene.object.scale,
-            initial_pose: scene.initial_object_pose(),
+            initial_pose: as_written(&scene.initial_object_pose()),
             mass: scene.object.mass,
         },
-        arms: scene.robots.iter().map(arm_setup).collect(),
+        arms,
         grasps: Grasps {
-            power: scene.grasps.power,
-            support: scene.grasps.support,
+            power: scene.grasps.power.each_ref().map(as_written),
+            support: as_written(&scene.grasps.support),
         },
         candidates: candidates
             .iter()
@@ -252,16 +267,21 @@ pub fn rot_segment(ctx: &PlanningContext, pose: &PowerGraspPose, rot: &RotationP
     }
 }
 
-/// A plan-file entry with only its `rot` segment: what the grip check reads, before the reach
-/// motions exist.
-pub fn rot_only_plan_json(
-    set: &PlanSet,
+/// A plan of candidate `candidate_id` with only its `rot` segment: what the grip check reads,
+/// before the reach motions exist. Its poses are as the plan file will hold them
+/// ([`as_written`]).
+pub fn rot_only_plan(
     ctx: &PlanningContext,
     candidate_id: usize,
     score: f64,
     pose: &PowerGraspPose,
     rot: &RotationPath,
-) -> PlanJson {
-    let plan = plan_of(candidate_id, score, pose, vec![rot_segment(ctx, pose, rot)]);
-    plan_json(&set.arms, &plan)
+) -> Plan {
+    let mut segment = rot_segment(ctx, pose, rot);
+    for p in &mut segment.points {
+        p.object_pose = p.object_pose.as_ref().map(as_written);
+    }
+    let mut plan = plan_of(candidate_id, score, pose, vec![segment]);
+    plan.object_goal_pose = as_written(&pose.p_obj);
+    plan
 }

@@ -18,8 +18,8 @@ use crate::check::PlanChecker;
 use crate::clock::Stage;
 use crate::context::{PartKnowledge, PlanningContext};
 use crate::error::{check_mesh, PlanError};
-use crate::hold::{HoldCheck, HoldResult};
-use crate::output::{self, plan_file_header, plan_set, rot_only_plan_json};
+use crate::hold::{HoldCheck, HoldResult, Unchecked};
+use crate::output::{self, plan_file_header, plan_set, rot_only_plan};
 use crate::paths::{integrated_path, IntegratedPath, NoPath};
 use crate::poses::{object_pose_for_power_grasp, PoseRejection, PowerGraspPose};
 use crate::rejection::{FailedRule, PathFailure, Rejection, Unheld};
@@ -127,7 +127,7 @@ impl PlanReport {
 pub struct PlanReport {
     pub file: PlanFile,
     /// Why the plans carry no `physics` object (the mesh is not a closed solid), if so.
-    pub physics_note: Option<String>,
+    pub physics_note: Option<Unchecked>,
     pub candidates: Vec<RotationAxisCandidate>,
     pub outcomes: Vec<CandidateOutcome>,
     /// Algorithm 1's convex hull of the part (object frame), for a viewer of the plan; `None`
@@ -199,15 +199,15 @@ pub fn plan(
     let set = plan_set(scene, &candidates);
     let checker =
         PlanChecker::sharing_part(&set, mesh, &arms, &grippers, part, Some(&ctx.grips), hull);
-    let hold_check = HoldCheck::new(scene, &header, mesh, hull);
+    let hold_check = HoldCheck::new(scene, mesh, hull);
     let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose| {
         // The grip check reads μ_rot alone: Algorithm 3 asks it once a candidate's straight
         // lines hold, and a rotation the pinch cannot hold gets no transits.
         let hold = |rot: &RotationPath| {
-            let plan = rot_only_plan_json(&set, &ctx, candidate.id, candidate.score, &pose, rot);
+            let plan = rot_only_plan(&ctx, candidate.id, candidate.score, &pose, rot);
             match ctx
                 .clock
-                .time(Stage::Hold, || hold_check.check(&header, &plan))
+                .time(Stage::Hold, || hold_check.check(&set, &plan))
             {
                 Some(HoldResult {
                     rejection: Some(reason),
@@ -377,7 +377,7 @@ pub fn plan(
     file.timing_ms.insert("total".into(), ms(t0.elapsed()));
     Ok(PlanReport {
         file,
-        physics_note: hold_check.unavailable().map(str::to_string),
+        physics_note: hold_check.into_unchecked(),
         candidates,
         outcomes,
         hull: (!axes.hull.vertices.is_empty()).then_some(axes.hull),

@@ -14,14 +14,10 @@ use crate::poses::PoseRejection;
 use crate::reach::ReachFailure;
 use crate::rotate::RotationFailure;
 
-/// What the grip check says when it refuses a rotation: the type of the content of
-/// [`crate::hold::HoldResult::rejection`]. Switching it to the grip check's own typed reason
-/// (which renders itself by `Display`) is this one line.
-pub type HoldRefusal = String;
-
-/// The pinch cannot hold the part during μ_rot (`[physics] reject`): the grip check's reason.
+/// The pinch cannot hold the part during μ_rot (`[physics] reject`): the grip check's reason
+/// ([`crate::hold::HoldResult::rejection`]).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Unheld(pub HoldRefusal);
+pub struct Unheld(pub pregrasp_physics::Unheld);
 
 impl fmt::Display for Unheld {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

@@ -276,7 +276,7 @@ pub fn replan_remaining(
         ),
     );
     let segments = vec![sup1.clone(), rot_ran, mas1_segment, sup2_segment];
-    let mut resumed = PlanJson {
+    let resumed = PlanJson {
         candidate: id,
         score: plan.score,
         master: names[mas].clone(),
@@ -286,10 +286,15 @@ pub fn replan_remaining(
         physics: None,
         robustness: None,
     };
-    let hold = HoldCheck::new(&moved, &header, mesh, None);
-    resumed.physics = hold.check(&header, &resumed).map(|h| h.json);
     let mut file = header;
     file.plans = vec![resumed];
+    // The grip check reads the plan as written (the file's poses, read back).
+    let hold = HoldCheck::new(&moved, mesh, None);
+    file.plans[0].physics = file
+        .to_model()
+        .ok()
+        .and_then(|set| hold.check(&set, &set.plans[0]))
+        .map(|h| h.json);
     let verdict = check_plan(&file, mesh);
     if let Some(rule) = FailedRule::first(&verdict) {
         file.plans.clear();

@@ -6,6 +6,7 @@ use pregrasp_io::plan_file::{GripVerdict, Outcome, PlanStatus};
 use std::path::Path;
 
 use pregrasp_io::scene::Scene;
+use pregrasp_physics::{MassError, PhysicsError};
 use pregrasp_planner::check::check_plan;
 use pregrasp_planner::pipeline::{plan, PlanOptions};
 
@@ -138,8 +139,15 @@ fn an_open_mesh_plans_without_the_grip_check() {
     let closed = run(&scene, &mesh);
     mesh.triangles.pop();
     let report = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}).unwrap();
-    let note = report.physics_note.as_deref().expect("the report says why");
-    assert!(note.contains("not a closed surface"), "{note}");
+    let note = report.physics_note.as_ref().expect("the report says why");
+    assert!(
+        matches!(
+            note.0,
+            PhysicsError::Mass(MassError::NotClosed { open }) if open > 0
+        ),
+        "{note}"
+    );
+    assert!(note.to_string().contains("not a closed surface"), "{note}");
     let file = report.file;
     assert_eq!(file.status, PlanStatus::Planned);
     assert!(file.plans.iter().all(|p| p.physics.is_none()));

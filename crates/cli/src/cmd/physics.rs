@@ -8,9 +8,11 @@ use std::process::ExitCode;
 use anyhow::Context;
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::plan_file::PlanFile;
+use pregrasp_io::scene::Scene;
 use pregrasp_physics::{
     analyse_plan, PartMass, PhysicsSettings, PlanPhysics, StateStatus, Verdict,
 };
+use pregrasp_planner::hold::physics_settings;
 
 use super::{EXIT_NO_PLAN, EXIT_OK};
 
@@ -64,7 +66,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let scene_path = file.scene_path(&args.plan);
     let scene_note = if scene_path.is_file() {
         // The scene's own errors name the file and the key.
-        settings = settings.with_scene_file(&scene_path)?;
+        let scene = Scene::load(&scene_path).map_err(|e| anyhow::anyhow!("{e}"))?;
+        settings = physics_settings(&scene.physics);
         format!("scene {}", scene_path.display())
     } else {
         "scene not found: defaults".to_string()
@@ -84,8 +87,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         pregrasp_io::scene::check_physics_value("mass", m)
             .map_err(|problem| anyhow::anyhow!("--mass: {problem}"))?;
     }
+    let set = file
+        .to_model()
+        .with_context(|| format!("{}", args.plan.display()))?;
     let part = PartMass::resolve(
-        &file,
+        set.object.mass,
         &mesh,
         args.mass.map(|m| (m, "--mass")),
         settings.density,
@@ -108,25 +114,36 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .grippers(Some(&args.plan))
         .map_err(anyhow::Error::msg)
         .with_context(|| format!("{}", args.plan.display()))?;
-    let settings_of = |k: usize| {
-        let sup = file
-            .robots
-            .iter()
-            .position(|r| r.name == file.plans[k].supportive);
-        PhysicsSettings {
-            grip_force: sup.map_or(settings.grip_force, |i| grippers[i].grip_force_range()),
-            ..settings
-        }
+    let settings_of = |k: usize| PhysicsSettings {
+        grip_force: grippers
+            .get(set.plans[k].roles.supportive)
+            .map_or(settings.grip_force, |g| g.grip_force_range()),
+        ..settings
     };
     let reports = indices
         .iter()
-        .map(|&k| analyse_plan(&file, k, &part, &settings_of(k)))
+        .map(|&k| analyse_plan(&set, k, &part, &settings_of(k)))
         .collect::<Result<Vec<_>, _>>()
         .with_context(|| format!("{}", args.plan.display()))?;
     let all_hold = reports.iter().all(|r| r.verdict == Verdict::Holds);
+    let robot = |r: &PlanPhysics| set.arms[r.arm].name.as_str();
 
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&reports)?);
+        // Each report with its supportive arm's name.
+        #[derive(serde::Serialize)]
+        struct Named<'a> {
+            #[serde(flatten)]
+            report: &'a PlanPhysics,
+            robot: &'a str,
+        }
+        let named: Vec<Named> = reports
+            .iter()
+            .map(|report| Named {
+                report,
+                robot: robot(report),
+            })
+            .collect();
+        println!("{}", serde_json::to_string_pretty(&named)?);
     } else {
         println!(
             "{}: mass {:.3} kg ({}), mu_pad {}, mu_support {}, safety factor {} ({scene_note})",
@@ -141,7 +158,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             println!("no plans in the file: nothing to check");
         }
         for r in &reports {
-            print_report(r);
+            print_report(r, robot(r));
         }
     }
     Ok(ExitCode::from(if all_hold {
@@ -155,12 +172,11 @@ fn num(v: Option<f64>, digits: usize) -> String {
     v.map_or_else(|| "-".to_string(), |x| format!("{x:.digits$}"))
 }
 
-fn print_report(r: &PlanPhysics) {
+fn print_report(r: &PlanPhysics, robot: &str) {
     println!(
-        "plan {} (candidate {}): {} holds G_s, pad gap {:.1} mm, {} states ({} interpolated)",
+        "plan {} (candidate {}): {robot} holds G_s, pad gap {:.1} mm, {} states ({} interpolated)",
         r.plan,
         r.candidate,
-        r.robot,
         r.grip_width * 1e3,
         r.states.len(),
         r.states.iter().filter(|s| s.point.is_none()).count()
