@@ -243,3 +243,82 @@ impl fmt::Display for Unheld {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{At, GripWarning, Unheld};
+    use crate::part_mass::MassSource;
+
+    /// The words the plan files and the planner's outcomes have always held.
+    #[test]
+    fn reasons_and_warnings_keep_their_words() {
+        let slides = GripWarning::EdgeSlides { distance: 0.0123 };
+        assert_eq!(
+            slides.to_string(),
+            "the part's edge slides 12.3 mm along the support during rot: the rotation axis is \
+             not on the part's real edge"
+        );
+        assert_eq!(
+            GripWarning::NoSupportContact {
+                states: 3,
+                of: 9,
+                within: 0.006
+            }
+            .to_string(),
+            "3 of 9 states: neither axis endpoint is within 6.0 mm of the support — the part's \
+             edge is not on the line the plan claims, and the pads alone hold it there"
+        );
+        assert_eq!(
+            GripWarning::OneSupportContact { states: 2, of: 9 }.to_string(),
+            "2 of 9 states: only one axis endpoint touches the support"
+        );
+        assert_eq!(
+            GripWarning::NoGripWidth.to_string(),
+            "rot has no grip_width: both pad contacts are taken at the precision point"
+        );
+        let at = At {
+            from: false,
+            theta_deg: 12.34,
+            t: 1.5,
+        };
+        let from = At { from: true, ..at };
+        assert_eq!(
+            Unheld::EdgeSlides { distance: 0.0123 }.to_string(),
+            format!("physics: slides at the support: {slides}")
+        );
+        assert_eq!(
+            Unheld::SlidesAtSupport {
+                at,
+                mu_support: 0.4
+            }
+            .to_string(),
+            "physics: slides at the support at θ = 12.3° (t = 1.50 s) (μ_support = 0.4)"
+        );
+        assert_eq!(
+            Unheld::NeedsMoreForce {
+                required: 300.4,
+                safety_factor: 2.0,
+                n_max: 150.2,
+                at: from,
+                max_force: 235.0
+            }
+            .to_string(),
+            "physics: cannot hold: the pinch needs 300 N (safety factor 2 × 150 N from θ = 12.3° \
+             (t = 1.50 s)), more than the gripper's 235 N"
+        );
+        assert_eq!(
+            Unheld::NoForce { at }.to_string(),
+            "physics: cannot hold the part with any grip force at θ = 12.3° (t = 1.50 s)"
+        );
+        assert_eq!(MassSource::Plan.to_string(), "plan object.mass");
+        assert_eq!(MassSource::Given("--mass").to_string(), "--mass");
+        assert_eq!(
+            MassSource::Density {
+                density: 700.0,
+                volume: 0.00459
+            }
+            .to_string(),
+            "700 kg/m³ × mesh volume 0.004590 m³ (no mass given)"
+        );
+    }
+}
