@@ -15,6 +15,7 @@
 //! `x.plan.toml` never share a file); a scene whose outputs would be one of the summary files
 //! (`report.toml`'s page is `report.html`) is an error row that says so.
 
+pub mod page;
 pub mod report;
 
 use std::path::{Path, PathBuf};
@@ -277,38 +278,6 @@ fn plan_isolated(dir: &Path, out: &Path, scene_path: &Path, options: &PlanOption
     }
 }
 
-/// The viewer page of a plan file just planned, as `pregrasp plan --html` makes it: the file
-/// as a plan set, its JSON embedded as it is, its arms and grippers loaded from the current
-/// directory (one that cannot be loaded is drawn as `pregrasp view` draws it), the scene's
-/// name (else file) as the title.
-fn page_html(
-    file: &PlanFile,
-    mesh: &pregrasp_geometry::Mesh,
-    hull: Option<&pregrasp_geometry::ConvexHull>,
-) -> Result<String, String> {
-    let set = file.to_model().map_err(|e| e.to_string())?;
-    let json = serde_json::value::to_raw_value(file).map_err(|e| e.to_string())?;
-    let arms = file.arm_descriptions(None).ok();
-    let grippers = file.grippers(None).ok();
-    let title = match &file.scene.name {
-        Some(name) => name.clone(),
-        None => format!("pregrasp plan: {}", file.scene.file),
-    };
-    let page = pregrasp_viewer::Page {
-        set: &set,
-        plan_json: &json,
-        title: &title,
-        mesh,
-        arms: arms.as_ref().map(|a| &a[..]),
-        grippers: grippers.as_ref().map(|g| &g[..]),
-    };
-    Ok(pregrasp_viewer::render_html_with_hull(
-        &page,
-        hull,
-        &Default::default(),
-    ))
-}
-
 /// Plans one scene; `Err` is the reason of its error row.
 fn plan_scene(
     out: &Path,
@@ -369,8 +338,14 @@ fn plan_scene(
             file.timing_ms
                 .insert("process".into(), started.elapsed().as_secs_f64() * 1e3);
             file.locate_inputs(&plan_path);
-            let page = page_html(&file, &mesh, report.hull.as_ref())
-                .map_err(|e| format!("{}: {e}", scene_path.display()))?;
+            let page = page::page_html(
+                &file,
+                None,
+                &mesh,
+                report.hull.as_ref(),
+                &Default::default(),
+            )
+            .map_err(|e| format!("{}: {e}", scene_path.display()))?;
             let files = [
                 (plan_path.clone(), file.to_json().into_bytes()),
                 (view_path.clone(), page.into_bytes()),

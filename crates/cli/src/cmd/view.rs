@@ -1,15 +1,15 @@
 //! `pregrasp view PLAN.json -o plan.html`: one self-contained HTML page with an interactive
 //! 3D view of the plan (drawn by its own WebGL code, no network needed; open it in any browser).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context;
-use pregrasp_geometry::{ConvexHull, Mesh};
+pub use pregrasp_batch::page::page_html;
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::output::Outputs;
 use pregrasp_io::plan_file::PlanFile;
-use pregrasp_viewer::{render_html_with_hull, Page, ViewOptions};
+use pregrasp_viewer::ViewOptions;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -71,38 +71,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         html.len() / 1024
     );
     Ok(ExitCode::SUCCESS)
-}
-
-/// The page of the plan file `plan` (read from `plan_path`, which finds the robot descriptions
-/// of arms given by one, as `check` does; `None`: from the current directory) with the part
-/// `mesh`: the file as a plan set, its JSON embedded as it is, its arms and grippers loaded
-/// (an arm whose description cannot be loaded is not drawn, a gripper that cannot be is drawn
-/// as the 2F-85), titled by the scene's name (else its file) unless `options` give a title.
-/// Fails only when the file is not a plan set.
-pub fn page_html(
-    plan: &PlanFile,
-    plan_path: Option<&Path>,
-    mesh: &Mesh,
-    hull: Option<&ConvexHull>,
-    options: &ViewOptions,
-) -> anyhow::Result<String> {
-    let set = plan.to_model()?;
-    let json = serde_json::value::to_raw_value(plan)?;
-    let arms = plan.arm_descriptions(plan_path).ok();
-    let grippers = plan.grippers(plan_path).ok();
-    let title = match &plan.scene.name {
-        Some(name) => name.clone(),
-        None => format!("pregrasp plan: {}", plan.scene.file),
-    };
-    let page = Page {
-        set: &set,
-        plan_json: &json,
-        title: &title,
-        mesh,
-        arms: arms.as_ref().map(|a| &a[..]),
-        grippers: grippers.as_ref().map(|g| &g[..]),
-    };
-    Ok(render_html_with_hull(&page, hull, options))
 }
 
 /// The playback speeds the page's menu offers.
