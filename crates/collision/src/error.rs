@@ -20,7 +20,7 @@ pub enum CollisionError {
     NonFiniteVertex,
     /// parry refused the mesh.
     #[error("object mesh rejected: {0}")]
-    Mesh(String),
+    Mesh(parry3d_f64::shape::TriMeshBuilderError),
     /// An arm has more collision primitives than the fixed-size pose buffer holds.
     #[error("arm {arm:?} has {count} collision primitives, at most {max} are supported")]
     TooManyShapes {

@@ -43,7 +43,7 @@ impl ObjectGeometry {
     pub fn new(mesh: &Mesh) -> Result<Self, CollisionError> {
         check_mesh(mesh)?;
         let trimesh = TriMesh::new(mesh.vertices.clone(), mesh.triangles.clone())
-            .map_err(|e| CollisionError::Mesh(e.to_string()))?;
+            .map_err(CollisionError::Mesh)?;
         let aabb = trimesh.local_aabb();
         let center = aabb.center();
         let radius = aabb.half_extents().norm();

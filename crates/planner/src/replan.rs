@@ -160,13 +160,27 @@ pub fn replan(
     }
 }
 
+/// What a nominal plan lacks for re-planning what is left of it.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RanPlanProblem {
+    #[error("no {0} segment")]
+    NoSegment(SegmentName),
+    #[error("{0} has no points")]
+    NoPoints(SegmentName),
+    #[error("the {role} arm {name:?} is not in the scene")]
+    ArmNotInScene { role: &'static str, name: String },
+}
+
 /// Why [`replan_from_rot`] cannot start.
 #[derive(Debug, thiserror::Error)]
 pub enum ResumeError {
     #[error("plans[{0}]: no such plan")]
     NoPlan(usize),
     #[error("plans[{plan}]: {problem}")]
-    Plan { plan: usize, problem: String },
+    Plan {
+        plan: usize,
+        problem: RanPlanProblem,
+    },
     /// The scene or mesh cannot be planned at all.
     #[error("{0}")]
     Planning(#[from] PlanError),
@@ -197,7 +211,7 @@ impl<'a> RanPlan<'a> {
         Ok(RanPlan { plan, index })
     }
 
-    fn bad(&self, problem: String) -> ResumeError {
+    fn bad(&self, problem: RanPlanProblem) -> ResumeError {
         ResumeError::Plan {
             plan: self.index,
             problem,
@@ -208,18 +222,23 @@ impl<'a> RanPlan<'a> {
     pub fn segment(&self, name: SegmentName) -> Result<&'a SegmentJson, ResumeError> {
         let segment = (self.plan.segments.iter())
             .find(|s| s.name == name)
-            .ok_or_else(|| self.bad(format!("no {name} segment")))?;
+            .ok_or_else(|| self.bad(RanPlanProblem::NoSegment(name)))?;
         if segment.points.is_empty() {
-            return Err(self.bad(format!("{name} has no points")));
+            return Err(self.bad(RanPlanProblem::NoPoints(name)));
         }
         Ok(segment)
     }
 
     /// The index in `scene` of the arm the plan names `name` (its `role`).
-    pub fn arm(&self, scene: &Scene, role: &str, name: &str) -> Result<usize, ResumeError> {
+    pub fn arm(&self, scene: &Scene, role: &'static str, name: &str) -> Result<usize, ResumeError> {
         (scene.robots.iter())
             .position(|r| r.name == name)
-            .ok_or_else(|| self.bad(format!("the {role} arm {name:?} is not in the scene")))
+            .ok_or_else(|| {
+                self.bad(RanPlanProblem::ArmNotInScene {
+                    role,
+                    name: name.to_string(),
+                })
+            })
     }
 }
 

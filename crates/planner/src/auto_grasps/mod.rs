@@ -374,7 +374,7 @@ pub fn plan_auto(
         Vec::new()
     } else {
         let part = TriMesh::new(mesh.vertices.clone(), mesh.triangles.clone())
-            .map_err(|e| PlanError::Mesh(CollisionError::Mesh(e.to_string())))?;
+            .map_err(|e| PlanError::Mesh(CollisionError::Mesh(e)))?;
         let arms = arm_models(scene)?;
         let tests = GraspTests::new(scene, mesh, &part, &arms, axes.p_init);
         grasp_sets(scene, &slab, &sites, &axes.candidates, &tests, &axes.p_init)?
