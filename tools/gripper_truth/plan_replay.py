@@ -52,6 +52,7 @@ F_MAX = 235.0  # N, the 2F-85's largest grip force
 # measured pad force ~ CAL_A * tau + CAL_B (the pinch calibration of replay.py, README "Replay of the rotation")
 CAL_A, CAL_B = 9.2, 1.8
 PAD_POINT = np.array([0.0, -0.0066, 0.01875])  # pad contact-face centre in the pad body (README "Points")
+TIP_POINT = np.array([0.0, -0.0066, 0.0375])  # the far end of that face (the fingertip)
 # phases (simulated seconds)
 T_SETTLE = 0.3  # the part settles on the table, both grippers open
 T_SPRING = 0.6  # a closing: tau 0, the spring links close the fingers gently
@@ -158,6 +159,10 @@ class PlanScene:
                 "act": nid(mujoco.mjtObj.mjOBJ_ACTUATOR, f"{arm}_fingers_actuator"),
                 "pad": {s: set(nid(G, f"{arm}_{n}") for n in ns) for s, ns in PAD_GEOMS.items()},
                 "pad_body": {"pos": nid(B, f"{arm}_right_pad"), "neg": nid(B, f"{arm}_left_pad")},
+                "side_geoms": {s: set(g for g in range(m.ngeom) if m.geom_bodyid[g] in
+                                      {nid(B, f"{arm}_{pre}_{ln}") for ln in ("driver", "coupler", "spring_link",
+                                                                               "follower", "pad", "silicone_pad")})
+                               for s, pre in (("pos", "right"), ("neg", "left"))},
                 "geoms": set(g for g in range(m.ngeom) if m.geom_bodyid[g] in bodies),
             }
         self.bm_off = T_of(m.body_pos[self.g["sup"]["bm"]], [1, 0, 0, 0])  # base_mount in G (0, 0, 0.007)
@@ -195,14 +200,23 @@ class PlanScene:
             out[side] += f6[0]
         return out
 
-    def pad_gap(self, arm):
-        """x distance (m) between the two pad contact-face centres in the actual flange frame."""
+    def pad_gap(self, arm, point=PAD_POINT):
+        """x distance (m) between the two fingers' `point` (pad face centre or tip) in the actual flange frame."""
         Tf_inv = inv(self.flange_actual(arm))
         xs = {}
         for s, b in self.g[arm]["pad_body"].items():
-            p = T_of(self.d.xpos[b], self.d.xquat[b]) @ np.r_[PAD_POINT, 1]
+            p = T_of(self.d.xpos[b], self.d.xquat[b]) @ np.r_[point, 1]
             xs[s] = (Tf_inv @ p)[0]
         return float(xs["pos"] - xs["neg"])
+
+    def fingers_touch(self, arm):
+        """The +x and -x fingers of this gripper touch each other."""
+        sg = self.g[arm]["side_geoms"]
+        for i in range(self.d.ncon):
+            a, b = self.d.contact.geom[i]
+            if (a in sg["pos"] and b in sg["neg"]) or (a in sg["neg"] and b in sg["pos"]):
+                return True
+        return False
 
 
 def tau_of_force(F):
@@ -301,7 +315,8 @@ def run_plan(scene, doc, plan, pregrasp, pinch_force, power_force, slow, log):
                 break
             tau[arm] = max(0.0, tau[arm] + (F - mean) / CAL_A)
         return {"F_cmd": F, "tau": tau[arm], "N_pos": meas["pos"], "N_neg": meas["neg"], "N_other": meas["other"],
-                "pad_gap": scene.pad_gap(arm), "grip_width_plan": width, "kind": kind(arm, width)}
+                "pad_gap": scene.pad_gap(arm), "tip_gap": scene.pad_gap(arm, TIP_POINT),
+                "fingers_touch": scene.fingers_touch(arm), "grip_width_plan": width, "kind": kind(arm, width)}
 
     def kind(arm, width):
         c = scene.contacts(arm)
@@ -310,7 +325,8 @@ def run_plan(scene, doc, plan, pregrasp, pinch_force, power_force, slow, log):
             return "both_sides"
         if any(on):
             return "one_side"
-        if width is not None and scene.pad_gap(arm) < width - CAGED_MARGIN:
+        closed_past = width is not None and min(scene.pad_gap(arm), scene.pad_gap(arm, TIP_POINT)) < width - CAGED_MARGIN
+        if closed_past or scene.fingers_touch(arm):
             return "caged" if c["other"] > 0.5 else "caged_no_contact"
         return "no_contact"
 
@@ -350,6 +366,7 @@ def run_plan(scene, doc, plan, pregrasp, pinch_force, power_force, slow, log):
     # --- the lift: both flanges up LIFT together, then hold
     F0 = {n: flange(n, q[n]) for n in robots}
     Tl0 = scene.part_T()
+    in_grip0 = {arm: inv(scene.flange_actual(arm)) @ Tl0 for arm in ("sup", "mas")}
     n = steps(T_LIFT)
 
     def up(i):
@@ -363,6 +380,10 @@ def run_plan(scene, doc, plan, pregrasp, pinch_force, power_force, slow, log):
     Tgoal = pose_T(plan["object_goal_pose"])
     rec["lift"] = {"rise": float((Tl1[:3, :3] @ com + Tl1[:3, 3])[2] - (Tl0[:3, :3] @ com + Tl0[:3, 3])[2]),
                    "tilt_deg": math.degrees(rot_angle(Tl1[:3, :3], Tl0[:3, :3])),
+                   "slip_in_grip": {arm: float(np.linalg.norm((inv(scene.flange_actual(arm)) @ Tl1 @ np.r_[com, 1])[:3]
+                                                            - (in_grip0[arm] @ np.r_[com, 1])[:3])) for arm in ("sup", "mas")},
+                   "slip_in_grip_deg": {arm: math.degrees(rot_angle((inv(scene.flange_actual(arm)) @ Tl1)[:3, :3],
+                                                                    in_grip0[arm][:3, :3])) for arm in ("sup", "mas")},
                    "goal_ang_err_deg_before_lift": math.degrees(rot_angle(Tl0[:3, :3], Tgoal[:3, :3])),
                    "kind_end": {"mas": kind("mas", segs["mas1"].get("grip_width")),
                                 "sup": kind("sup", segs["sup2"].get("grip_width"))},
@@ -433,7 +454,7 @@ def main():
                     log(f"  {wall:.1f} s wall, {rec['t_sim']:.1f} s simulated")
                     rows.append({"example": example, "plan": k, "candidate": plan["candidate"], "mass": mass,
                                  "master": plan["master"], "supportive": plan["supportive"], "pieces": dinfo["pieces"],
-                                 "pinch_force": pinch, "power_force": pf, "wall_s": round(wall, 1), **rec})
+                                 "pinch_force": pinch, "power_force": pf, **rec})
     rows.sort(key=lambda r: (r["example"], r["plan"], r["power_force"]))
     header = {
         "generator": SCRIPT,
@@ -449,7 +470,6 @@ def main():
                              "hold": T_HOLD},
                   "caged_margin": CAGED_MARGIN,
                   "description": "README section 'Replay of the whole plan'"},
-        "wall_s_total": round(time.time() - t_start, 1),
     }
     out = Path(a.out)
     write_atomic(out / f"{a.name}.json", dump_json(header, rows))
