@@ -143,6 +143,7 @@ class PlanScene:
                         userface=list(np.asarray(hull.faces).ravel()))
             part.add_geom(name=f"part{i}", type=mujoco.mjtGeom.mjGEOM_MESH, meshname=f"piece{i}",
                           friction=[mu_sup, 0.005, 0.0001], condim=3, mass=0)
+        self.part_verts = np.vstack(pieces)  # object frame (scaled)
         self.m = m = sp.compile()
         nid = lambda t, n: mujoco.mj_name2id(m, t, n)
         B, G, J = mujoco.mjtObj.mjOBJ_BODY, mujoco.mjtObj.mjOBJ_GEOM, mujoco.mjtObj.mjOBJ_JOINT
@@ -208,6 +209,17 @@ class PlanScene:
             p = T_of(self.d.xpos[b], self.d.xquat[b]) @ np.r_[point, 1]
             xs[s] = (Tf_inv @ p)[0]
         return float(xs["pos"] - xs["neg"])
+
+    def table_contact(self):
+        """Summed normal force of the table on the part (N)."""
+        f6, tot = np.zeros(6), 0.0
+        tid = mujoco.mj_name2id(self.m, mujoco.mjtObj.mjOBJ_GEOM, "table")
+        for i in range(self.d.ncon):
+            a, b = self.d.contact.geom[i]
+            if (a == tid and b in self.part_geoms) or (b == tid and a in self.part_geoms):
+                mujoco.mj_contactForce(self.m, self.d, i, f6)
+                tot += f6[0]
+        return tot
 
     def fingers_touch(self, arm):
         """The +x and -x fingers of this gripper touch each other."""
@@ -355,8 +367,12 @@ def run_plan(scene, doc, plan, pregrasp, pinch_force, power_force, slow, log):
     rec["mas1_close"]["part_moved"] = float(np.linalg.norm((Tm1[:3, :3] @ com + Tm1[:3, 3]) - (Tm0[:3, :3] @ com + Tm0[:3, 3])))
     rec["mas1_close"]["part_turned_deg"] = math.degrees(rot_angle(Tm1[:3, :3], Tm0[:3, :3]))
     tau["sup"] = TAU_OPEN
+    To0 = scene.part_T()
     step(steps(T_OPEN))
-    rec["sup_open_kind"] = kind("sup", None)
+    To1 = scene.part_T()
+    rec["sup_open"] = {"kind_after": kind("sup", None),
+                       "part_moved": float(np.linalg.norm((To1[:3, :3] @ com + To1[:3, 3]) - (To0[:3, :3] @ com + To0[:3, 3]))),
+                       "part_turned_deg": math.degrees(rot_angle(To1[:3, :3], To0[:3, :3]))}
     move(segs["sup2"])
     Ts0 = scene.part_T()
     rec["sup2_close"] = close("sup", power_force, False, segs["sup2"].get("grip_width"))
@@ -377,9 +393,12 @@ def run_plan(scene, doc, plan, pregrasp, pinch_force, power_force, slow, log):
     step(n, up)
     step(steps(T_HOLD))
     Tl1 = scene.part_T()
+    lowest = float((scene.part_verts @ Tl1[:3, :3].T + Tl1[:3, 3])[:, 2].min()) - doc.get("support_height", 0.0)
     Tgoal = pose_T(plan["object_goal_pose"])
     rec["lift"] = {"rise": float((Tl1[:3, :3] @ com + Tl1[:3, 3])[2] - (Tl0[:3, :3] @ com + Tl0[:3, 3])[2]),
                    "tilt_deg": math.degrees(rot_angle(Tl1[:3, :3], Tl0[:3, :3])),
+                   "table_force_end": scene.table_contact(),
+                   "part_lowest_above_table_end": lowest,
                    "slip_in_grip": {arm: float(np.linalg.norm((inv(scene.flange_actual(arm)) @ Tl1 @ np.r_[com, 1])[:3]
                                                             - (in_grip0[arm] @ np.r_[com, 1])[:3])) for arm in ("sup", "mas")},
                    "slip_in_grip_deg": {arm: math.degrees(rot_angle((inv(scene.flange_actual(arm)) @ Tl1)[:3, :3],
