@@ -383,6 +383,8 @@ def run_plan(scene, doc, plan, pregrasp, pinch_force, power_force, slow, log):
     F0 = {n: flange(n, q[n]) for n in robots}
     Tl0 = scene.part_T()
     in_grip0 = {arm: inv(scene.flange_actual(arm)) @ Tl0 for arm in ("sup", "mas")}
+    lowest0 = float((scene.part_verts @ Tl0[:3, :3].T + Tl0[:3, 3])[:, 2].min()) - doc.get("support_height", 0.0)
+    table0 = scene.table_contact()
     n = steps(T_LIFT)
 
     def up(i):
@@ -399,6 +401,7 @@ def run_plan(scene, doc, plan, pregrasp, pinch_force, power_force, slow, log):
                    "tilt_deg": math.degrees(rot_angle(Tl1[:3, :3], Tl0[:3, :3])),
                    "table_force_end": scene.table_contact(),
                    "part_lowest_above_table_end": lowest,
+                   "part_lowest_above_table_start": lowest0, "table_force_start": table0,
                    "slip_in_grip": {arm: float(np.linalg.norm((inv(scene.flange_actual(arm)) @ Tl1 @ np.r_[com, 1])[:3]
                                                             - (in_grip0[arm] @ np.r_[com, 1])[:3])) for arm in ("sup", "mas")},
                    "slip_in_grip_deg": {arm: math.degrees(rot_angle((inv(scene.flange_actual(arm)) @ Tl1)[:3, :3],
