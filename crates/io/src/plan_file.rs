@@ -30,15 +30,8 @@ pub struct PoseJson {
 impl From<&Isometry3<f64>> for PoseJson {
     /// Quaternions are written with `w >= 0` so that equal rotations serialise equally.
     fn from(pose: &Isometry3<f64>) -> Self {
-        let t = pose.translation.vector;
-        let mut q = *pose.rotation.quaternion();
-        if q.w < 0.0 {
-            q = -q;
-        }
-        PoseJson {
-            xyz: [t.x, t.y, t.z],
-            quat_xyzw: [q.i, q.j, q.k, q.w],
-        }
+        let (xyz, quat_xyzw) = pregrasp_model::pose_numbers(pose);
+        PoseJson { xyz, quat_xyzw }
     }
 }
 

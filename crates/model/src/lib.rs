@@ -11,8 +11,8 @@ pub mod terms;
 pub mod timeline;
 
 pub use plan::{
-    as_written, ArmSetup, Candidate, Closing, DescriptionRef, Grasps, ObjectSetup, PadContact,
-    Plan, PlanSet, PlanSettings, Roles, Segment, Waypoint,
+    as_written, pose_numbers, ArmSetup, Candidate, Closing, DescriptionRef, Grasps, ObjectSetup,
+    PadContact, Plan, PlanSet, PlanSettings, Roles, Segment, Waypoint,
 };
 pub use ranges::{OutOfRange, PhysicsValue, ValueRange, MAX_MASS};
 pub use terms::{

@@ -203,15 +203,22 @@ pub struct Waypoint {
     pub object_pose: Option<Isometry3<f64>>,
 }
 
-/// A pose as a plan file stores it and reads it back: the quaternion's sign chosen with
-/// `w ≥ 0`, then normalised. Checks that judge a pose the planner is about to write (the grip
-/// check of `rot`) judge this one, so that a reader of the file finds the same numbers.
-pub fn as_written(pose: &Isometry3<f64>) -> Isometry3<f64> {
+/// A pose's numbers as a plan file writes them: its translation, and its quaternion
+/// `[x, y, z, w]` with the sign chosen so that `w ≥ 0` (equal rotations are written equally).
+pub fn pose_numbers(pose: &Isometry3<f64>) -> ([f64; 3], [f64; 4]) {
     let t = pose.translation.vector;
     let mut q = *pose.rotation.quaternion();
     if q.w < 0.0 {
         q = -q;
     }
-    let q = UnitQuaternion::from_quaternion(Quaternion::new(q.w, q.i, q.j, q.k));
-    Isometry3::from_parts(Translation3::new(t.x, t.y, t.z), q)
+    ([t.x, t.y, t.z], [q.i, q.j, q.k, q.w])
+}
+
+/// A pose as a plan file stores it and reads it back: [`pose_numbers`], the quaternion then
+/// normalised. Checks that judge a pose the planner is about to write (the grip check of `rot`,
+/// the plan checker) judge this one, so that a reader of the file finds the same numbers.
+pub fn as_written(pose: &Isometry3<f64>) -> Isometry3<f64> {
+    let ([x, y, z], [i, j, k, w]) = pose_numbers(pose);
+    let q = UnitQuaternion::from_quaternion(Quaternion::new(w, i, j, k));
+    Isometry3::from_parts(Translation3::new(x, y, z), q)
 }
