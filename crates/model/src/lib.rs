@@ -19,4 +19,4 @@ pub use terms::{
     GraspKind, GripVerdict, PlanStatus, RobotModel, RotationDirection, SegmentKind, SegmentName,
     Word,
 };
-pub use timeline::{Moment, Timeline, TimelineError, ToolLine, CONTACT_ZONE};
+pub use timeline::{Moment, Timeline, TimelineError, CONTACT_ZONE};

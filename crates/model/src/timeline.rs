@@ -13,7 +13,7 @@
 //! Gripper–part contact is allowed only for a gripper that holds the part, and within the last
 //! [`CONTACT_ZONE`] of a straight approach and the first [`CONTACT_ZONE`] of the `sup2` retreat.
 
-use nalgebra::{Isometry3, Point3};
+use nalgebra::Isometry3;
 use pregrasp_robot::{GripperState, Joints};
 
 use crate::plan::{Closing, Plan, PlanSet};
@@ -56,25 +56,6 @@ impl Moment {
         self.gripper[arm] = grip;
         self.contact_allowed[arm] = true;
         self
-    }
-}
-
-/// A straight tool line: the tool point starts at `from` and the line ends at `to`, moving
-/// along the tool's own z axis.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ToolLine {
-    pub from: Point3<f64>,
-    pub to: Point3<f64>,
-}
-
-impl ToolLine {
-    /// Distance of `p` from the end of the line that touches the part.
-    pub fn distance_to_contact_end(&self, p: &Point3<f64>, contact_at_end: bool) -> f64 {
-        if contact_at_end {
-            (p - self.to).norm()
-        } else {
-            (p - self.from).norm()
-        }
     }
 }
 
@@ -211,11 +192,6 @@ fn joint_gap(a: &Joints, b: &Joints) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Linear interpolation of two joint vectors.
-pub fn lerp(a: &Joints, b: &Joints, s: f64) -> Joints {
-    std::array::from_fn(|i| a[i] + (b[i] - a[i]) * s)
-}
-
 /// Value at `t` of a piecewise-linear function given by strictly increasing knots (held
 /// constant before the first and after the last). `knots` must not be empty.
 pub fn sample_knots(knots: &[(f64, Joints)], t: f64) -> Joints {
@@ -233,7 +209,7 @@ pub fn sample_knots(knots: &[(f64, Joints)], t: f64) -> Joints {
     if t == *t0 {
         return *q0;
     }
-    lerp(q0, q1, (t - t0) / (t1 - t0))
+    lerp_joints(q0, q1, (t - t0) / (t1 - t0))
 }
 
 impl Timeline {
@@ -400,10 +376,5 @@ impl Timeline {
         times.sort_by(f64::total_cmp);
         times.dedup();
         times
-    }
-
-    /// Index of the arm called `name`.
-    pub fn arm_index(&self, name: &str) -> Option<usize> {
-        self.arms.iter().position(|a| a.name == name)
     }
 }
