@@ -274,7 +274,15 @@ const BAD: &[(&str, &str, &str, &str)] = &[
     ("  { xyz = [0.02, 0.70, 0.40], rpy_deg = [180, 0, 90] },\n", "  5,\n", "grasps.power[1]", "expected a table, found an integer"),
     ("power = [", "power = true\nunused = [", "grasps.power", "expected an array of 2 poses, found a boolean"),
     ("seed = 7", "seed = 7\n[physics]\nreject = \"yes\"", "physics.reject", "expected true or false, found a string"),
+    ("seed = 7", "seed = 7\n[physics]\nreject_uncarried = 1", "physics.reject_uncarried", "expected true or false, found an integer"),
 ];
+
+#[test]
+fn reject_uncarried_is_off_unless_asked() {
+    assert!(!load(EXAMPLE).unwrap().physics.reject_uncarried);
+    let on = EXAMPLE.replacen("seed = 7", "seed = 7\n[physics]\nreject_uncarried = true", 1);
+    assert!(load(&on).unwrap().physics.reject_uncarried);
+}
 
 #[test]
 fn every_bad_scene_names_file_and_key() {

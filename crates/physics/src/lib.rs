@@ -11,6 +11,7 @@
 //! is slow), the line contact with the support modelled by its two endpoints, both pads
 //! squeezing with the same normal force. See `docs/physics.md`.
 
+pub mod carry;
 mod error;
 mod grip_force;
 mod lu;
@@ -24,6 +25,7 @@ pub mod settings;
 pub mod statics;
 mod words;
 
+pub use carry::{min_carry_force, Carry, CarryOutcome, CarryProblem, HoldKind, PowerHold};
 pub use error::PhysicsError;
 pub use grip_force::{min_grip_force, min_grip_force_from, WarmStart};
 pub use mass::{MassError, MassProperties};

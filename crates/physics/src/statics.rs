@@ -229,7 +229,7 @@ pub(crate) fn run_conic(program: &ConicProgram) -> Result<Option<PrimalDual>, So
 
 /// Solves `min x₀ subject to A x + s = b, s ∈ cones` with Clarabel at this crate's tolerances;
 /// `None` when it is infeasible, else the optimal primal-dual point.
-fn run_clarabel(
+pub(crate) fn run_clarabel(
     a: &CscMatrix<f64>,
     b: &[f64],
     cones: &[SupportedConeT<f64>],

@@ -74,6 +74,11 @@ impl HoldCheck {
         self.part.err().map(Unchecked)
     }
 
+    /// The carry check of `ctx`'s scene with these mass properties and settings.
+    pub fn carry_check(&self, ctx: &crate::context::PlanningContext) -> crate::carry::CarryCheck {
+        crate::carry::CarryCheck::new(ctx, self.part.as_ref().ok(), &self.settings)
+    }
+
     /// Checks `plan` as a plan of `set` (its candidates, P_init, G_s, support height and lift;
     /// its own `plans` are not read). The poses are judged as given: a caller holding poses
     /// that are about to be written passes them through [`pregrasp_model::as_written`], so

@@ -7,6 +7,7 @@
 //! - [`plan_format`]: is a file a plan file (shape and ranges, before any motion is judged);
 //! - [`check`]: the plan-file validity rules, re-verified with our own models;
 //! - [`hold`]: will the pinch hold the part during `μ_rot` (quasi-static grip force check);
+//! - [`carry`]: will the power grasps carry the part once it is lifted off the table;
 //! - [`pipeline`]: all of it, candidates in parallel, deterministic for any thread count;
 //! - [`replan`]: the same plan for a part measured at another pose (issue 16);
 //! - [`settle`]: a measured pose brought onto the support (the part lies on the table);
@@ -17,6 +18,7 @@
 //! plan's instants (who moves, which gripper is closed, where contact is allowed); [`clock`]
 //! where Algorithm 3's time goes.
 
+pub mod carry;
 pub mod check;
 pub mod clock;
 pub mod context;

@@ -14,6 +14,7 @@ use pregrasp_model::{Plan, PlanSet};
 use rayon::prelude::*;
 
 use crate::axes::{rotation_axis_candidates_with_hull, AxesResult, RotationAxisCandidate};
+use crate::carry::{CarryForces, Uncarried};
 use crate::check::PlanChecker;
 use crate::clock::Stage;
 use crate::context::{PartKnowledge, PlanningContext};
@@ -75,6 +76,9 @@ pub enum CandidateOutcome {
         plan: Box<Plan>,
         /// The grip check's `physics` object of the plan, when it ran.
         physics: Option<Box<PhysicsJson>>,
+        /// The carry check of its final state, when it ran: the forces the power grasps close
+        /// with, or why none lifts the part (kept without `[physics] reject_uncarried`).
+        carry: Option<Result<CarryForces, Uncarried>>,
         check: Option<FailedRule>,
         /// How close a grasping gripper comes to the support along the plan (m), from the
         /// same check.
@@ -86,6 +90,12 @@ pub enum CandidateOutcome {
     Unheld {
         pose: PowerGraspPose,
         reason: Unheld,
+    },
+    /// Algorithm 2 found a pose, but the power grasps cannot carry the part there
+    /// (`[physics] reject_uncarried`; [`crate::carry`]): no motion was planned.
+    Uncarried {
+        pose: PowerGraspPose,
+        reason: Uncarried,
     },
     /// Algorithm 2 found no pose.
     NoPose(PoseRejection),
@@ -128,6 +138,7 @@ pub struct PlanReport {
     pub file: PlanFile,
     /// Why the plans carry no `physics` object (the mesh is not a closed solid), if so.
     pub physics_note: Option<Unchecked>,
+
     pub candidates: Vec<RotationAxisCandidate>,
     pub outcomes: Vec<CandidateOutcome>,
     /// Algorithm 1's convex hull of the part (object frame), for a viewer of the plan; `None`
@@ -200,7 +211,18 @@ pub fn plan(
     let checker =
         PlanChecker::sharing_part(&set, mesh, &arms, &grippers, part, Some(&ctx.grips), hull);
     let hold_check = HoldCheck::new(scene, mesh, hull);
+    let carry_check = hold_check.carry_check(&ctx);
+    let reject_uncarried = scene.physics.reject && scene.physics.reject_uncarried;
     let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose| {
+        // The carry check needs P_obj alone: with `[physics] reject_uncarried` a candidate
+        // whose power grasps cannot lift the part gets no motions.
+        let carry = carry_check.check(&pose.p_obj);
+        if let Some(Err(reason)) = carry {
+            if reject_uncarried {
+                progress();
+                return CandidateOutcome::Uncarried { pose, reason };
+            }
+        }
         // The grip check reads μ_rot alone: Algorithm 3 asks it once a candidate's straight
         // lines hold, and a rotation the pinch cannot hold gets no transits.
         let hold = |rot: &RotationPath| {
@@ -236,6 +258,7 @@ pub fn plan(
                     path: Box::new(path),
                     plan: Box::new(plan),
                     physics: physics.map(Box::new),
+                    carry,
                     check,
                     closest_grasp_to_support,
                 }
@@ -306,6 +329,7 @@ pub fn plan(
                 plan,
                 physics,
                 check,
+                carry,
                 ..
             } => {
                 json.theta_goal = Some(pose.theta_goal);
@@ -316,6 +340,9 @@ pub fn plan(
                     json.outcome = Outcome::Planned;
                     let mut entry = plan_json(&set.arms, plan);
                     entry.physics = physics.as_deref().cloned();
+                    if let (Some(p), Some(Err(why))) = (entry.physics.as_mut(), carry) {
+                        p.warnings.push(why.to_string());
+                    }
                     file.plans.push(entry);
                     kept += 1;
                 } else {
@@ -334,6 +361,10 @@ pub fn plan(
                 json.outcome = Outcome::rejected(failure.to_string());
             }
             CandidateOutcome::Unheld { pose, reason } => {
+                json.theta_goal = Some(pose.theta_goal);
+                json.outcome = Outcome::rejected(reason.to_string());
+            }
+            CandidateOutcome::Uncarried { pose, reason } => {
                 json.theta_goal = Some(pose.theta_goal);
                 json.outcome = Outcome::rejected(reason.to_string());
             }
@@ -533,6 +564,17 @@ fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) -> String {
         return format!(
             "no planned rotation holds the part (best candidate: {reason}); measure the mass and \
              friction and set them in [physics], or set [physics] reject = false to keep such plans"
+        );
+    }
+    let uncarried = outcomes.iter().find_map(|o| match o {
+        CandidateOutcome::Uncarried { reason, .. } => Some(reason),
+        _ => None,
+    });
+    if let Some(reason) = uncarried {
+        return format!(
+            "the power grasps cannot lift the part at any P_obj (best candidate: {reason}); place \
+             them on bars the fingers can squeeze, nearer the centre of mass, or set [physics] \
+             reject_uncarried = false to keep such plans"
         );
     }
     let first = outcomes.iter().find_map(|o| match o {

@@ -225,6 +225,10 @@ pub struct PhysicsParams {
     /// `reject` (default true): the planner rejects a candidate whose rotation the gripper
     /// cannot hold or that slides at the support. `false` keeps such plans and only reports.
     pub reject: bool,
+    /// `reject_uncarried` (default false): the planner also rejects a candidate whose power
+    /// grasps cannot lift the part (the carry check). `false` keeps such plans and says so in
+    /// their `physics.warnings`.
+    pub reject_uncarried: bool,
 }
 
 impl Default for PhysicsParams {
@@ -237,6 +241,7 @@ impl Default for PhysicsParams {
             pad_torsion_radius: None,
             density: None,
             reject: true,
+            reject_uncarried: false,
         }
     }
 }

@@ -105,6 +105,7 @@ pub struct RawPhysics {
     pub pad_torsion_radius: Option<Num>,
     pub density: Option<Num>,
     pub reject: Option<Flag>,
+    pub reject_uncarried: Option<Flag>,
 }
 
 /// A finite number; an integer is taken as one.

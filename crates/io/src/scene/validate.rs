@@ -541,6 +541,7 @@ impl Cx {
             pad_torsion_radius: value("pad_torsion_radius", raw.pad_torsion_radius)?,
             density: value("density", raw.density)?,
             reject: raw.reject.is_none_or(|Flag(b)| b),
+            reject_uncarried: raw.reject_uncarried.is_some_and(|Flag(b)| b),
         })
     }
 }

@@ -1,0 +1,291 @@
+//! Will the power grasps carry the part? The final state of a plan: the part at P_obj, off the
+//! table, held by both arms' power grasps while the cell lifts it. [`min_carry_force`] finds
+//! the smallest grip force, the same setting on both grippers, that holds the part against
+//! gravity and the lift's acceleration without slipping in either hand: a second-order cone
+//! program (Clarabel), like the pinch's ([`crate::statics`]).
+//!
+//! What each hand gives the part ([`PowerHold`]), from where the real closing put the fingers:
+//!
+//! - **The squeeze.** The two fingers press on the bar from both sides along the line between
+//!   their contacts with a normal force `N_g` each, `N_g ≤ N` (the setting) and, for a closing
+//!   whose finger tips met each other before the drivers were blocked (caged), `N_g ≤`
+//!   [`CAGED_SQUEEZE`]: the actuator's force then goes into the tips, only the spring links
+//!   press on the bar. Each contact is a soft finger: tangential force `t` and a moment `e·s`
+//!   about the squeeze line with `‖(t, s)‖ ≤ μ·N_g`.
+//! - **The enclosure**, where the fingers wrapped the bar and the drivers were blocked by it
+//!   (encompassing): the bar
+//!   cannot leave the closed hand, so the hand pushes on it with any force across the bar
+//!   (grasp `x`, `z`) and any moment about those axes. Along the bar (`y`) and about it only
+//!   the squeeze's friction holds it. The friction the enclosure's own push would add is left
+//!   out, on purpose: the two hands could push on the part against each other without limit
+//!   in the program (the arms hold positions; their internal force is not known), and that
+//!   would make friction from nothing.
+//!
+//! A caged bar is not enclosed in this sense: the tips met around it with room to spare, and
+//! the bar moves in the closed hand until it finds the tips (in the whole-plan replay a part
+//! held so in both hands rose 37–45 mm of a 50 mm lift and slipped 6–14 mm in the grips).
+//! A caged hand gives its spring links' squeeze only; a one-sided closing gives nothing.
+//! A pinch (the pads alone bear on the bar) has the squeeze only. Equations: the hands' forces
+//! sum to `W·(g + a)/g · ẑ`, their moments about the centre of mass to zero. Forces are solved
+//! in units of that load, so the program is well scaled. Objective: minimise `N`.
+
+use clarabel::solver::SupportedConeT;
+use nalgebra::{Isometry3, Point3, Vector3};
+
+use crate::statics::{run_clarabel, SolverError};
+
+/// Squeeze (N) a caged closing puts on the bar whatever the setting: its finger tips bear on
+/// each other, and only the spring links press on the bar. The whole-plan replay measured
+/// 2.9–5.9 N per side in such closings at 20 and 235 N settings
+/// (`crates/physics/data/replay_truth/plan_replay_2f85.csv`, chair plan 0, `mas1_close.N_*`);
+/// the smaller side, rounded down.
+pub const CAGED_SQUEEZE: f64 = 2.5;
+
+/// Upward acceleration (m/s²) the cell lifts the part with: the carry check holds the part
+/// under `g + LIFT_ACCELERATION`.
+pub const LIFT_ACCELERATION: f64 = 1.0;
+
+/// How one power grasp holds the part, in the world frame of the final state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PowerHold {
+    /// The grasp frame: origin at the power point on the bar, `x` the closing axis, `y` along
+    /// the bar, `z` the approach (towards the palm's far side).
+    pub frame: Isometry3<f64>,
+    /// Where the two fingers press on the bar (world), each pushing towards the other.
+    pub squeeze: [Point3<f64>; 2],
+    /// The squeeze contacts' torsion radius `e` (m); 0 for point contacts.
+    pub torsion_radius: f64,
+    /// Half the extent (m) of each squeeze contact's patch along the bar (`u`) and across it
+    /// (`v`): a pad pressing with `N_g` over its patch tilts the bar by at most `N_g` times
+    /// these about `v` and `u` (its pressure shifting to the patch's edge). 0: point contacts.
+    pub patch_half_extent: [f64; 2],
+    /// How the closing ended.
+    pub closing: HoldKind,
+}
+
+/// How a power grasp's closing ended, as it matters to carrying.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HoldKind {
+    /// The pads alone bear on the bar: the squeeze, nothing else.
+    Pinch,
+    /// The fingers wrapped the bar and the drivers were blocked by it: squeeze and enclosure.
+    Encompassing,
+    /// The fingers wrapped the bar and their tips met: the spring links' squeeze
+    /// ([`CAGED_SQUEEZE`]) only.
+    Caged,
+    /// One finger closed on nothing: no squeeze, no enclosure.
+    OneSided,
+}
+
+/// One carry problem: the part under its load, held by both power grasps.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CarryProblem {
+    /// Centre of mass (world).
+    pub com: Point3<f64>,
+    /// Weight `m·g` (N), > 0.
+    pub weight: f64,
+    /// Upward acceleration of the lift (m/s², ≥ 0).
+    pub lift_acceleration: f64,
+    pub holds: [PowerHold; 2],
+    /// Coulomb coefficient finger–part, > 0.
+    pub mu: f64,
+}
+
+/// The forces at the optimum (N).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Carry {
+    /// The smallest setting `N` both grippers need.
+    pub grip_force: f64,
+    /// The squeeze each hand puts on the bar at the optimum.
+    pub squeeze: [f64; 2],
+    /// Load each hand carries: `|Σ force|` of its contacts.
+    pub load: [f64; 2],
+}
+
+/// What the carry needs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CarryOutcome {
+    /// Some setting holds the part; the forces at the smallest.
+    Carried(Carry),
+    /// No setting holds it: the hands' contacts cannot balance the load (for example both
+    /// caged, with the part hanging off the line between them).
+    CannotCarry,
+}
+
+/// Columns of one hand's variables.
+struct Columns {
+    /// `N_g`.
+    squeeze: usize,
+    /// `t1, t2, s` of each squeeze contact.
+    pads: [usize; 2],
+    /// `r_x, r_z, m_x, m_z`, when enclosed.
+    enclosure: Option<usize>,
+}
+
+const PER_PAD: usize = 5;
+const PER_ENCLOSURE: usize = 4;
+
+/// The smallest common grip force that carries the part (see the module documentation).
+pub fn min_carry_force(problem: &CarryProblem) -> Result<CarryOutcome, SolverError> {
+    assert!(problem.weight > 0.0, "weight must be > 0");
+    assert!(problem.mu > 0.0, "mu must be > 0");
+    let load = problem.weight * (1.0 + problem.lift_acceleration.max(0.0) / crate::GRAVITY);
+    // Columns: N, then per hand N_g, its pads, its enclosure.
+    let mut n = 1;
+    let columns = problem.holds.map(|h| {
+        let squeeze = n;
+        let pads = [squeeze + 1, squeeze + 1 + PER_PAD];
+        n = squeeze + 1 + 2 * PER_PAD;
+        let enclosure = (h.closing == HoldKind::Encompassing).then(|| {
+            n += PER_ENCLOSURE;
+            n - PER_ENCLOSURE
+        });
+        Columns {
+            squeeze,
+            pads,
+            enclosure,
+        }
+    });
+    let (mut ri, mut ci, mut vals) = (Vec::new(), Vec::new(), Vec::new());
+    let mut push = |r: usize, c: usize, v: f64| {
+        if v != 0.0 {
+            ri.push(r);
+            ci.push(c);
+            vals.push(v);
+        }
+    };
+    let com = problem.com;
+    // A unit force `f` at `p` (rows 0..3) and its moment about the centre of mass (3..6).
+    let force =
+        |push: &mut dyn FnMut(usize, usize, f64), c: usize, p: &Point3<f64>, f: Vector3<f64>| {
+            let m = (p - com).cross(&f);
+            for i in 0..3 {
+                push(i, c, f[i]);
+                push(3 + i, c, m[i]);
+            }
+        };
+    let moment = |push: &mut dyn FnMut(usize, usize, f64), c: usize, m: Vector3<f64>| {
+        for i in 0..3 {
+            push(3 + i, c, m[i]);
+        }
+    };
+    for (h, col) in problem.holds.iter().zip(&columns) {
+        let [x, u, v] = squeeze_basis(h);
+        for (k, p) in h.squeeze.iter().enumerate() {
+            let c = col.pads[k];
+            force(&mut push, c, p, u);
+            force(&mut push, c + 1, p, v);
+            moment(&mut push, c + 2, h.torsion_radius * x);
+            // The pressure's moments about the patch's two tangent axes.
+            moment(&mut push, c + 3, u);
+            moment(&mut push, c + 4, v);
+        }
+        if let Some(c) = col.enclosure {
+            let o = Point3::from(h.frame.translation.vector);
+            let axis = |i: usize| h.frame.rotation * Vector3::ith(i, 1.0);
+            force(&mut push, c, &o, axis(0));
+            force(&mut push, c + 1, &o, axis(2));
+            moment(&mut push, c + 2, axis(0));
+            moment(&mut push, c + 3, axis(2));
+        }
+    }
+    let mut b = vec![0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
+    let mut cones = vec![SupportedConeT::ZeroConeT(6)];
+    let mut row = 6;
+    // Nonnegative rows `A x + s = b`, `s ≥ 0`: N ≥ 0; per hand N − N_g ≥ 0, N_g ≥ 0 and, caged,
+    // CAGED_SQUEEZE − N_g ≥ 0 (in units of the load).
+    let mut nonneg = 0;
+    let mut ge = |push: &mut dyn FnMut(usize, usize, f64),
+                  b: &mut Vec<f64>,
+                  terms: &[(usize, f64)],
+                  rhs: f64| {
+        for &(c, v) in terms {
+            push(row, c, -v);
+        }
+        b.push(-rhs);
+        row += 1;
+        nonneg += 1;
+    };
+    ge(&mut push, &mut b, &[(0, 1.0)], 0.0);
+    for (h, col) in problem.holds.iter().zip(&columns) {
+        ge(&mut push, &mut b, &[(0, 1.0), (col.squeeze, -1.0)], 0.0);
+        ge(&mut push, &mut b, &[(col.squeeze, 1.0)], 0.0);
+        let most = match h.closing {
+            HoldKind::Caged => Some(CAGED_SQUEEZE),
+            HoldKind::OneSided => Some(0.0),
+            HoldKind::Pinch | HoldKind::Encompassing => None,
+        };
+        if let Some(most) = most {
+            ge(&mut push, &mut b, &[(col.squeeze, -1.0)], -most / load);
+        }
+        // |m_u| ≤ a_v N_g (the pressure shifts across the bar), |m_v| ≤ a_u N_g (along it).
+        for c in col.pads {
+            for (m, a) in [
+                (c + 3, h.patch_half_extent[1]),
+                (c + 4, h.patch_half_extent[0]),
+            ] {
+                ge(&mut push, &mut b, &[(col.squeeze, a), (m, -1.0)], 0.0);
+                ge(&mut push, &mut b, &[(col.squeeze, a), (m, 1.0)], 0.0);
+            }
+        }
+    }
+    cones.push(SupportedConeT::NonnegativeConeT(nonneg));
+    let mut cone = |push: &mut dyn FnMut(usize, usize, f64),
+                    b: &mut Vec<f64>,
+                    head: (usize, f64),
+                    tail: &[usize]| {
+        push(row, head.0, -head.1);
+        for (i, &c) in tail.iter().enumerate() {
+            push(row + 1 + i, c, -1.0);
+        }
+        row += 1 + tail.len();
+        b.extend(std::iter::repeat_n(0.0, 1 + tail.len()));
+        cones.push(SupportedConeT::SecondOrderConeT(1 + tail.len()));
+    };
+    for col in &columns {
+        for c in col.pads {
+            // With `e = 0` the torsion's column is empty and `s` changes nothing.
+            cone(
+                &mut push,
+                &mut b,
+                (col.squeeze, problem.mu),
+                &[c, c + 1, c + 2],
+            );
+        }
+    }
+    let a = clarabel::algebra::CscMatrix::new_from_triplets(row, n, ri, ci, vals);
+    let Some(solution) = run_clarabel(&a, &b, &cones)? else {
+        return Ok(CarryOutcome::CannotCarry);
+    };
+    let x = &solution.x;
+    let hand_load = |g: usize| {
+        let col = &columns[g];
+        let h = &problem.holds[g];
+        let [_, u, v] = squeeze_basis(h);
+        let mut f = Vector3::zeros();
+        for c in col.pads {
+            f += x[c] * u + x[c + 1] * v;
+        }
+        if let Some(c) = col.enclosure {
+            let axis = |i: usize| h.frame.rotation * Vector3::ith(i, 1.0);
+            f += x[c] * axis(0) + x[c + 1] * axis(2);
+        }
+        load * f.norm()
+    };
+    Ok(CarryOutcome::Carried(Carry {
+        grip_force: load * x[0].max(0.0),
+        squeeze: [0, 1].map(|g| load * x[columns[g].squeeze].max(0.0)),
+        load: [hand_load(0), hand_load(1)],
+    }))
+}
+
+/// The squeeze line `x` (from the first contact to the second; the grasp's `x` if they meet)
+/// and the contacts' tangent basis: `u` along the bar as far as it is ⟂ `x`, `v = x × u`.
+fn squeeze_basis(h: &PowerHold) -> [Vector3<f64>; 3] {
+    let x = (h.squeeze[1] - h.squeeze[0])
+        .try_normalize(1e-9)
+        .unwrap_or_else(|| h.frame.rotation * Vector3::x());
+    let bar = h.frame.rotation * Vector3::y();
+    let u = (bar - bar.dot(&x) * x).normalize();
+    [x, u, x.cross(&u)]
+}

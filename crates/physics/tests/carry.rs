@@ -1,0 +1,138 @@
+//! The carry check ([`min_carry_force`]) on cases solved by hand: two hands on horizontal bars
+//! side by side, the centre of mass between them or off their line, pinched, enclosed or
+//! caged, the bars horizontal or upright.
+
+use nalgebra::{Isometry3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
+use pregrasp_physics::carry::{CAGED_SQUEEZE, LIFT_ACCELERATION};
+use pregrasp_physics::{min_carry_force, CarryOutcome, CarryProblem, HoldKind, PowerHold, GRAVITY};
+
+const MU: f64 = 0.8;
+const E: f64 = 0.005;
+const WEIGHT: f64 = 30.0;
+
+/// The load the hands carry: the weight under the lift's acceleration.
+fn load(weight: f64) -> f64 {
+    weight * (GRAVITY + LIFT_ACCELERATION) / GRAVITY
+}
+
+/// A hand at `at` closing along world `x`, its bar along `bar` (world `y` or `z`), squeezing a
+/// 20 mm bar.
+fn hold(at: [f64; 3], bar: Vector3<f64>, closing: HoldKind) -> PowerHold {
+    let x = Vector3::x();
+    let z = x.cross(&bar);
+    let r = Rotation3::from_basis_unchecked(&[x, bar, z]);
+    let o = Point3::from(at);
+    PowerHold {
+        frame: Isometry3::from_parts(
+            Translation3::from(o.coords),
+            UnitQuaternion::from_rotation_matrix(&r),
+        ),
+        squeeze: [o - 0.01 * x, o + 0.01 * x],
+        torsion_radius: E,
+        patch_half_extent: [0.0; 2],
+        closing,
+    }
+}
+
+fn problem(com: [f64; 3], bar: Vector3<f64>, closing: HoldKind, weight: f64) -> CarryProblem {
+    CarryProblem {
+        com: Point3::from(com),
+        weight,
+        lift_acceleration: LIFT_ACCELERATION,
+        holds: [
+            hold([-0.2, 0.0, 0.0], bar, closing),
+            hold([0.2, 0.0, 0.0], bar, closing),
+        ],
+        mu: MU,
+    }
+}
+
+fn force(p: &CarryProblem) -> f64 {
+    match min_carry_force(p).unwrap() {
+        CarryOutcome::Carried(c) => c.grip_force,
+        CarryOutcome::CannotCarry => f64::INFINITY,
+    }
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-5 * b.abs().max(1.0)
+}
+
+#[test]
+fn two_pinches_share_the_load_in_four_friction_cones() {
+    // Each of four pads carries a quarter of the load by friction: N μ = load / 4.
+    let n = force(&problem([0.0; 3], Vector3::y(), HoldKind::Pinch, WEIGHT));
+    assert!(close(n, load(WEIGHT) / (4.0 * MU)), "{n}");
+}
+
+#[test]
+fn a_centre_of_mass_off_the_line_needs_the_pads_torsion() {
+    // Off the line through both hands by d: the moment load·d about that line (the squeeze
+    // axis) only the pads' torsion resists, in the same cone as their share of the load.
+    for d in [0.01, 0.05, 0.1] {
+        let n = force(&problem(
+            [0.0, d, 0.0],
+            Vector3::y(),
+            HoldKind::Pinch,
+            WEIGHT,
+        ));
+        let want = load(WEIGHT) / (4.0 * MU) * (1.0 + (d / E).powi(2)).sqrt();
+        assert!(close(n, want), "d {d}: {n} vs {want}");
+    }
+}
+
+#[test]
+fn an_enclosed_horizontal_bar_hangs_in_the_hand() {
+    // Across the bar the closed hand carries any force and tilt: no squeeze is needed.
+    for com in [[0.0; 3], [0.0, 0.05, 0.0], [0.1, 0.1, -0.05]] {
+        let n = force(&problem(com, Vector3::y(), HoldKind::Encompassing, WEIGHT));
+        assert!(n < 1e-6, "{com:?}: {n}");
+    }
+}
+
+#[test]
+fn a_caged_or_one_sided_bar_is_held_by_the_spring_links_alone() {
+    // Caged: at most CAGED_SQUEEZE in each of four friction cones, whatever the setting.
+    let most = 4.0 * MU * CAGED_SQUEEZE;
+    let light = most / load(1.0) * 0.99;
+    let heavy = most / load(1.0) * 1.01;
+    assert!(force(&problem([0.0; 3], Vector3::y(), HoldKind::Caged, light)).is_finite());
+    assert!(force(&problem([0.0; 3], Vector3::y(), HoldKind::Caged, heavy)).is_infinite());
+    // One-sided: nothing holds.
+    assert!(force(&problem([0.0; 3], Vector3::y(), HoldKind::OneSided, 0.1)).is_infinite());
+}
+
+#[test]
+fn along_an_upright_bar_only_the_squeeze_holds() {
+    // The bars upright: the load runs along them, and the enclosure adds no friction.
+    let n = force(&problem(
+        [0.0; 3],
+        Vector3::z(),
+        HoldKind::Encompassing,
+        WEIGHT,
+    ));
+    assert!(close(n, load(WEIGHT) / (4.0 * MU)), "{n}");
+    // Caged, the spring links' squeeze carries at most 4 μ CAGED_SQUEEZE.
+    let most = 4.0 * MU * CAGED_SQUEEZE;
+    let light = most / load(1.0) * 0.99;
+    let heavy = most / load(1.0) * 1.01;
+    assert!(force(&problem([0.0; 3], Vector3::z(), HoldKind::Caged, light)).is_finite());
+    assert!(force(&problem([0.0; 3], Vector3::z(), HoldKind::Caged, heavy)).is_infinite());
+}
+
+#[test]
+fn the_force_scales_with_the_weight() {
+    let one = force(&problem(
+        [0.0, 0.03, 0.0],
+        Vector3::y(),
+        HoldKind::Pinch,
+        10.0,
+    ));
+    let three = force(&problem(
+        [0.0, 0.03, 0.0],
+        Vector3::y(),
+        HoldKind::Pinch,
+        30.0,
+    ));
+    assert!(close(three, 3.0 * one), "{one} {three}");
+}

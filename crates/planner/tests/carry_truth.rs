@@ -1,0 +1,156 @@
+//! The carry check held to the whole-plan replay (`tools/gripper_truth/plan_replay.py`, its
+//! table `crates/physics/data/replay_truth/plan_replay_2f85.csv`): every row is a plan of an
+//! example, replayed in MuJoCo with the power grasps closing at `power_force` and both grippers
+//! lifting 50 mm. It *lifts* when the part rises ≥ 45 mm and tilts < 5°.
+//!
+//! The check, asked of the same grasps at the same P_obj, either finds the plan uncarried (no grip
+//! force within the gripper's carries the part) or sets a force (`CarryForces::set`). Both
+//! ways:
+//! - a plan it refuses does not lift in the replay, at any force the table has;
+//! - a plan it keeps lifts in the replay at every force of the table at or above the one it
+//!   sets.
+//!
+//! Where the replay lifts at a force below the one the check sets, the check is cautious
+//! there: such rows are counted and listed (docs/physics.md, "Carrying the part"), not failed.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::scene::Scene;
+use pregrasp_planner::axes::rotation_axis_candidates;
+use pregrasp_planner::context::PlanningContext;
+use pregrasp_planner::hold::HoldCheck;
+
+/// The replay's verdict thresholds (issue 48).
+const MIN_RISE: f64 = 0.045;
+const MAX_TILT_DEG: f64 = 5.0;
+
+fn rows() -> Vec<HashMap<String, String>> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../physics/data/replay_truth/plan_replay_2f85.csv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    lines
+        .map(|l| {
+            header
+                .iter()
+                .zip(l.split(','))
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn the_carry_check_agrees_with_the_replay_both_ways() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let rows = rows();
+    assert!(rows.len() >= 12, "{} rows", rows.len());
+    let (mut refused, mut kept, mut cautious) = (0, 0, Vec::new());
+    for row in &rows {
+        let name = &row["example"];
+        let scene_path = format!("examples/{name}.toml");
+        let text = std::fs::read_to_string(root.join(&scene_path)).unwrap();
+        let scene = Scene::from_str(&text, Path::new(&scene_path)).unwrap();
+        let mesh = load_mesh(&root.join(&scene.object.mesh_path), scene.object.scale)
+            .unwrap()
+            .mesh;
+        let ctx = PlanningContext::new(&scene, &mesh).unwrap();
+        let axes = rotation_axis_candidates(
+            &mesh,
+            &scene.object.pose,
+            scene.support_height,
+            &scene.planner,
+        );
+        let id: usize = row["candidate"].parse().unwrap();
+        let candidate = axes.candidates.iter().find(|c| c.id == id).unwrap();
+        let theta = row["rot.turn_plan_deg"]
+            .parse::<f64>()
+            .unwrap()
+            .to_radians();
+        let p_obj = candidate.rotated_pose(&ctx.p_init, theta);
+        let carry = HoldCheck::new(&scene, &mesh, None).carry_check(&ctx);
+        let force: f64 = row["power_force"].parse().unwrap();
+        let rise: f64 = row["lift.rise"].parse().unwrap();
+        let tilt: f64 = row["lift.tilt_deg"].parse().unwrap();
+        let lifts = rise >= MIN_RISE && tilt < MAX_TILT_DEG;
+        let what = format!(
+            "{name} plan {} at {force:.0} N (replay: rose {:.1} mm, tilted {tilt:.1}°)",
+            row["plan"],
+            rise * 1e3
+        );
+        match carry.check(&p_obj).expect("the examples have a mass") {
+            Err(why) => {
+                assert!(!lifts, "{what}: refused ({why}), yet it lifts");
+                refused += 1;
+            }
+            Ok(forces) => {
+                let set = forces.set[0].max(forces.set[1]);
+                println!("{what}: N_min {:.1} N, sets {set:.0} N", forces.minimum);
+                if force >= set {
+                    assert!(lifts, "{what}: kept at {set:.0} N, yet it does not lift");
+                    kept += 1;
+                } else if lifts {
+                    cautious.push(format!("{what}: the check sets {set:.0} N"));
+                }
+            }
+        }
+    }
+    println!("refused {refused}, kept {kept}; cautious: {cautious:#?}");
+    // Both ways: rows of each verdict.
+    assert!(refused > 0 && kept > 0, "{refused} refused, {kept} kept");
+}
+
+/// The shelf side's power grasps both cage their bars: its plans say so in
+/// `physics.warnings`, and with `[physics] reject_uncarried` it has no plan, for that reason.
+#[test]
+fn uncarried_plans_are_flagged_or_refused() {
+    use pregrasp_planner::pipeline::{plan, PlanOptions};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scene_path = "examples/shelf_side.toml";
+    let text = std::fs::read_to_string(root.join(scene_path)).unwrap();
+    let mut scene = Scene::from_str(&text, Path::new(scene_path)).unwrap();
+    let mesh = load_mesh(&root.join(&scene.object.mesh_path), scene.object.scale)
+        .unwrap()
+        .mesh;
+    let run = |scene: &Scene| {
+        plan(scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
+            .unwrap()
+            .file
+    };
+    let kept = run(&scene);
+    assert!(!kept.plans.is_empty());
+    for p in &kept.plans {
+        let warnings = &p.physics.as_ref().unwrap().warnings;
+        assert!(
+            warnings.iter().any(|w| w.starts_with("carry: ")),
+            "{warnings:?}"
+        );
+    }
+    scene.physics.reject_uncarried = true;
+    let refused = run(&scene);
+    assert!(refused.plans.is_empty());
+    let reason = refused.reason.unwrap();
+    assert!(reason.contains("caged"), "{reason}");
+    // The chair side carries: the flag changes nothing there.
+    let chair = "examples/chair_side.toml";
+    let text = std::fs::read_to_string(root.join(chair)).unwrap();
+    let mut scene = Scene::from_str(&text, Path::new(chair)).unwrap();
+    let mesh = load_mesh(&root.join(&scene.object.mesh_path), scene.object.scale)
+        .unwrap()
+        .mesh;
+    let before = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file
+        .plans
+        .len();
+    scene.physics.reject_uncarried = true;
+    let after = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file
+        .plans
+        .len();
+    assert_eq!((before, after), (2, 2));
+}
