@@ -280,7 +280,11 @@ const BAD: &[(&str, &str, &str, &str)] = &[
 #[test]
 fn reject_uncarried_is_off_unless_asked() {
     assert!(!load(EXAMPLE).unwrap().physics.reject_uncarried);
-    let on = EXAMPLE.replacen("seed = 7", "seed = 7\n[physics]\nreject_uncarried = true", 1);
+    let on = EXAMPLE.replacen(
+        "seed = 7",
+        "seed = 7\n[physics]\nreject_uncarried = true",
+        1,
+    );
     assert!(load(&on).unwrap().physics.reject_uncarried);
 }
 

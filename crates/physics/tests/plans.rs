@@ -118,7 +118,11 @@ fn example_plans_hold() {
         // The planner wrote the same numbers into the plan file, and the carry check's verdict
         // on the power grasps beside them (the shelf's cage their bars).
         let mut written = file.plans[0].physics.clone().unwrap();
-        let carry = written.warnings.iter().filter(|w| w.starts_with("carry: ")).count();
+        let carry = written
+            .warnings
+            .iter()
+            .filter(|w| w.starts_with("carry: "))
+            .count();
         written.warnings.retain(|w| !w.starts_with("carry: "));
         assert_eq!(carry, usize::from(name == "shelf_side"), "{name}");
         assert_eq!(written, physics_json(&r), "{name}");

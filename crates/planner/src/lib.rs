@@ -25,6 +25,8 @@ pub mod context;
 pub mod dummies;
 pub mod error;
 pub mod hold;
+mod no_plan;
+mod outcome;
 pub mod output;
 pub mod paths;
 pub mod pipeline;

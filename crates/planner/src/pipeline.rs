@@ -7,23 +7,23 @@
 use std::time::Instant;
 
 use pregrasp_geometry::{ConvexHull, Mesh};
-use pregrasp_io::plan_file::{Outcome, PhysicsJson, PlanFile, PlanStatus};
+use pregrasp_io::plan_file::{Outcome, PlanFile, PlanStatus};
 use pregrasp_io::plan_model::plan_json;
 use pregrasp_io::scene::Scene;
 use pregrasp_model::{Plan, PlanSet};
 use rayon::prelude::*;
 
 use crate::axes::{rotation_axis_candidates_with_hull, AxesResult, RotationAxisCandidate};
-use crate::carry::{CarryForces, Uncarried};
 use crate::check::PlanChecker;
+use crate::no_plan::no_plan_reason;
 use crate::clock::Stage;
 use crate::context::{PartKnowledge, PlanningContext};
 use crate::error::{check_mesh, PlanError};
 use crate::hold::{HoldCheck, HoldResult, Unchecked};
 use crate::output::{self, plan_file_header, plan_set, rot_only_plan};
-use crate::paths::{integrated_path, IntegratedPath, NoPath};
+use crate::paths::{integrated_path, NoPath};
 use crate::poses::{object_pose_for_power_grasp, PoseRejection, PowerGraspPose};
-use crate::rejection::{FailedRule, PathFailure, Rejection, Unheld};
+use crate::rejection::{FailedRule, Rejection, Unheld};
 use crate::rotate::RotationPath;
 use pregrasp_model::timeline::Moment;
 
@@ -65,57 +65,30 @@ impl Default for PlanOptions {
 /// `max_plans`, and a multiple of two cores.
 pub const DEFAULT_WAVE: usize = 4;
 
-/// What became of one candidate.
-#[derive(Clone, Debug)]
-pub enum CandidateOutcome {
-    /// Algorithms 2 and 3 succeeded; `plan` is the plan, `physics` its grip check, `check` the
-    /// first rule it failed when re-verified (`None`: valid).
-    Planned {
-        pose: PowerGraspPose,
-        path: Box<IntegratedPath>,
-        plan: Box<Plan>,
-        /// The grip check's `physics` object of the plan, when it ran.
-        physics: Option<Box<PhysicsJson>>,
-        /// The carry check of its final state, when it ran: the forces the power grasps close
-        /// with, or why none lifts the part (kept without `[physics] reject_uncarried`).
-        carry: Option<Result<CarryForces, Uncarried>>,
-        check: Option<FailedRule>,
-        /// How close a grasping gripper comes to the support along the plan (m), from the
-        /// same check.
-        closest_grasp_to_support: Option<f64>,
-    },
-    /// Algorithm 3 found μ_rot and the straight lines of its reach motions, but the pinch
-    /// cannot hold the part during μ_rot (`[physics] reject`): `reason` says why; no transit
-    /// was planned.
-    Unheld {
-        pose: PowerGraspPose,
-        reason: Unheld,
-    },
-    /// Algorithm 2 found a pose, but the power grasps cannot carry the part there
-    /// (`[physics] reject_uncarried`; [`crate::carry`]): no motion was planned.
-    Uncarried {
-        pose: PowerGraspPose,
-        reason: Uncarried,
-    },
-    /// Algorithm 2 found no pose.
-    NoPose(PoseRejection),
-    /// Algorithm 2 found a pose, Algorithm 3 no integrated path: the failure that got
-    /// furthest.
-    NoPath {
-        pose: PowerGraspPose,
-        failure: PathFailure,
-    },
-    /// Not planned: [`PlanOptions::only`] leaves it out.
-    Skipped,
-    /// Not planned: the arms' start configurations are already in collision (the plan file's
-    /// `reason` names the pair: [`Rejection::StartBlocked`]), so no candidate can be.
-    StartBlocked,
-    /// Algorithm 2 found a pose, but Algorithm 3 was not run: `max_plans` plans were kept from
-    /// candidates that rank above it whatever it would give (see [`PlanOptions::wave`]).
-    NotEvaluated,
-}
+pub use crate::outcome::CandidateOutcome;
 
 impl PlanReport {
+    /// Whether the carry check found that plan `k` of the file's power grasps lift the part
+    /// (`true` also where it could not run: nothing says otherwise).
+    pub fn carries(&self, k: usize) -> bool {
+        let Some(candidate) = self.file.plans.get(k).map(|p| p.candidate) else {
+            return false;
+        };
+        self.candidates
+            .iter()
+            .position(|c| c.id == candidate)
+            .and_then(|i| self.outcomes.get(i))
+            .is_none_or(|o| {
+                !matches!(
+                    o,
+                    CandidateOutcome::Planned {
+                        carry: Some(Err(_)),
+                        ..
+                    }
+                )
+            })
+    }
+
     /// How close a grasping gripper comes to the support along plan `k` of the file (m), as
     /// the plan check measured it before the plan was kept.
     pub fn closest_grasp_to_support(&self, k: usize) -> Option<f64> {
@@ -483,110 +456,6 @@ fn required_force(outcome: &CandidateOutcome) -> f64 {
 fn verify(checker: &PlanChecker, set: &PlanSet, plan: &Plan) -> (Option<FailedRule>, Option<f64>) {
     let report = checker.check_plans(set, std::slice::from_ref(plan));
     (FailedRule::first(&report), report.closest_grasp_to_support)
-}
-
-/// Names the stage at which every candidate failed: the words of the plan file's `reason`.
-fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) -> String {
-    let outcomes: Vec<&CandidateOutcome> = all
-        .iter()
-        .filter(|o| !matches!(o, CandidateOutcome::Skipped))
-        .collect();
-    if all.is_empty() {
-        return "Algorithm 1: no rotation-axis candidate (no convex-hull edge within Δd_s of the \
-                support and longer than Δl)"
-            .to_string();
-    }
-    let rejections: Vec<&PoseRejection> = outcomes
-        .iter()
-        .filter_map(|o| match o {
-            CandidateOutcome::NoPose(r) => Some(r),
-            _ => None,
-        })
-        .collect();
-    if rejections.len() == outcomes.len() {
-        use PoseRejection::*;
-        // Name the furthest stage any candidate reached: Δd_a, then the dummies, then IK.
-        let stage = |r: &PoseRejection| match r {
-            GraspNearAxis { .. } => 0,
-            CannotClose { support: false, .. } => 1,
-            DummiesNeverClear { .. } => 2,
-            CannotClose { support: true, .. } | SupportClosingMeetsSupport { .. } => 3,
-            PowerGraspUnreachable { .. } | SupportGraspUnreachable { .. } => 4,
-        };
-        let furthest = rejections.iter().map(|r| stage(r)).max().unwrap_or(0);
-        let at: Vec<&PoseRejection> = rejections
-            .iter()
-            .copied()
-            .filter(|r| stage(r) == furthest)
-            .collect();
-        let arms = |support: bool| -> String {
-            let names: std::collections::BTreeSet<&str> = at
-                .iter()
-                .filter_map(|r| match r {
-                    SupportGraspUnreachable { arm } if support => Some(ctx.names[*arm].as_str()),
-                    PowerGraspUnreachable { arm } if !support => Some(ctx.names[*arm].as_str()),
-                    _ => None,
-                })
-                .collect();
-            names.into_iter().collect::<Vec<_>>().join(" / ")
-        };
-        return match furthest {
-            0 => "no candidate: every power grasp within Δd_a of every axis".to_string(),
-            1 | 3 => format!("grasp: {}", at[0].named(&ctx.names)),
-            2 if at
-                .iter()
-                .all(|r| matches!(r, DummiesNeverClear { fingers: true, .. })) =>
-            {
-                "Algorithm 2: the power grasps' closing fingers reach the support at every angle \
-                 up to θ_max"
-                    .to_string()
-            }
-            2 => "Algorithm 2: the gripper dummies never clear the support within θ_max".to_string(),
-            _ if at.iter().all(|r| matches!(r, SupportGraspUnreachable { .. })) => {
-                format!("IK: support grasp unreachable for arm {} at every P_obj", arms(true))
-            }
-            _ if at.iter().all(|r| matches!(r, PowerGraspUnreachable { .. })) => {
-                format!("IK: power grasp unreachable for arm {} at every P_obj", arms(false))
-            }
-            _ => format!(
-                "IK: power grasp unreachable for arm {} and support grasp for arm {} at the P_obj of \
-                 the other candidates",
-                arms(false),
-                arms(true)
-            ),
-        };
-    }
-    let unheld = outcomes.iter().find_map(|o| match o {
-        CandidateOutcome::Unheld { reason, .. } => Some(reason),
-        _ => None,
-    });
-    if let Some(reason) = unheld {
-        return format!(
-            "no planned rotation holds the part (best candidate: {reason}); measure the mass and \
-             friction and set them in [physics], or set [physics] reject = false to keep such plans"
-        );
-    }
-    let uncarried = outcomes.iter().find_map(|o| match o {
-        CandidateOutcome::Uncarried { reason, .. } => Some(reason),
-        _ => None,
-    });
-    if let Some(reason) = uncarried {
-        return format!(
-            "the power grasps cannot lift the part at any P_obj (best candidate: {reason}); place \
-             them on bars the fingers can squeeze, nearer the centre of mass, or set [physics] \
-             reject_uncarried = false to keep such plans"
-        );
-    }
-    let first = outcomes.iter().find_map(|o| match o {
-        CandidateOutcome::NoPath { failure, .. } => Some(failure),
-        _ => None,
-    });
-    match first {
-        Some(failure) => {
-            format!("Algorithm 3: no integrated path for any candidate (best candidate: {failure})")
-        }
-        None => "Algorithm 3: no integrated path for any candidate (best candidate: -)".into(),
-    }
 }
 
 #[cfg(test)]

@@ -450,16 +450,23 @@ pub fn plan_auto(
             })
             .collect::<Result<_, PlanError>>()?;
         reports.extend(planned);
-        if reports.iter().any(|r| !r.file.plans.is_empty()) {
+        // A set whose plan the power grasps carry ends the search; one that only plans does
+        // once every set has been tried.
+        if reports.iter().any(|r| r.carries(0)) {
             break;
         }
     }
     let tried = &sets[..reports.len()];
+    // The best plan among the sets whose power grasps carry the part, else among all.
     let best = (0..reports.len())
         .filter(|&k| !reports[k].file.plans.is_empty())
         .max_by(|&a, &b| {
             let score = |k: usize| reports[k].file.plans[0].score;
-            score(a).total_cmp(&score(b)).then(b.cmp(&a))
+            let carries = |k: usize| reports[k].carries(0);
+            carries(a)
+                .cmp(&carries(b))
+                .then(score(a).total_cmp(&score(b)))
+                .then(b.cmp(&a))
         });
     let planned = reports.iter().filter(|r| !r.file.plans.is_empty()).count();
     let k = best.unwrap_or(0);
