@@ -33,6 +33,7 @@ from replay import resolve_mesh  # noqa: E402
 from replay_part import decompose_coacd, decompose_extrusion, mass_properties  # noqa: E402
 from replay_scene import GRIPPER_BODIES, PAD_GEOMS, TAU_OPEN  # noqa: E402
 from source import MODEL_DIR, MODEL_XML, load_source  # noqa: E402
+from plan_verdict import THRESHOLDS, verdict  # noqa: E402
 from tables import csv_text, dump_json, write_atomic  # noqa: E402
 from transforms import T_of, inv, pose_T, rot_angle  # noqa: E402
 from transforms import quat_of_mat as quat  # noqa: E402
@@ -235,8 +236,19 @@ def tau_of_force(F):
     return max(0.0, (F - CAL_B) / CAL_A)
 
 
+def segment_forces(plan, pinch_force, power_force):
+    """The force (N) each closing uses: the closing segment's `grip_force` when the plan has one, else `pinch_force`
+    for the pinch (sup1) and `power_force` for the power grasps (mas1, sup2); and which segments had the key."""
+    segs = {s["name"]: s for s in plan["segments"]}
+    default = {"sup1": pinch_force, "mas1": power_force, "sup2": power_force}
+    forces = {n: float(segs[n]["grip_force"]) if segs[n].get("grip_force") is not None else f
+              for n, f in default.items()}
+    return forces, [n for n in default if segs[n].get("grip_force") is not None]
+
+
 def run_plan(scene, doc, plan, pregrasp, pinch_force, power_force, slow, log):
     m, d = scene.m, scene.d
+    force, from_plan = segment_forces(plan, pinch_force, power_force)
     dt = m.opt.timestep
     robots = {r["name"]: r for r in doc["robots"]}
     role = {plan["supportive"]: "sup", plan["master"]: "mas"}
@@ -345,7 +357,7 @@ def run_plan(scene, doc, plan, pregrasp, pinch_force, power_force, slow, log):
     # --- the time line
     step(steps(T_SETTLE))
     move(segs["sup1"])
-    rec["pinch"] = close("sup", pinch_force, True, segs["sup1"].get("grip_width"))
+    rec["pinch"] = close("sup", force["sup1"], True, segs["sup1"].get("grip_width"))
     T_before_rot = scene.part_T()
     track["on"] = True
     move(segs["rot"])
@@ -361,7 +373,7 @@ def run_plan(scene, doc, plan, pregrasp, pinch_force, power_force, slow, log):
                   "pinch_kind_end": kind("sup", segs["rot"].get("grip_width"))}
     move(segs["mas1"])
     Tm0 = scene.part_T()
-    rec["mas1_close"] = close("mas", power_force, False, segs["mas1"].get("grip_width"))
+    rec["mas1_close"] = close("mas", force["mas1"], False, segs["mas1"].get("grip_width"))
     Tm1 = scene.part_T()
     com = m.body_ipos[scene.part_body]
     rec["mas1_close"]["part_moved"] = float(np.linalg.norm((Tm1[:3, :3] @ com + Tm1[:3, 3]) - (Tm0[:3, :3] @ com + Tm0[:3, 3])))
@@ -375,7 +387,7 @@ def run_plan(scene, doc, plan, pregrasp, pinch_force, power_force, slow, log):
                        "part_turned_deg": math.degrees(rot_angle(To1[:3, :3], To0[:3, :3]))}
     move(segs["sup2"])
     Ts0 = scene.part_T()
-    rec["sup2_close"] = close("sup", power_force, False, segs["sup2"].get("grip_width"))
+    rec["sup2_close"] = close("sup", force["sup2"], False, segs["sup2"].get("grip_width"))
     Ts1 = scene.part_T()
     rec["sup2_close"]["part_moved"] = float(np.linalg.norm((Ts1[:3, :3] @ com + Ts1[:3, 3]) - (Ts0[:3, :3] @ com + Ts0[:3, 3])))
     rec["sup2_close"]["part_turned_deg"] = math.degrees(rot_angle(Ts1[:3, :3], Ts0[:3, :3]))
@@ -411,74 +423,58 @@ def run_plan(scene, doc, plan, pregrasp, pinch_force, power_force, slow, log):
                                 "sup": kind("sup", segs["sup2"].get("grip_width"))},
                    "N_end": {"mas": scene.contacts("mas"), "sup": scene.contacts("sup")}}
     rec["fk_check_max"] = {"pos": fk_err[0], "rad": fk_err[1]}
+    rec["grip_force_from_plan"] = from_plan
+    rec.update(verdict(rec))
     log(f"  pinch {rec['pinch']['kind']} N {rec['pinch']['N_pos']:.1f}/{rec['pinch']['N_neg']:.1f}; rot edge slide "
         f"{rec['rot']['edge_slide_max']*1e3:.1f} mm lift {rec['rot']['edge_lift_max']*1e3:.1f} mm, err "
         f"{rec['rot']['pos_err_at_G_s']*1e3:.1f} mm {rec['rot']['ang_err_deg']:.1f} deg; mas1 {rec['mas1_close']['kind']} "
         f"moved {rec['mas1_close']['part_moved']*1e3:.1f} mm {rec['mas1_close']['part_turned_deg']:.1f} deg; sup2 "
-        f"{rec['sup2_close']['kind']}; lift rise {rec['lift']['rise']*1e3:.1f} mm tilt {rec['lift']['tilt_deg']:.1f} deg")
+        f"{rec['sup2_close']['kind']}; lift rise {rec['lift']['rise']*1e3:.1f} mm tilt {rec['lift']['tilt_deg']:.1f} deg; "
+        f"{rec['verdict']} {'+'.join(rec['failures'])}")
     return rec
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("plans", nargs="+")
-    ap.add_argument("--menagerie", required=True)
-    ap.add_argument("--rev", default="HEAD")
-    ap.add_argument("--pregrasp", default=str(DEFAULT_PREGRASP), help="binary for `kin fk` (the FK check)")
-    ap.add_argument("--mesh-root", default=None)
-    ap.add_argument("--plan-index", type=int, nargs="*", default=[0])
-    ap.add_argument("--power-force", type=float, default=None,
-                    help="N, the power grasps' force (default: the plan's physics.grip_force_recommended)")
-    ap.add_argument("--no-max-pass", action="store_true", help="skip the second pass at 235 N")
-    ap.add_argument("--slow", type=float, default=1.0, help="time scaling of every segment (1 = the plan's time line)")
-    ap.add_argument("--dt", type=float, default=0.001)
-    ap.add_argument("--noslip", type=int, default=10)
-    ap.add_argument("--out", default=str(OUT_DIR))
-    ap.add_argument("--name", default="plan_replay_2f85")
-    a = ap.parse_args()
-    t_start = time.time()
-    log = lambda s: print(s, flush=True)
+def replay_file(plan_path, plan_indices, power_forces, src, a, log):
+    """Rows of plan_path's plans `plan_indices` (those present), each once per power force: `power_forces(pinch)`
+    gives the forces for a plan whose pinch force is `pinch` (N). `a`: pregrasp, mesh_root, slow, dt, noslip."""
     rows = []
-    with tempfile.TemporaryDirectory(prefix="plan_replay_") as tmp:
-        src, prov = load_source(a.menagerie, a.rev, tmp)
-        for plan_path in a.plans:
-            doc = json.load(open(plan_path))
-            if doc.get("status") != "planned":
-                log(f"{plan_path}: status {doc.get('status')}, skipped")
-                continue
-            example = Path(doc["scene"]["file"]).stem
-            mesh = trimesh.load(str(resolve_mesh(plan_path, doc["object"]["mesh"], a.mesh_root)), force="mesh")
-            scale = doc["object"].get("scale", 1.0)
-            mesh_s = mesh.copy()
-            mesh_s.apply_scale(scale)
-            try:
-                pieces, dinfo = decompose_extrusion(mesh_s)
-            except ValueError:
-                pieces, dinfo = decompose_coacd(mesh_s)
-            for k in a.plan_index:
-                if k >= len(doc["plans"]):
-                    continue
-                plan = doc["plans"][k]
-                ph = plan.get("physics") or {}
-                mass = doc["object"].get("mass") or ph.get("mass")
-                mp = mass_properties(mesh, mass, scale)
-                pinch = ph.get("grip_force_recommended", 20.0)
-                forces = [a.power_force if a.power_force is not None else pinch]
-                if not a.no_max_pass and forces[0] != F_MAX:
-                    forces.append(F_MAX)
-                for pf in forces:
-                    t0 = time.time()
-                    log(f"{example} plan {k}: mass {mass} kg, {dinfo['pieces']} pieces, pinch {pinch} N, power {pf} N")
-                    sc = PlanScene(src / MODEL_XML, doc, plan, pieces, mp, ph.get("mu_pad", 0.8),
-                                   ph.get("mu_support", 0.4), a.dt, a.noslip)
-                    rec = run_plan(sc, doc, plan, a.pregrasp, pinch, pf, a.slow, log)
-                    wall = time.time() - t0
-                    log(f"  {wall:.1f} s wall, {rec['t_sim']:.1f} s simulated")
-                    rows.append({"example": example, "plan": k, "candidate": plan["candidate"], "mass": mass,
-                                 "master": plan["master"], "supportive": plan["supportive"], "pieces": dinfo["pieces"],
-                                 "pinch_force": pinch, "power_force": pf, **rec})
-    rows.sort(key=lambda r: (r["example"], r["plan"], r["power_force"]))
-    header = {
+    doc = json.load(open(plan_path))
+    if doc.get("status") != "planned":
+        log(f"{plan_path}: status {doc.get('status')}, skipped")
+        return rows
+    example = Path(doc["scene"]["file"]).stem
+    mesh = trimesh.load(str(resolve_mesh(plan_path, doc["object"]["mesh"], a.mesh_root)), force="mesh")
+    scale = doc["object"].get("scale", 1.0)
+    mesh_s = mesh.copy()
+    mesh_s.apply_scale(scale)
+    try:
+        pieces, dinfo = decompose_extrusion(mesh_s)
+    except ValueError:
+        pieces, dinfo = decompose_coacd(mesh_s)
+    for k in plan_indices:
+        if k >= len(doc["plans"]):
+            continue
+        plan = doc["plans"][k]
+        ph = plan.get("physics") or {}
+        mass = doc["object"].get("mass") or ph.get("mass")
+        mp = mass_properties(mesh, mass, scale)
+        pinch = ph.get("grip_force_recommended", 20.0)
+        for pf in power_forces(pinch):
+            t0 = time.time()
+            log(f"{example} plan {k}: mass {mass} kg, {dinfo['pieces']} pieces, pinch {pinch} N, power {pf} N")
+            sc = PlanScene(src / MODEL_XML, doc, plan, pieces, mp, ph.get("mu_pad", 0.8),
+                           ph.get("mu_support", 0.4), a.dt, a.noslip)
+            rec = run_plan(sc, doc, plan, a.pregrasp, pinch, pf, a.slow, log)
+            log(f"  {time.time() - t0:.1f} s wall, {rec['t_sim']:.1f} s simulated")
+            rows.append({"example": example, "plan": k, "candidate": plan["candidate"], "mass": mass,
+                         "master": plan["master"], "supportive": plan["supportive"], "pieces": dinfo["pieces"],
+                         "pinch_force": pinch, "power_force": pf, **rec})
+    return rows
+
+
+def header(a, prov):
+    """The provenance header of a replay table (script, args, date, Menagerie source, versions, model settings)."""
+    return {
         "generator": SCRIPT,
         "args": [os.path.basename(x) if os.path.isabs(x) else x for x in sys.argv[1:]],
         "date": datetime.date.today().isoformat(),
@@ -492,9 +488,48 @@ def main():
                              "hold": T_HOLD},
                   "caged_margin": CAGED_MARGIN,
                   "description": "README section 'Replay of the whole plan'"},
+        "verdict": THRESHOLDS,
     }
+
+
+def model_args(ap):
+    """The arguments the replay itself takes (shared with plan_sweep.py)."""
+    ap.add_argument("--menagerie", required=True)
+    ap.add_argument("--rev", default="HEAD")
+    ap.add_argument("--pregrasp", default=str(DEFAULT_PREGRASP), help="binary for `kin fk` (the FK check)")
+    ap.add_argument("--mesh-root", default=None)
+    ap.add_argument("--slow", type=float, default=1.0, help="time scaling of every segment (1 = the plan's time line)")
+    ap.add_argument("--dt", type=float, default=0.001)
+    ap.add_argument("--noslip", type=int, default=10)
+    ap.add_argument("--out", default=str(OUT_DIR))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("plans", nargs="+")
+    model_args(ap)
+    ap.add_argument("--plan-index", type=int, nargs="*", default=[0])
+    ap.add_argument("--power-force", type=float, default=None,
+                    help="N, the power grasps' force (default: the plan's physics.grip_force_recommended)")
+    ap.add_argument("--no-max-pass", action="store_true", help="skip the second pass at 235 N")
+    ap.add_argument("--name", default="plan_replay_2f85")
+    a = ap.parse_args()
+    t_start = time.time()
+    log = lambda s: print(s, flush=True)
+
+    def power_forces(pinch):
+        forces = [a.power_force if a.power_force is not None else pinch]
+        if not a.no_max_pass and forces[0] != F_MAX:
+            forces.append(F_MAX)
+        return forces
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="plan_replay_") as tmp:
+        src, prov = load_source(a.menagerie, a.rev, tmp)
+        for plan_path in a.plans:
+            rows += replay_file(plan_path, a.plan_index, power_forces, src, a, log)
+    rows.sort(key=lambda r: (r["example"], r["plan"], r["power_force"]))
     out = Path(a.out)
-    write_atomic(out / f"{a.name}.json", dump_json(header, rows))
+    write_atomic(out / f"{a.name}.json", dump_json(header(a, prov), rows))
     write_atomic(out / f"{a.name}.csv", csv_text(rows))
     log(f"wrote {out / a.name}.{{json,csv}}: {len(rows)} rows, {time.time() - t_start:.1f} s")
 

@@ -20,6 +20,7 @@ use std::path::{Path, PathBuf};
 
 pub mod design;
 pub mod extrude;
+pub mod generated;
 pub mod mesh_check;
 pub mod parts;
 pub mod scene;

@@ -21,6 +21,23 @@ pub enum ExampleCommand {
         #[arg(long, value_name = "NAME")]
         only: Option<String>,
     },
+    /// Write generated parts (six families, drawn from seeds, hand-placed grasps by the
+    /// family's rule) into DIR: each part's scene `<family>_<seed>.toml` and mesh
+    /// `meshes/<family>_<seed>.stl` (binary STL), all files or none. Same seed, same bytes.
+    Generate {
+        /// Output directory (created if missing; existing files of the same names are
+        /// overwritten).
+        dir: PathBuf,
+        /// Parts per family.
+        #[arg(long, value_name = "N", default_value_t = 5)]
+        per_family: usize,
+        /// Seed of each family's first part; the next parts take the following seeds.
+        #[arg(long, value_name = "S", default_value_t = 1)]
+        first_seed: u64,
+        /// Only this family: frame, ladder, u_frame, panel, stool or h_frame (default: all).
+        #[arg(long, value_name = "NAME")]
+        family: Option<String>,
+    },
 }
 
 pub fn run(command: ExampleCommand) -> anyhow::Result<ExitCode> {
@@ -52,6 +69,20 @@ pub fn run(command: ExampleCommand) -> anyhow::Result<ExitCode> {
                 for path in written {
                     println!("wrote {}", path.display());
                 }
+            }
+        }
+        ExampleCommand::Generate {
+            dir,
+            per_family,
+            first_seed,
+            family,
+        } => {
+            use pregrasp_examples::generated::{generated_scene, select, write_generated};
+            let parts =
+                select(first_seed, per_family, family.as_deref()).map_err(anyhow::Error::msg)?;
+            let scenes: Vec<_> = parts.iter().map(generated_scene).collect();
+            for path in write_generated(&dir, &scenes)? {
+                println!("wrote {}", path.display());
             }
         }
     }
