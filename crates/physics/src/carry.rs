@@ -12,19 +12,21 @@
 //!   [`CAGED_SQUEEZE`]: the actuator's force then goes into the tips, only the spring links
 //!   press on the bar. Each contact is a soft finger: tangential force `t` and a moment `e·s`
 //!   about the squeeze line with `‖(t, s)‖ ≤ μ·N_g`.
-//! - **The enclosure**, where the fingers wrapped the bar and the drivers were blocked by it
-//!   (encompassing): the bar
-//!   cannot leave the closed hand, so the hand pushes on it with any force across the bar
-//!   (grasp `x`, `z`) and any moment about those axes. Along the bar (`y`) and about it only
-//!   the squeeze's friction holds it. The friction the enclosure's own push would add is left
-//!   out, on purpose: the two hands could push on the part against each other without limit
-//!   in the program (the arms hold positions; their internal force is not known), and that
-//!   would make friction from nothing.
+//! - **The enclosure**, where the fingers wrapped the bar: the bar cannot leave the closed hand,
+//!   so the hand pushes on it with any force across the bar (grasp `x`, `z`). Where the drivers
+//!   were blocked by the bar (encompassing) the wrap is tight and also resists any moment about
+//!   those two axes; where the tips met around it first (caged) the bar has room to turn in the
+//!   hand, and only the forces remain. Along the bar (`y`) and about it only the squeeze's
+//!   friction holds it. The friction the enclosure's own push would add is left out, on
+//!   purpose: the two hands could push on the part against each other without limit in the
+//!   program (the arms hold positions; their internal force is not known), and that would make
+//!   friction from nothing.
 //!
-//! A caged bar is not enclosed in this sense: the tips met around it with room to spare, and
-//! the bar moves in the closed hand until it finds the tips (in the whole-plan replay a part
-//! held so in both hands rose 37–45 mm of a 50 mm lift and slipped 6–14 mm in the grips).
-//! A caged hand gives its spring links' squeeze only; a one-sided closing gives nothing.
+//! A caged hand squeezes with its spring links only ([`CAGED_SQUEEZE`]); a one-sided closing
+//! gives nothing. Held to the whole-plan replay (`crates/planner/tests/carry_truth.rs`): of the
+//! variants "caged: no enclosure", "forces only" and "forces and moments", forces only departs
+//! from the replay least (3 of 46 rows).
+//!
 //! A pinch (the pads alone bear on the bar) has the squeeze only. Equations: the hands' forces
 //! sum to `W·(g + a)/g · ẑ`, their moments about the centre of mass to zero. Forces are solved
 //! in units of that load, so the program is well scaled. Objective: minimise `N`.
@@ -70,8 +72,8 @@ pub enum HoldKind {
     Pinch,
     /// The fingers wrapped the bar and the drivers were blocked by it: squeeze and enclosure.
     Encompassing,
-    /// The fingers wrapped the bar and their tips met: the spring links' squeeze
-    /// ([`CAGED_SQUEEZE`]) only.
+    /// The fingers wrapped the bar and their tips met: the enclosure's forces (no moments) and
+    /// the spring links' squeeze ([`CAGED_SQUEEZE`]).
     Caged,
     /// One finger closed on nothing: no squeeze, no enclosure.
     OneSided,
@@ -118,7 +120,7 @@ struct Columns {
     squeeze: usize,
     /// `t1, t2, s` of each squeeze contact.
     pads: [usize; 2],
-    /// `r_x, r_z, m_x, m_z`, when enclosed.
+    /// `r_x, r_z, m_x, m_z`, when enclosed (`m_x`, `m_z` unused, caged).
     enclosure: Option<usize>,
 }
 
@@ -136,7 +138,7 @@ pub fn min_carry_force(problem: &CarryProblem) -> Result<CarryOutcome, SolverErr
         let squeeze = n;
         let pads = [squeeze + 1, squeeze + 1 + PER_PAD];
         n = squeeze + 1 + 2 * PER_PAD;
-        let enclosure = (h.closing == HoldKind::Encompassing).then(|| {
+        let enclosure = matches!(h.closing, HoldKind::Encompassing | HoldKind::Caged).then(|| {
             n += PER_ENCLOSURE;
             n - PER_ENCLOSURE
         });
@@ -185,8 +187,11 @@ pub fn min_carry_force(problem: &CarryProblem) -> Result<CarryOutcome, SolverErr
             let axis = |i: usize| h.frame.rotation * Vector3::ith(i, 1.0);
             force(&mut push, c, &o, axis(0));
             force(&mut push, c + 1, &o, axis(2));
-            moment(&mut push, c + 2, axis(0));
-            moment(&mut push, c + 3, axis(2));
+            // A caged bar has room to turn in the closed hand: no moments.
+            if h.closing == HoldKind::Encompassing {
+                moment(&mut push, c + 2, axis(0));
+                moment(&mut push, c + 3, axis(2));
+            }
         }
     }
     let mut b = vec![0.0, 0.0, 1.0, 0.0, 0.0, 0.0];

@@ -15,11 +15,11 @@ use rayon::prelude::*;
 
 use crate::axes::{rotation_axis_candidates_with_hull, AxesResult, RotationAxisCandidate};
 use crate::check::PlanChecker;
-use crate::no_plan::no_plan_reason;
 use crate::clock::Stage;
 use crate::context::{PartKnowledge, PlanningContext};
 use crate::error::{check_mesh, PlanError};
 use crate::hold::{HoldCheck, HoldResult, Unchecked};
+use crate::no_plan::no_plan_reason;
 use crate::output::{self, plan_file_header, plan_set, rot_only_plan};
 use crate::paths::{integrated_path, NoPath};
 use crate::poses::{object_pose_for_power_grasp, PoseRejection, PowerGraspPose};
