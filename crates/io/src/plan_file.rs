@@ -302,6 +302,11 @@ pub struct SegmentJson {
     /// checker measures it again from the mesh.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub grip_width: Option<f64>,
+    /// The grip force (N) a closing segment (`sup1`, `mas1`, `sup2`) closes its gripper with,
+    /// the safety factor included: for `sup1` the pinch's `physics.grip_force_recommended`.
+    /// Exporters command it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grip_force: Option<f64>,
     /// Where this segment's gripper fingers stopped closing on the part (same instants as
     /// `grip_width`): informative, for viewers and exporters to draw and command the fingers
     /// as they really hold it (curled around a bar in a power grasp).

@@ -5,7 +5,7 @@
 //! command that reads a plan (`check`, `view`, `export`, `physics`, `replan`, Python) gets a
 //! validated file or one error naming the field.
 
-use crate::plan_file::{PhysicsJson, PlanFile, PoseJson};
+use crate::plan_file::{PhysicsJson, PlanFile, PoseJson, SegmentJson};
 
 /// Largest magnitude of a joint value (rad) a plan may hold: no UR joint turns beyond ±2π, so
 /// anything past ±20 rad is not a joint angle (values between the limits and this bound are
@@ -83,6 +83,9 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
             if let Some(w) = seg.grip_width {
                 number(&format!("{at}.grip_width"), w, 1.0)?;
             }
+            if let Some(f) = seg.grip_force {
+                grip_force(file, &at, seg, f)?;
+            }
             if let Some(c) = &seg.pad_contact {
                 for (i, x) in c.center.iter().enumerate() {
                     number(&format!("{at}.pad_contact.center[{i}]"), *x, 1.0)?;
@@ -132,6 +135,36 @@ pub fn validate(file: &PlanFile) -> Result<(), String> {
                 }
             }
         }
+    }
+    Ok(())
+}
+
+/// Largest grip force (N) a segment's `grip_force` may name: more than any parallel gripper a
+/// plan is for squeezes (the 2F-85 235 N, the Franka Hand 140 N).
+pub const MAX_GRIP_FORCE: f64 = 1000.0;
+
+/// A segment's `grip_force`: only on a segment that closes its gripper (`sup1`, `mas1`,
+/// `sup2`), a finite number in (0, [`MAX_GRIP_FORCE`]] N, and at most the 2F-85's 235 N when the
+/// segment's arm carries one.
+fn grip_force(file: &PlanFile, at: &str, seg: &SegmentJson, f: f64) -> Result<(), String> {
+    let key = format!("{at}.grip_force");
+    number(&key, f, MAX_GRIP_FORCE)?;
+    if f <= 0.0 {
+        return Err(format!("{key}: {f} N is not a positive force"));
+    }
+    if !seg.kind.closes_at_end() {
+        return Err(format!(
+            "{key}: segment {} does not close its gripper (only sup1, mas1, sup2 carry a grip force)",
+            seg.name
+        ));
+    }
+    let robotiq = file
+        .robots
+        .iter()
+        .find(|r| r.name == seg.robot)
+        .is_none_or(|r| r.gripper.as_deref().is_none_or(|g| g == "robotiq_2f85"));
+    if robotiq && f > 235.0 {
+        return Err(format!("{key}: {f} N is more than the 2F-85's 235 N"));
     }
     Ok(())
 }

@@ -182,6 +182,7 @@ fn segment_of(s: &SegmentJson, arm: usize) -> Segment {
                 area: p.area,
             }),
         },
+        grip_force: s.grip_force,
         points: s
             .points
             .iter()
@@ -242,6 +243,7 @@ pub fn segment_json(robot: &str, s: &Segment) -> SegmentJson {
         retreat_to: s.retreat_to,
         approach_from: s.approach_from,
         grip_width: s.closing.width,
+        grip_force: s.grip_force,
         fingers: s.closing.fingers.map(FingersJson::from),
         pad_contact: s.closing.pad_contact.map(PadContactJson::from),
         points: s

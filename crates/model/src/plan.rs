@@ -131,7 +131,7 @@ pub struct Plan {
     /// `sup1`, `rot`, `mas1`, `sup2`, in that order.
     pub segments: Vec<Segment>,
     /// The grip force (N) the grip check of `rot` recommends for the support grasp, when it
-    /// ran and the pinch holds.
+    /// ran and the pinch holds (the plan file's `physics.grip_force_recommended`).
     pub support_grip_force: Option<f64>,
 }
 
@@ -139,6 +139,19 @@ impl Plan {
     /// The segment called `name`.
     pub fn segment(&self, name: SegmentName) -> Option<&Segment> {
         self.segments.iter().find(|s| s.name == name)
+    }
+
+    /// The grip force (N) to close segment `seg` with: its own [`Segment::grip_force`], else,
+    /// for the support grasp's closing, [`Plan::support_grip_force`]; `None` for a segment
+    /// that does not close (`rot`) or a closing the plan gives no force for.
+    pub fn closing_force(&self, seg: &Segment) -> Option<f64> {
+        if !seg.kind.closes_at_end() {
+            return None;
+        }
+        seg.grip_force.or(match seg.grasp {
+            GraspKind::Support => self.support_grip_force,
+            GraspKind::Power => None,
+        })
     }
 }
 
@@ -157,6 +170,10 @@ pub struct Segment {
     pub approach_from: Option<usize>,
     /// How the gripper holds the part once closed (at the last point; throughout `rot`).
     pub closing: Closing,
+    /// The grip force (N) a closing segment (`sup1`, `mas1`, `sup2`) closes its gripper with:
+    /// what its grasp needs, the safety factor included (for `sup1` the pinch's recommended
+    /// force); `None` when the plan does not say (and always for `rot`).
+    pub grip_force: Option<f64>,
     pub points: Vec<Waypoint>,
 }
 

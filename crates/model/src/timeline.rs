@@ -126,6 +126,9 @@ pub struct GripEvent {
     /// For a close: where the 2F-85's fingers stop on the part, when the plan gives it (a jaw
     /// gripper's stop is its `width`).
     pub fingers: Option<GripperState>,
+    /// For a close: the grip force (N) to close with, when the plan gives it
+    /// ([`Plan::closing_force`]).
+    pub force: Option<f64>,
     /// The segment the command belongs to.
     pub segment: usize,
 }
@@ -157,6 +160,9 @@ pub struct Segment {
     pub grasp: GraspKind,
     /// How the gripper holds the part once closed.
     pub closing: Closing,
+    /// The grip force (N) a closing segment closes with, when the plan gives it
+    /// ([`Plan::closing_force`]: its own, else the pinch's for `sup1`).
+    pub grip_force: Option<f64>,
     /// Points with plan times.
     pub points: Vec<(f64, Joints)>,
     /// Part poses at the points (`rot` only).
@@ -293,12 +299,14 @@ impl Timeline {
             }
             a.knots.extend(points.iter().skip(1).copied());
             let t_end = points.last().expect("non-empty").0;
+            let grip_force = plan.closing_force(seg);
             if seg.kind.closes_at_end() {
                 a.grip.push(GripEvent {
                     t,
                     close: false,
                     width: None,
                     fingers: None,
+                    force: None,
                     segment: si,
                 });
                 a.grip.push(GripEvent {
@@ -306,6 +314,7 @@ impl Timeline {
                     close: true,
                     width: seg.closing.width,
                     fingers: seg.closing.fingers.map(GripperState::Closed),
+                    force: grip_force,
                     segment: si,
                 });
             }
@@ -316,6 +325,7 @@ impl Timeline {
                 t0: t,
                 grasp: seg.grasp,
                 closing: seg.closing,
+                grip_force,
                 points,
                 object,
             });
@@ -347,6 +357,19 @@ impl Timeline {
             }
         }
         state
+    }
+
+    /// The grip force (N) the gripper of arm `arm` holds the part with at plan time `t`
+    /// (commands at `t` applied): the force of the close in effect, `None` while open or when
+    /// the plan gives that close no force.
+    pub fn grip_force_at(&self, arm: usize, t: f64) -> Option<f64> {
+        let mut force = None;
+        for e in &self.arms[arm].grip {
+            if e.t <= t {
+                force = e.force.filter(|_| e.close);
+            }
+        }
+        force
     }
 
     /// The part's world pose at plan time `t`.

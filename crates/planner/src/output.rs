@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 
 use nalgebra::Isometry3;
 use pregrasp_io::plan_file::{
-    GraspsJson, ObjectJson, PlanFile, PlanStatus, PoseJson, SceneRef, PLAN_FORMAT,
+    GraspsJson, ObjectJson, PlanFile, PlanJson, PlanStatus, PoseJson, SceneRef, PLAN_FORMAT,
 };
 use pregrasp_io::plan_model::robot_json;
 use pregrasp_io::scene::{RobotSpec, Scene};
@@ -156,10 +156,48 @@ pub(crate) fn fingers_of(grip: GripperState) -> Option<FingerPair> {
     }
 }
 
-/// A reach (`sup1`, `mas1`) or regrasp (`sup2`) of arm `arm` ending closed at `grip_width`.
+/// The grip forces (N) the power grasps close with, the safety factor included.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PowerGripForces {
+    /// The master arm's, closing `mas1`.
+    pub mas1: f64,
+    /// The supportive arm's, closing `sup2`.
+    pub sup2: f64,
+}
+
+/// The grip forces of the power grasps of the plan of `pose`, written as `mas1`'s and `sup2`'s
+/// `grip_force`. The one place a check of the carried part (its weight held by the power
+/// grasps) will fill; no such check exists yet, so there are none, and the plan file carries
+/// no `grip_force` on `mas1` and `sup2` (exports fall back to their own setting).
+pub fn power_grip_forces(
+    _ctx: &PlanningContext,
+    _pose: &PowerGraspPose,
+) -> Option<PowerGripForces> {
+    None
+}
+
+/// Gives `sup1` of a plan-file entry the pinch's recommended force of its `physics` (none
+/// when it has none): after a replan that kept segments of another plan, `sup1`'s force is
+/// this plan's, as [`plan`] writes it.
+pub(crate) fn set_pinch_force(entry: &mut PlanJson) {
+    let force = entry
+        .physics
+        .as_ref()
+        .and_then(|p| p.grip_force_recommended);
+    if let Some(seg) = entry
+        .segments
+        .iter_mut()
+        .find(|s| s.name == SegmentName::Sup1)
+    {
+        seg.grip_force = force;
+    }
+}
+
+/// A reach (`sup1`, `mas1`) or regrasp (`sup2`) of arm `arm` ending closed at `grip_width`
+/// with `grip_force` (N) when known.
 pub(crate) fn reach_segment(
     (name, arm): (SegmentName, usize),
-    (grip_width, grip): (f64, GripperState),
+    (grip_width, grip, grip_force): (f64, GripperState, Option<f64>),
     m: &ReachMotion,
 ) -> Segment {
     Segment {
@@ -174,38 +212,57 @@ pub(crate) fn reach_segment(
             fingers: fingers_of(grip),
             pad_contact: None,
         },
+        grip_force,
         points: points(&m.q, &m.t),
     }
 }
 
-/// One plan: the four segments of an integrated path.
+/// One plan: the four segments of an integrated path. `support_grip_force`: the force (N)
+/// the grip check of `rot` recommends for the pinch, when it ran and the pinch holds — the
+/// plan's [`Plan::support_grip_force`] and `sup1`'s `grip_force`; the power grasps' come from
+/// [`power_grip_forces`].
 pub fn plan(
     ctx: &PlanningContext,
-    candidate_id: usize,
-    score: f64,
+    (candidate_id, score): (usize, f64),
     pose: &PowerGraspPose,
     path: &IntegratedPath,
+    support_grip_force: Option<f64>,
 ) -> Plan {
     let (sup, mas) = (pose.supportive, pose.master);
+    let power = power_grip_forces(ctx, pose);
     let segments = vec![
         reach_segment(
             (SegmentName::Sup1, sup),
-            (ctx.support_width(sup), ctx.support_grip(sup)),
+            (
+                ctx.support_width(sup),
+                ctx.support_grip(sup),
+                support_grip_force,
+            ),
             &path.sup1,
         ),
         rot_segment(ctx, pose, &path.rot),
         reach_segment(
             (SegmentName::Mas1, mas),
-            (ctx.power_width(mas), ctx.power_grip(mas)),
+            (
+                ctx.power_width(mas),
+                ctx.power_grip(mas),
+                power.map(|f| f.mas1),
+            ),
             &path.mas1,
         ),
         reach_segment(
             (SegmentName::Sup2, sup),
-            (ctx.power_width(sup), ctx.power_grip(sup)),
+            (
+                ctx.power_width(sup),
+                ctx.power_grip(sup),
+                power.map(|f| f.sup2),
+            ),
             &path.sup2,
         ),
     ];
-    plan_of(candidate_id, score, pose, segments)
+    let mut plan = plan_of(candidate_id, score, pose, segments);
+    plan.support_grip_force = support_grip_force;
+    plan
 }
 
 /// A plan of candidate `candidate_id` with these segments.
@@ -263,6 +320,7 @@ pub fn rot_segment(ctx: &PlanningContext, pose: &PowerGraspPose, rot: &RotationP
             fingers: fingers_of(ctx.support_grip(pose.supportive)),
             pad_contact: ctx.support_pads[pose.supportive],
         },
+        grip_force: None,
         points,
     }
 }

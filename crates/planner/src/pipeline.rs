@@ -213,7 +213,9 @@ pub fn plan(
         };
         let outcome = match integrated_path(&ctx, candidate, &pose, hold) {
             Ok((path, physics)) => {
-                let plan = output::plan(&ctx, candidate.id, candidate.score, &pose, &path);
+                let pinch = physics.as_ref().and_then(|p| p.grip_force_recommended);
+                let id = (candidate.id, candidate.score);
+                let plan = output::plan(&ctx, id, &pose, &path, pinch);
                 let (check, closest_grasp_to_support) = match &checker {
                     Ok(checker) => ctx
                         .clock

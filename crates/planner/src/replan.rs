@@ -25,6 +25,7 @@ use crate::axes::RotationAxisCandidate;
 use crate::check::check_plan;
 use crate::context::{arm_models, PartKnowledge};
 use crate::error::PlanError;
+use crate::output::set_pinch_force;
 use crate::pipeline::{axes_of, plan, PlanOptions, PlanReport};
 use crate::rejection::FailedRule;
 
@@ -299,6 +300,7 @@ pub fn replan_from_rot(
         if let Some(seg) = p.segments.iter_mut().find(|s| s.name == SegmentName::Sup1) {
             *seg = sup1.clone();
         }
+        set_pinch_force(p);
         let verdict = check_plan(&report.file, mesh);
         if let Some(rule) = FailedRule::first(&verdict) {
             report.file.plans.clear();

@@ -28,7 +28,9 @@ use pregrasp_robot::Joints;
 use crate::check::check_plan;
 use crate::context::{arm_models, PlanningContext};
 use crate::hold::HoldCheck;
-use crate::output::{fingers_of, plan_file_header, reach_segment};
+use crate::output::{
+    fingers_of, plan_file_header, power_grip_forces, reach_segment, set_pinch_force,
+};
 use crate::paths::{final_grasp_free, motion_seed, MAX_IK_TRIES};
 use crate::pipeline::PlanReport;
 use crate::poses::PowerGraspPose;
@@ -256,12 +258,17 @@ pub fn replan_remaining(
     rot_ran.grip_width = Some(ctx.support_width(sup));
     rot_ran.fingers = fingers_of(ctx.support_grip(sup)).map(FingersJson::from);
     rot_ran.pad_contact = ctx.support_pads[sup].map(PadContactJson::from);
+    let power = power_grip_forces(&ctx, &pose);
     let mas1_segment: SegmentJson = match &mas1_motion {
         Some(m) => segment_json(
             &names[mas],
             &reach_segment(
                 (SegmentName::Mas1, mas),
-                (ctx.power_width(mas), ctx.power_grip(mas)),
+                (
+                    ctx.power_width(mas),
+                    ctx.power_grip(mas),
+                    power.map(|f| f.mas1),
+                ),
                 m,
             ),
         ),
@@ -271,7 +278,11 @@ pub fn replan_remaining(
         &names[sup],
         &reach_segment(
             (SegmentName::Sup2, sup),
-            (ctx.power_width(sup), ctx.power_grip(sup)),
+            (
+                ctx.power_width(sup),
+                ctx.power_grip(sup),
+                power.map(|f| f.sup2),
+            ),
             &sup2,
         ),
     );
@@ -295,6 +306,7 @@ pub fn replan_remaining(
         .ok()
         .and_then(|set| hold.check(&set, &set.plans[0]))
         .map(|h| h.json);
+    set_pinch_force(&mut file.plans[0]);
     let verdict = check_plan(&file, mesh);
     if let Some(rule) = FailedRule::first(&verdict) {
         file.plans.clear();

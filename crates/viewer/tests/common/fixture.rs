@@ -388,6 +388,7 @@ fn build_plan(s: &Setup, cand: &CandidateJson, theta_goal: f64) -> Result<PlanJs
         retreat_to,
         approach_from,
         grip_width: None,
+        grip_force: None,
         fingers: None,
         pad_contact: None,
         points,
