@@ -4,7 +4,10 @@
 //! advance time), plus one row at every plan point of either arm, so that interpolating the
 //! rows linearly gives back the plan exactly (a grid time within 1 ns of a plan point is
 //! replaced by it). `gripper` is 0 open, 1 closed, with the commands at `t` applied.
-//! Numbers are written in Rust's shortest round-trip form.
+//! When the plan gives any closing a grip force, a last column `grip_force` follows: the force
+//! (N) the arm's gripper holds the part with — its close's force while closed, empty while open
+//! or when the plan gives that close none ([`Timeline::grip_force_at`]); without one the files
+//! have no such column. Numbers are written in Rust's shortest round-trip form.
 
 use pregrasp_model::Timeline;
 
@@ -28,9 +31,17 @@ pub fn row_times(timeline: &Timeline, rate: f64) -> Vec<f64> {
     times
 }
 
+/// Whether the plan gives any closing a grip force (then the files have a `grip_force`
+/// column).
+pub fn has_grip_forces(timeline: &Timeline) -> bool {
+    timeline.segments.iter().any(|s| s.grip_force.is_some())
+}
+
 /// One CSV text for arm `arm`.
 pub fn arm_csv(timeline: &Timeline, arm: usize, rate: f64) -> String {
-    let mut s = String::from("t,q1,q2,q3,q4,q5,q6,gripper\n");
+    let forces = has_grip_forces(timeline);
+    let mut s = String::from("t,q1,q2,q3,q4,q5,q6,gripper");
+    s.push_str(if forces { ",grip_force\n" } else { "\n" });
     for t in row_times(timeline, rate) {
         let q = timeline.q_at(arm, t);
         let closed = timeline.gripper_at(arm, t).0;
@@ -39,7 +50,14 @@ pub fn arm_csv(timeline: &Timeline, arm: usize, rate: f64) -> String {
             s.push(',');
             s.push_str(&float(x));
         }
-        s.push_str(if closed { ",1\n" } else { ",0\n" });
+        s.push_str(if closed { ",1" } else { ",0" });
+        if forces {
+            s.push(',');
+            if let Some(f) = timeline.grip_force_at(arm, t) {
+                s.push_str(&float(f));
+            }
+        }
+        s.push('\n');
     }
     s
 }

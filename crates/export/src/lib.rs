@@ -138,11 +138,16 @@ pub struct Options {
     pub movej_accel: f64,
     /// Robotiq speed register (`SET SPE`, 0..255).
     pub grip_speed: u8,
-    /// Robotiq force register (`SET FOR`, 0..255) of the power grasps.
+    /// Robotiq force register (`SET FOR`, 0..255) set at the start, and of every close whose
+    /// segment the plan gives no grip force (the power grasps, until the plan carries theirs).
     pub grip_force: u8,
-    /// Force register of the support grasp (the fingertip pinch of `rot`); `None`: from the
-    /// plan's recommended grip force ([`urscript::force_register`]), else `grip_force`.
+    /// Force register of the support grasp (the fingertip pinch of `rot`); `None`: from `sup1`'s
+    /// `grip_force`, else the plan's recommended grip force ([`urscript::force_register`]),
+    /// else `grip_force`.
     pub support_grip_force: Option<u8>,
+    /// Force register of the power grasps (`mas1`, `sup2`); `None`: from each segment's
+    /// `grip_force` ([`urscript::force_register`]), else `grip_force`.
+    pub power_grip_force: Option<u8>,
     /// How much narrower than `grip_width` a close is commanded (m), so the fingers press on
     /// the part and the gripper reports it.
     pub grip_squeeze: f64,
@@ -163,6 +168,7 @@ impl Default for Options {
             grip_speed: 128,
             grip_force: 255,
             support_grip_force: None,
+            power_grip_force: None,
             grip_squeeze: 0.01,
             ros_prefix: String::new(),
         }

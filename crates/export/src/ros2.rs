@@ -8,6 +8,11 @@
 //! interpolation: at an inner point the time-weighted mean of the slopes of its two intervals,
 //! `(q[k+1] − q[k−1]) / (t[k+1] − t[k−1])`, and zero at the segment's ends (the arm stops
 //! there; the next segment may belong to the other arm).
+//!
+//! A trajectory carries no gripper command: a segment that closes its gripper (`sup1`, `mas1`,
+//! `sup2`) says so in a comment line after the header comment, with the grip force (N) to
+//! close with when the plan gives one, for the `max_effort` of a `control_msgs/GripperCommand`
+//! sent after the trajectory.
 
 use pregrasp_model::timeline::Segment;
 use pregrasp_model::{PlanSet, Timeline};
@@ -66,6 +71,15 @@ pub fn segment_yaml(set: &PlanSet, seg: &Segment, prefix: &str) -> String {
         seg.points.len(),
         float(seg.t_end() - seg.t0)
     );
+    if seg.kind.closes_at_end() {
+        if let Some(f) = seg.grip_force {
+            s.push_str(&format!(
+                "# gripper: opens at the first point, closes on the part at the last with \
+                 grip force {} N (control_msgs/GripperCommand max_effort)\n",
+                float(f)
+            ));
+        }
+    }
     s.push_str("header:\n  stamp: {sec: 0, nanosec: 0}\n  frame_id: ''\njoint_names:\n");
     // A built-in arm is driven by ur_robot_driver; any other by the names its description
     // gives (the plan's `joint_names`).

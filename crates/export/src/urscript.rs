@@ -14,8 +14,9 @@
 //!
 //! **Gripper.** Robotiq 2F-85 through the URCap's ASCII socket (127.0.0.1:63352): activated
 //! with `SET ACT 1`, `SET GTO 1`, `SET SPE`, `SET FOR` at start; before every close `SET FOR`
-//! with the grasp's force — for the support grasp the plan's recommended grip force
-//! (`physics.grip_force_recommended`, [`force_register`]), for the power grasps `grip_force`;
+//! with the closing's force: the segment's own `grip_force` ([`force_register`]; for the
+//! support grasp, else the plan's recommended `physics.grip_force_recommended`), else
+//! `grip_force`; `support_grip_force` / `power_grip_force` override the plan;
 //! `SET POS 0` (open) when a
 //! `reach` / `regrasp` begins, and `SET POS p` at its last point: from the segment's `fingers`
 //! (where the real closing stops, curled around a bar or not) as [`grip_pos_for_driver`] —
@@ -384,13 +385,16 @@ pub fn arm_script(set: &PlanSet, timeline: &Timeline, arm: usize, o: &Options) -
             settle_ticks(o.lookahead)
         );
         if opens {
-            let force = if seg.grasp == GraspKind::Support {
-                o.support_grip_force
-                    .or(timeline.support_grip_force.map(force_register))
-                    .unwrap_or(o.grip_force)
-            } else {
-                o.grip_force
+            // A user's register first, then the closing's own force (for the pinch, the
+            // plan's recommended one when `sup1` has none), then the default register.
+            let (chosen, own) = match seg.grasp {
+                GraspKind::Support => (
+                    o.support_grip_force,
+                    seg.grip_force.or(timeline.support_grip_force),
+                ),
+                GraspKind::Power => (o.power_grip_force, seg.grip_force),
             };
+            let force = chosen.or(own.map(force_register)).unwrap_or(o.grip_force);
             let _ = writeln!(w, "  pg_grip_set(\"SET FOR {force}\")");
             let pos = match (seg.closing.fingers, seg.closing.width) {
                 (Some(f), _) => grip_pos_for_driver(f.driver, o.grip_squeeze),

@@ -18,11 +18,12 @@ fn files(format: Format, options: &Options) -> Vec<(String, String)> {
 
 fn read_csv(text: &str) -> Vec<(f64, [f64; 6], u8)> {
     let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("t,q1,q2,q3,q4,q5,q6,gripper"));
+    // The plan gives sup1 its pinch's grip force: a last column `grip_force` (tests/grip_forces.rs).
+    assert_eq!(lines.next(), Some("t,q1,q2,q3,q4,q5,q6,gripper,grip_force"));
     lines
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
-            assert_eq!(f.len(), 8, "{l}");
+            assert_eq!(f.len(), 9, "{l}");
             let q = std::array::from_fn(|i| f[i + 1].parse::<f64>().unwrap());
             (f[0].parse().unwrap(), q, f[7].parse().unwrap())
         })

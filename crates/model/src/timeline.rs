@@ -126,8 +126,8 @@ pub struct GripEvent {
     /// For a close: where the 2F-85's fingers stop on the part, when the plan gives it (a jaw
     /// gripper's stop is its `width`).
     pub fingers: Option<GripperState>,
-    /// For a close: the grip force (N) to close with, when the plan gives it
-    /// ([`Plan::closing_force`]).
+    /// For a close: the grip force (N) to close with, when its segment gives it
+    /// ([`crate::Segment::grip_force`]).
     pub force: Option<f64>,
     /// The segment the command belongs to.
     pub segment: usize,
@@ -160,8 +160,9 @@ pub struct Segment {
     pub grasp: GraspKind,
     /// How the gripper holds the part once closed.
     pub closing: Closing,
-    /// The grip force (N) a closing segment closes with, when the plan gives it
-    /// ([`Plan::closing_force`]: its own, else the pinch's for `sup1`).
+    /// The grip force (N) a closing segment closes with, when it gives it
+    /// ([`crate::Segment::grip_force`]; [`Timeline::support_grip_force`] is the plan's pinch
+    /// force, for a `sup1` without one).
     pub grip_force: Option<f64>,
     /// Points with plan times.
     pub points: Vec<(f64, Joints)>,
@@ -299,7 +300,7 @@ impl Timeline {
             }
             a.knots.extend(points.iter().skip(1).copied());
             let t_end = points.last().expect("non-empty").0;
-            let grip_force = plan.closing_force(seg);
+            let grip_force = seg.grip_force;
             if seg.kind.closes_at_end() {
                 a.grip.push(GripEvent {
                     t,
@@ -361,7 +362,7 @@ impl Timeline {
 
     /// The grip force (N) the gripper of arm `arm` holds the part with at plan time `t`
     /// (commands at `t` applied): the force of the close in effect, `None` while open or when
-    /// the plan gives that close no force.
+    /// its segment gives none.
     pub fn grip_force_at(&self, arm: usize, t: f64) -> Option<f64> {
         let mut force = None;
         for e in &self.arms[arm].grip {

@@ -53,11 +53,13 @@ pub struct Args {
     /// Robotiq speed register (SET SPE, 0..255).
     #[arg(long, default_value_t = 128)]
     pub grip_speed: u8,
-    /// Robotiq force register (SET FOR, 0..255) of the power grasps.
-    #[arg(long, default_value_t = 255)]
-    pub grip_force: u8,
-    /// Force register of the support grasp's fingertip pinch; default: from the plan's
-    /// physics.grip_force_recommended (20..235 N mapped to 0..255), else --grip-force.
+    /// Robotiq force register (SET FOR, 0..255) of the power grasps [default: each power
+    /// grasp's own grip_force in the plan (20..235 N mapped to 0..255), else 255].
+    #[arg(long, value_name = "REGISTER")]
+    pub grip_force: Option<u8>,
+    /// Force register of the support grasp's fingertip pinch; default: from sup1's grip_force,
+    /// else the plan's physics.grip_force_recommended (20..235 N mapped to 0..255), else
+    /// --grip-force.
     #[arg(long, value_name = "REGISTER")]
     pub support_grip_force: Option<u8>,
     /// A close is commanded this much (m) narrower than the plan's grip_width.
@@ -95,8 +97,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         movej_speed: args.movej_speed,
         movej_accel: args.movej_accel,
         grip_speed: args.grip_speed,
-        grip_force: args.grip_force,
+        grip_force: args.grip_force.unwrap_or(Options::default().grip_force),
         support_grip_force: args.support_grip_force,
+        power_grip_force: args.grip_force,
         grip_squeeze: args.grip_squeeze,
         ros_prefix: args.ros_prefix.clone(),
     };
