@@ -229,3 +229,34 @@ fn schema_plan_prints_the_repository_schema() {
     assert_eq!(out.status.code(), Some(0));
     assert!(String::from_utf8_lossy(&out.stdout).contains("docs/scene-format.md"));
 }
+
+/// A plan with `grip_force` on each closing segment (issue 48) satisfies the schema; one out of
+/// its range, or on `rot`'s object as a string, does not.
+#[test]
+fn the_schema_describes_grip_force() {
+    let schema: serde_json::Value = serde_json::from_str(&schema_file()).unwrap();
+    let validator = jsonschema::validator_for(&schema).expect("the schema compiles");
+    let golden =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../planner/tests/golden/chair_side.json");
+    let plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(golden).unwrap()).unwrap();
+    assert!(plan["plans"][0]["segments"][0]["grip_force"].is_number());
+    let mut forces = plan.clone();
+    forces["plans"][0]["segments"][2]["grip_force"] = serde_json::json!(120.5);
+    forces["plans"][0]["segments"][3]["grip_force"] = serde_json::json!(60.0);
+    let errors: Vec<String> = validator
+        .iter_errors(&forces)
+        .map(|e| format!("{e} at {}", e.instance_path()))
+        .collect();
+    assert!(errors.is_empty(), "{errors:?}");
+    for bad in [
+        serde_json::json!(-5.0),
+        serde_json::json!(0.0),
+        serde_json::json!(1e9),
+        serde_json::json!("NaN"),
+    ] {
+        let mut b = plan.clone();
+        b["plans"][0]["segments"][2]["grip_force"] = bad.clone();
+        assert!(!validator.is_valid(&b), "{bad}");
+    }
+}

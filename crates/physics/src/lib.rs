@@ -31,7 +31,9 @@ pub use grip_force::{min_grip_force, min_grip_force_from, WarmStart};
 pub use mass::{MassError, MassProperties};
 pub use part_mass::{MassSource, PartMass};
 pub use plan::{analyse_one, analyse_plan, screen_one, screen_plan, SUPPORT_CONTACT_TOLERANCE};
-pub use plan_report::{At, GripWarning, PlanPhysics, StateReport, StateStatus, Unheld, Verdict};
+pub use plan_report::{
+    At, ClosingForce, GripWarning, PlanPhysics, StateReport, StateStatus, Unheld, Verdict,
+};
 pub use settings::{
     PhysicsSettings, SettingsError, DEFAULT_DENSITY, DEFAULT_MU_PAD, DEFAULT_MU_SUPPORT,
     DEFAULT_SAFETY_FACTOR, GRAVITY, GRIP_FORCE_RANGE, PAD_PATCH_TORSION_RADIUS,

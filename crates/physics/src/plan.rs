@@ -7,7 +7,9 @@ use pregrasp_model::{Plan, PlanSet, Segment, SegmentName};
 use crate::error::PhysicsError;
 use crate::grip_force::{min_grip_force_from, WarmStart};
 use crate::part_mass::PartMass;
-use crate::plan_report::{GripWarning, PlanPhysics, StateReport, StateStatus, Verdict};
+use crate::plan_report::{
+    ClosingForce, GripWarning, PlanPhysics, StateReport, StateStatus, Verdict,
+};
 use crate::settings::{PhysicsSettings, GRAVITY};
 use crate::statics::{Pads, StaticOutcome, StaticProblem};
 
@@ -375,6 +377,17 @@ fn run(
         recommended,
         verdict,
         warnings,
+        closings: plan
+            .segments
+            .iter()
+            .filter(|seg| seg.kind.closes_at_end())
+            .map(|seg| ClosingForce {
+                segment: seg.name,
+                arm: seg.arm,
+                grasp: seg.grasp,
+                grip_force: plan.closing_force(seg),
+            })
+            .collect(),
         stopped_at_failure: stopped,
     })
 }

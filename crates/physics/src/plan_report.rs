@@ -5,6 +5,8 @@
 
 use std::fmt;
 
+use pregrasp_model::{GraspKind, SegmentName, Word};
+
 use crate::part_mass::PartMass;
 use crate::settings::PhysicsSettings;
 use crate::statics::Equilibrium;
@@ -83,10 +85,32 @@ pub struct PlanPhysics {
     /// Things the verdict alone does not say (axis off the support, ...).
     #[serde(serialize_with = "as_texts")]
     pub warnings: Vec<GripWarning>,
+    /// Each closing segment of the plan (`sup1`, `mas1`, `sup2`, in plan order) with the grip
+    /// force the plan closes it with.
+    pub closings: Vec<ClosingForce>,
     /// The analysis stopped at the first state that cannot be held ([`screen_plan`](crate::screen_plan)): `worst`
     /// is where the failure begins, and the states after it were not checked.
     #[serde(skip)]
     pub stopped_at_failure: bool,
+}
+
+/// A closing segment and the grip force (N) the plan gives it (`segments[].grip_force`; for
+/// `sup1` without one, the plan's recommended pinch force), `None` when it gives none (the power
+/// grasps', until a check of the carried part computes them).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct ClosingForce {
+    #[serde(serialize_with = "word")]
+    pub segment: SegmentName,
+    /// The arm that closes (index into the plan set's `arms`).
+    pub arm: usize,
+    #[serde(serialize_with = "word")]
+    pub grasp: GraspKind,
+    pub grip_force: Option<f64>,
+}
+
+/// A vocabulary's value by its plan-file word.
+fn word<W: Word, S: serde::Serializer>(v: &W, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(v.as_str())
 }
 
 impl PlanPhysics {

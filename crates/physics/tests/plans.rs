@@ -311,3 +311,39 @@ fn screening_stops_at_the_first_failing_point() {
     let why = screened.rejection().expect("refused");
     assert!(why.to_string().contains("from θ ="), "{why}");
 }
+
+/// The report lists each closing with the force the plan gives it: `sup1` the pinch's recommended
+/// force (equal to this check's with the same settings), the power grasps none yet; a force the
+/// plan gives `mas1` is reported as given.
+#[test]
+fn the_report_gives_each_closings_grip_force() {
+    let (mut file, mesh) = planned("chair_side");
+    let r = check(&file, &mesh, &PhysicsSettings::default());
+    let words: Vec<(String, Option<f64>)> = r
+        .closings
+        .iter()
+        .map(|c| (c.segment.to_string(), c.grip_force))
+        .collect();
+    let rec = r.recommended.expect("the chair's pinch holds");
+    assert_eq!(
+        words,
+        [
+            ("sup1".to_string(), Some(rec)),
+            ("mas1".to_string(), None),
+            ("sup2".to_string(), None)
+        ]
+    );
+    let sup = model(&file).plans[0].roles.supportive;
+    assert_eq!(r.closings[0].arm, sup);
+    let mas1 = file.plans[0]
+        .segments
+        .iter_mut()
+        .find(|s| s.name == SegmentName::Mas1)
+        .unwrap();
+    mas1.grip_force = Some(120.0);
+    let r = check(&file, &mesh, &PhysicsSettings::default());
+    assert_eq!(r.closings[1].grip_force, Some(120.0));
+    let json = serde_json::to_value(&r).unwrap();
+    assert_eq!(json["closings"][1]["segment"], "mas1");
+    assert_eq!(json["closings"][1]["grip_force"], 120.0);
+}

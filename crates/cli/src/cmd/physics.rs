@@ -7,7 +7,7 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use pregrasp_io::mesh_io::load_mesh;
-use pregrasp_io::plan_file::PlanFile;
+use pregrasp_io::plan_file::{GraspKind, PlanFile};
 use pregrasp_io::scene::Scene;
 use pregrasp_physics::{
     analyse_plan, PartMass, PhysicsSettings, PlanPhysics, StateStatus, Verdict,
@@ -157,8 +157,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         if reports.is_empty() {
             println!("no plans in the file: nothing to check");
         }
+        let names: Vec<&str> = set.arms.iter().map(|a| a.name.as_str()).collect();
         for r in &reports {
             print_report(r, robot(r));
+            print_closings(r, &names);
         }
     }
     Ok(ExitCode::from(if all_hold {
@@ -223,4 +225,30 @@ fn print_report(r: &PlanPhysics, robot: &str) {
     for warning in &r.warnings {
         println!("  warning: {warning}");
     }
+}
+
+/// One line: each closing's grip force as the plan gives it (what the export commands), and,
+/// when the pinch's differs from this check's recommendation, that.
+fn print_closings(r: &PlanPhysics, names: &[&str]) {
+    if r.closings.is_empty() {
+        return;
+    }
+    let items: Vec<String> = r
+        .closings
+        .iter()
+        .map(|c| {
+            let arm = names.get(c.arm).copied().unwrap_or("?");
+            let force = c
+                .grip_force
+                .map_or_else(|| "not given".to_string(), |f| format!("{f:.1} N"));
+            let differs = match (c.grasp, c.grip_force, r.recommended) {
+                (GraspKind::Support, Some(f), Some(rec)) if (f - rec).abs() > 0.05 => {
+                    format!(" (this check: {rec:.1} N)")
+                }
+                _ => String::new(),
+            };
+            format!("{} {arm} {force}{differs}", c.segment)
+        })
+        .collect();
+    println!("  grip force per closing: {}", items.join(", "));
 }
