@@ -257,6 +257,15 @@ try {
       && grips.mas1mid[mas] === 'open' && grips.mas1mid[sup] === 'precision' && grips.mas1[mas] === 'power'
       && grips.sup2mid[sup] === 'open' && grips.sup2mid[mas] === 'power' && grips.sup2.every((g) => g === 'power');
     check('plan page: grippers open, hold the support grasp, then close on the power grasps', gripOk, JSON.stringify(grips));
+    // The panel names each closing's grip force (segments[].grip_force; sup1 else the pinch's).
+    const planShown = embeddedData(planHtml).plan.plans[await page.evaluate(() => window.pregraspViewer.planIndex())];
+    const pinch = planShown.physics ? planShown.physics.grip_force_recommended : null;
+    const wantForces = 'grip force: ' + planShown.segments.filter((s) => s.kind !== 'rotate').map((s) => {
+      const f = s.grip_force ?? (s.grasp === 'support' ? pinch : null);
+      return `${s.name} ${s.robot} ${f === null || f === undefined ? '—' : `${f.toFixed(1)} N`}`;
+    }).join(' · ');
+    const shownForces = await page.evaluate(() => window.pregraspViewer.gripForces());
+    check('plan page: the panel gives each closing its grip force', shownForces === wantForces && / N/.test(shownForces), `${shownForces} (want ${wantForces})`);
 
     const nPlans = await v(() => document.querySelectorAll('#plan-select option').length);
     if (nPlans > 1) {

@@ -132,6 +132,7 @@ const ui = {
   speed: document.getElementById('speed'),
   time: document.getElementById('time'),
   segment: document.getElementById('segment'),
+  gripForces: document.getElementById('grip-forces'),
   candidates: document.getElementById('candidates'),
   tooltip: document.getElementById('tooltip'),
   showHull: document.getElementById('show-hull'),
@@ -201,6 +202,18 @@ function applyTime(t) {
   return st;
 }
 
+/** Each closing segment of `plan` with its grip force (N): its own, else sup1's falls back to
+ * the pinch's recommended force; '—' when the plan gives none. */
+function gripForcesText(plan) {
+  if (!plan) return '';
+  const pinch = plan.physics ? plan.physics.grip_force_recommended : null;
+  const items = plan.segments.filter((s) => s.kind === 'reach' || s.kind === 'regrasp').map((s) => {
+    const f = s.grip_force ?? (s.grasp === 'support' ? pinch : null);
+    return `${s.name} ${s.robot} ${f === null || f === undefined ? '—' : `${fmt(f, 1)} N`}`;
+  });
+  return `grip force: ${items.join(' · ')}`;
+}
+
 function selectPlan(k) {
   if (PLAN.plans.length === 0) {
     currentPlanIndex = -1;
@@ -211,6 +224,7 @@ function selectPlan(k) {
     ui.planSelect.value = String(currentPlanIndex);
   }
   timeline = buildTimeline(currentPlan);
+  ui.gripForces.textContent = gripForcesText(currentPlan);
   dummies = dummyPoses(currentPlan);
   highlightCandidates(-1);
   applyTime(0);
@@ -527,6 +541,8 @@ window.pregraspViewer = {
   armJoints: (i) => (arms[i] ? arms[i].q.slice() : null),
   /** Gripper shown on arm i: 'open', 'precision' (closed on the support grasp) or 'power'. */
   gripper: (i) => (arms[i] ? arms[i].grip : null),
+  /** The panel's line of each closing's grip force for the current plan. */
+  gripForces: () => ui.gripForces.textContent,
   /** World position of the part frame. */
   objectPosition: () => m4.position(part.matrix),
   fkError,

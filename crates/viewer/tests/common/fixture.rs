@@ -400,13 +400,17 @@ fn build_plan(s: &Setup, cand: &CandidateJson, theta_goal: f64) -> Result<PlanJs
         supportive: names[sup].into(),
         object_goal_pose: PoseJson::from(&p_obj),
         segments: vec![
-            segment(
-                SegmentName::Sup1,
-                sup,
-                timed(&sup1, None),
-                None,
-                Some(approach_sup1),
-            ),
+            // A pinch force for the panel's line of grip forces (the browser test reads it).
+            SegmentJson {
+                grip_force: Some(40.0),
+                ..segment(
+                    SegmentName::Sup1,
+                    sup,
+                    timed(&sup1, None),
+                    None,
+                    Some(approach_sup1),
+                )
+            },
             segment(SegmentName::Rot, sup, timed(&rot, Some(&poses)), None, None),
             segment(
                 SegmentName::Mas1,
