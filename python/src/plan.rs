@@ -273,6 +273,13 @@ impl Segment {
         self.seg().grip_width
     }
 
+    /// The grip force (N) this closing segment (`sup1`, `mas1`, `sup2`) closes its gripper
+    /// with, if stated: `sup1`'s is the pinch's recommended force.
+    #[getter]
+    fn grip_force(&self) -> Option<f64> {
+        self.seg().grip_force
+    }
+
     /// Time stamps (s), shape (N,).
     #[getter]
     fn t<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
