@@ -17,6 +17,7 @@ use pregrasp_model::{
 use pregrasp_robot::{FingerPair, GripperState, Joints};
 
 use crate::axes::RotationAxisCandidate;
+use crate::carry::{CarryForces, Uncarried};
 use crate::context::PlanningContext;
 use crate::paths::IntegratedPath;
 use crate::poses::PowerGraspPose;
@@ -166,14 +167,23 @@ pub struct PowerGripForces {
 }
 
 /// The grip forces of the power grasps of the plan of `pose`, written as `mas1`'s and `sup2`'s
-/// `grip_force`. The one place a check of the carried part (its weight held by the power
-/// grasps) will fill; no such check exists yet, so there are none, and the plan file carries
-/// no `grip_force` on `mas1` and `sup2` (exports fall back to their own setting).
+/// `grip_force`: what the carry check of its final state sets ([`crate::carry`]); where no
+/// force carries the part (a plan kept without `[physics] reject_uncarried`, flagged in its
+/// `physics.warnings`), each gripper's largest; none where the check could not run (a part
+/// without mass properties: the exports then use their own setting).
 pub fn power_grip_forces(
-    _ctx: &PlanningContext,
-    _pose: &PowerGraspPose,
+    ctx: &PlanningContext,
+    pose: &PowerGraspPose,
+    carry: Option<&Result<CarryForces, Uncarried>>,
 ) -> Option<PowerGripForces> {
-    None
+    let set = match carry? {
+        Ok(forces) => forces.set,
+        Err(_) => [0, 1].map(|arm| ctx.scene.robots[arm].gripper_model().grip_force_range().1),
+    };
+    Some(PowerGripForces {
+        mas1: set[pose.master],
+        sup2: set[pose.supportive],
+    })
 }
 
 /// Gives `sup1` of a plan-file entry the pinch's recommended force of its `physics` (none
@@ -227,9 +237,10 @@ pub fn plan(
     pose: &PowerGraspPose,
     path: &IntegratedPath,
     support_grip_force: Option<f64>,
+    carry: Option<&Result<CarryForces, Uncarried>>,
 ) -> Plan {
     let (sup, mas) = (pose.supportive, pose.master);
-    let power = power_grip_forces(ctx, pose);
+    let power = power_grip_forces(ctx, pose, carry);
     let segments = vec![
         reach_segment(
             (SegmentName::Sup1, sup),

@@ -215,7 +215,7 @@ pub fn plan(
             Ok((path, physics)) => {
                 let pinch = physics.as_ref().and_then(|p| p.grip_force_recommended);
                 let id = (candidate.id, candidate.score);
-                let plan = output::plan(&ctx, id, &pose, &path, pinch);
+                let plan = output::plan(&ctx, id, &pose, &path, pinch, carry.as_ref());
                 let (check, closest_grasp_to_support) = match &checker {
                     Ok(checker) => ctx
                         .clock

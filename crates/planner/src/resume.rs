@@ -258,7 +258,10 @@ pub fn replan_remaining(
     rot_ran.grip_width = Some(ctx.support_width(sup));
     rot_ran.fingers = fingers_of(ctx.support_grip(sup)).map(FingersJson::from);
     rot_ran.pad_contact = ctx.support_pads[sup].map(PadContactJson::from);
-    let power = power_grip_forces(&ctx, &pose);
+    // The grip and carry checks (the part's mass, once).
+    let hold = HoldCheck::new(&moved, mesh, None);
+    let carry = hold.carry_check(&ctx).check(&pose.p_obj);
+    let power = power_grip_forces(&ctx, &pose, carry.as_ref());
     let mas1_segment: SegmentJson = match &mas1_motion {
         Some(m) => segment_json(
             &names[mas],
@@ -300,12 +303,14 @@ pub fn replan_remaining(
     let mut file = header;
     file.plans = vec![resumed];
     // The grip check reads the plan as written (the file's poses, read back).
-    let hold = HoldCheck::new(&moved, mesh, None);
     file.plans[0].physics = file
         .to_model()
         .ok()
         .and_then(|set| hold.check(&set, &set.plans[0]))
         .map(|h| h.json);
+    if let (Some(p), Some(Err(why))) = (file.plans[0].physics.as_mut(), &carry) {
+        p.warnings.push(why.to_string());
+    }
     set_pinch_force(&mut file.plans[0]);
     let verdict = check_plan(&file, mesh);
     if let Some(rule) = FailedRule::first(&verdict) {
