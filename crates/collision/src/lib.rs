@@ -8,6 +8,8 @@
 //! - [`tight`]: the exact tier of the arm links, convex pieces inside their cylinders.
 //! - [`object`]: the part as a parry `TriMesh` with its BVH ([`ObjectGeometry`]).
 //! - [`grip`]: the width a gripper closes on at a grasp, from the part's mesh.
+//! - [`inside`]: how deep a convex piece and the part reach into each other (the open
+//!   gripper's rule: contact, never penetration).
 //! - [`closing`]: the 2F-85's adaptive closing on the part's mesh and the support
 //!   ([`pregrasp_robot::close_fingers`]'s world).
 //! - [`arm`]: [`ArmModel`], an arm's kinematics, base and cached link/gripper primitives.
@@ -29,8 +31,10 @@ pub mod error;
 pub mod fixtures;
 pub mod gjk;
 pub mod grip;
+pub mod inside;
 pub mod object;
 pub mod shape;
+mod solid;
 pub mod sweep;
 pub mod tight;
 pub mod validity;
@@ -39,7 +43,10 @@ pub mod world;
 pub use arm::{ArmModel, MAX_ARM_SHAPES};
 pub use closing::{FingerShapes, PartClosing};
 pub use error::CollisionError;
-pub use grip::{close_on_part, pad_patches, Grip, GripFailure, PadPatch};
+pub use grip::{
+    close_on_part, open_approach_inside, open_inside, pad_patches, Grip, GripFailure, OpenHand,
+    OpenInside, PadPatch, OPEN_CONTACT_DEPTH,
+};
 pub use object::{check_mesh, ObjectGeometry};
 pub use shape::Placed;
 pub use sweep::{StatesCheck, Sweep, BOX_LIMIT, SWEEP_LIMIT};

@@ -6,6 +6,8 @@
 //! its surface is not reported; edge validation at a resolution below the smallest primitive
 //! radius cannot step into such a state without crossing the surface first.
 
+use std::sync::{Arc, OnceLock};
+
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::partitioning::TraversalAction;
 use parry3d_f64::query;
@@ -15,6 +17,7 @@ use pregrasp_geometry::Mesh;
 use crate::distance::{aabb_aabb_sq, segment_triangle_sq, triangle_box_intersect};
 use crate::error::CollisionError;
 use crate::shape::{Bounded, Placed};
+use crate::solid::PartSolid;
 
 type P = Point3<f64>;
 
@@ -27,6 +30,8 @@ pub struct ObjectGeometry {
     radius: f64,
     /// The mesh's bounding box in the object frame (its BVH's root box, kept at hand).
     aabb: (P, P),
+    /// The part as a solid (the inside test), built when first asked for.
+    solid: Arc<OnceLock<PartSolid>>,
 }
 
 impl std::fmt::Debug for ObjectGeometry {
@@ -53,7 +58,19 @@ impl ObjectGeometry {
             center,
             radius,
             aabb,
+            solid: Arc::default(),
         })
+    }
+
+    /// The mesh's bounding box in the object frame.
+    pub fn aabb(&self) -> (P, P) {
+        self.aabb
+    }
+
+    /// The part as a solid: its mesh oriented outward, for the inside test
+    /// ([`crate::inside`]); built on first use.
+    pub(crate) fn solid(&self) -> &PartSolid {
+        crate::solid::solid_of(&self.solid, &self.mesh)
     }
 
     /// The parry mesh (object frame).

@@ -23,9 +23,14 @@ use crate::object::ObjectGeometry;
 use sweep::{Frame, Heights, LinkPoints, Swept};
 
 mod jaws;
+mod open;
 mod patches;
 mod sweep;
 
+pub use open::{
+    open_approach_inside, open_inside, OpenHand, OpenInside, OPEN_APPROACH_STEP,
+    OPEN_APPROACH_ZONE, OPEN_CONTACT_DEPTH,
+};
 pub use patches::{pad_patches, PadPatch, PATCH_DEPTH, PATCH_STEP};
 
 /// Largest joint turn (rad) between two poses of a closing kept for the support test. Between
@@ -58,6 +63,16 @@ pub enum GripFailure {
     /// or material lies where an open finger must go.
     #[error("the open fingers already touch the part (wider than the stroke, or material where a finger goes)")]
     OpenTouches,
+    /// The fully open gripper — a finger link (jaw) or the palm/housing — lies more than
+    /// [`OPEN_CONTACT_DEPTH`] inside the part (`depth`, m) at the grasp (`back` = 0) or `back`
+    /// (m) before it on the straight approach: a closing must start from a free, fully open
+    /// hand (rule 2: contact, never penetration).
+    #[error("{}", open_inside_words(link, *depth, *back))]
+    OpenInside {
+        link: &'static str,
+        depth: f64,
+        back: f64,
+    },
     /// The fingers close fully without touching the part.
     #[error("the pads close on nothing (no part between the fingers)")]
     ClosesOnNothing,
@@ -65,6 +80,23 @@ pub enum GripFailure {
     /// the pads or inner knuckles do: the gripper would jam on it.
     #[error("the {link} meets the part before the pads do")]
     Jams { link: &'static str },
+}
+
+/// The words of [`GripFailure::OpenInside`].
+fn open_inside_words(link: &str, depth: f64, back: f64) -> String {
+    let at = if back > 0.0 {
+        format!(
+            " {:.0} mm before the grasp on the straight approach",
+            back * 1e3
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        "the open {link} is {:.1} mm inside the part{at} (at most {:.1} mm)",
+        depth * 1e3,
+        OPEN_CONTACT_DEPTH * 1e3
+    )
 }
 
 /// The closing of a gripper at one grasp (see the module documentation).
@@ -235,12 +267,21 @@ fn link_name(link: usize) -> &'static str {
 }
 
 /// Closes `gripper` on the part with its flange at `flange_in_object` (flange → object
-/// frame): the [`Grip`], or why it cannot hold the part there.
+/// frame): the [`Grip`], or why it cannot hold the part there. The closing starts from a free,
+/// fully open hand: the open gripper at the grasp and on the last [`OPEN_APPROACH_ZONE`] of its
+/// straight approach may touch the part but not lie in it ([`open_approach_inside`]).
 pub fn close_on_part(
     object: &ObjectGeometry,
     gripper: &Gripper,
     flange_in_object: &Isometry3<f64>,
 ) -> Result<Grip, GripFailure> {
+    if let Some((inside, back)) = open_approach_inside(object, gripper, flange_in_object) {
+        return Err(GripFailure::OpenInside {
+            link: inside.link,
+            depth: inside.depth,
+            back,
+        });
+    }
     match gripper {
         Gripper::Robotiq2F85(_) => close_2f85(object, flange_in_object),
         Gripper::Jaws(jaws) => jaws::close_jaws(object, jaws, flange_in_object),

@@ -9,14 +9,17 @@
 //! first 2 cm of a retreat). Rule 2 is applied with the clearances the plan's `planner` echo
 //! states (`link_clearance`, `finger_support_clearance`; defaults when absent), on the same
 //! link and gripper shapes as the planner, each gripper closed on the part at the width it
-//! closes on — measured here again from the mesh, not read from the file.
+//! closes on — measured here again from the mesh, not read from the file. Where a gripper may
+//! touch the part it grasps with its hand open (the approach's contact zone, the grasp before
+//! the closing, the start of `sup2`'s retreat) it must not be inside it: no open link deeper
+//! than [`OPEN_CONTACT_DEPTH`] (`open.rs`).
 
 use std::path::Path;
 use std::sync::Arc;
 
 use nalgebra::Point3;
 use pregrasp_collision::{
-    ArmModel, CollisionError, CollisionWorld, Grip, GripFailure, ObjectGeometry,
+    ArmModel, CollisionError, CollisionWorld, Grip, GripFailure, ObjectGeometry, OPEN_CONTACT_DEPTH,
 };
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::PlanFile;
@@ -26,6 +29,7 @@ use pregrasp_robot::{ArmDescription, Gripper};
 use crate::context::{grips as close_grips, Grips};
 
 mod motions;
+mod open;
 mod walk;
 
 use walk::PlanCheck;
@@ -300,6 +304,7 @@ impl PlanChecker {
         let mut limits = Rule::new();
         let mut collisions = Rule::new();
         let mut states_checked = 0u64;
+        let mut open_states = 0u64;
         let mut rotation = Rule::new();
         let mut grasps = Rule::new();
         let planned = set.status == PlanStatus::Planned;
@@ -336,6 +341,7 @@ impl PlanChecker {
                 limits: &mut limits,
                 collisions: &mut collisions,
                 states_checked: &mut states_checked,
+                open_states: &mut open_states,
                 rotation: &mut rotation,
                 grasps: &mut grasps,
             };
@@ -365,7 +371,7 @@ impl PlanChecker {
                 }),
                 collision_result(
                     collisions,
-                    states_checked,
+                    (states_checked, open_states),
                     finger_support,
                     (link_clearance, finger_clearance),
                 ),
@@ -432,7 +438,7 @@ fn held_grips(
 /// grasping gripper came to the support.
 fn collision_result(
     rule: Rule,
-    states: u64,
+    (states, open_states): (u64, u64),
     finger_support: f64,
     (link, finger): (f64, f64),
 ) -> RuleResult {
@@ -451,12 +457,14 @@ fn collision_result(
             detail: format!(
                 "{states} states checked at {} mm of arm travel ({} mm while grasping), none \
                  closer than the clearances (links {:.1} mm, grasping gripper to support {:.1} \
-                 mm); closest grasping gripper to the support: {:.2} mm",
+                 mm); closest grasping gripper to the support: {:.2} mm; {open_states} states \
+                 of an open gripper next to its grasp, none more than {:.1} mm inside the part",
                 CHECK_RESOLUTION * 1e3,
                 FINE_CHECK_RESOLUTION * 1e3,
                 link * 1e3,
                 finger * 1e3,
-                finger_support * 1e3
+                finger_support * 1e3,
+                OPEN_CONTACT_DEPTH * 1e3
             ),
         },
     }

@@ -7,6 +7,7 @@ use pregrasp_robot::{GripperState, Joints};
 
 use pregrasp_model::timeline::{lerp_joints, lerp_pose, CONTACT_ZONE};
 
+use super::open::OpenAt;
 use super::walk::{at, edge, grasp_error, pose_error, PlanCheck, Queued};
 use super::{
     Rule, AXIS_MOTION_TOLERANCE, BELOW_SUPPORT_TOLERANCE, CHECK_RESOLUTION, FINE_CHECK_RESOLUTION,
@@ -127,6 +128,20 @@ impl<'a> PlanCheck<'a> {
                     });
                     let dist = (tool.translation.vector - line.grasp_end.translation.vector).norm();
                     contact[arm] = contact[arm] || dist <= CONTACT_ZONE + 1e-9;
+                }
+                // Where the open hand may touch the part, it must not be in it; the last
+                // point is the grasp, where the closing starts from the open hand.
+                if contact[arm] || k == n - 1 {
+                    let place = if k == n - 1 {
+                        OpenAt::Grasp
+                    } else if on_approach {
+                        OpenAt::Approach
+                    } else {
+                        OpenAt::Retreat
+                    };
+                    self.open_hand(arm, &qi, object, place, || {
+                        format!("{} (+{f:.2})", at(index, seg, k))
+                    });
                 }
                 // The gripper closes at the last point.
                 let mut grip = *gripper;

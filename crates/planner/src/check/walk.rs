@@ -46,6 +46,8 @@ pub(super) struct PlanCheck<'a> {
     pub(super) collisions: &'a mut Rule,
     /// Rule 2 reports how many states it checked rather than a worst value.
     pub(super) states_checked: &'a mut u64,
+    /// How many states of an open gripper next to its grasp were judged for penetration.
+    pub(super) open_states: &'a mut u64,
     pub(super) rotation: &'a mut Rule,
     pub(super) grasps: &'a mut Rule,
 }

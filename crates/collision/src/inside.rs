@@ -1,0 +1,332 @@
+//! How far a convex piece and the part reach into each other: the penetration depth by which
+//! rule 2 ("contact, never penetration") judges the open gripper.
+//!
+//! **The measure.** Let `P` be a convex piece (a finger link's piece, the housing's box) and `M`
+//! the part, a closed triangle mesh. `f(x)` is the signed distance of a point `x` to `M`'s
+//! surface: `+dist(x, ∂M)` inside the part, `−dist(x, ∂M)` outside; `g(w) = min_i (d_i − n_i·w)`
+//! is how deep a point `w` lies in `P = {x : n_i·x ≤ d_i}` (its distance from the nearest
+//! bounding plane, negative outside). The depth is
+//!
+//! ```text
+//! depth(P, M) = max( max over the edges e of P of max_{x ∈ e} f(x),
+//!                    max over the edges e' of M of max_{w ∈ e'} g(w),  0 )
+//! ```
+//!
+//! — how far a point of the piece's edges lies inside the part, or a point of the part's edges
+//! inside the piece. It is 0 exactly when neither body's edges enter the other's interior, i.e.
+//! when they at most touch (two polyhedra whose interiors overlap have an edge of one inside
+//! the other, bar degenerate contacts); a piece pushed `δ` into a flat face (its edges there)
+//! or onto a bar's edge (the bar's edges in the piece) measures `δ`; a link driven 26 mm into a
+//! rail measures how deep its deepest edge point is. The piece's "edges" are those of its hull
+//! as parry triangulates it: the diagonals of its faces are sampled too.
+//!
+//! **Computing it.** `f` is 1-Lipschitz, so on an edge interval `[x₀, x₁]` of length `L` with
+//! known end values `f₀`, `f₁`, no point exceeds `(f₀ + f₁ + L) / 2` (Piyavskii's bound): the
+//! intervals whose bound beats the best value found by more than a tolerance are halved
+//! (branch and bound, [`max_on_segment`]). Values at or below a `floor` (the depth that
+//! matters, 0.5 mm for rule 2) need no precision: the result is a depth `D̂` reached by some
+//! edge point, with the true maximum at most `max(floor, D̂ + tol)`, `tol` = 0.02 mm + 1 % of
+//! `D̂`. `g` is concave (a minimum of affine functions): on an edge of `M` clipped to `P` its
+//! maximum is found by golden-section search to ~1e-11 of the edge's length. `f` needs an
+//! inside test: the angle-weighted pseudo-normal at the nearest feature (parry, with the mesh
+//! oriented outward by the sign of its volume). A mesh that is not closed (an edge not shared
+//! by exactly two triangles) has no inside: only the `g` term is measured there.
+//!
+//! Frames: the piece's vertices are given in its own frame and placed in the object frame by
+//! `pose` (piece → object); `f` is evaluated in the object frame, `g` in the piece's.
+
+use nalgebra::{Isometry3, Point3, Vector3};
+use parry3d_f64::partitioning::TraversalAction;
+
+use crate::distance::aabb_aabb_sq;
+use crate::object::ObjectGeometry;
+use crate::solid::PartSolid;
+
+type P = Point3<f64>;
+type V = Vector3<f64>;
+
+/// Absolute tolerance (m) of the edge search above the floor.
+const ABS_TOL: f64 = 2e-5;
+/// Relative tolerance of the edge search above the floor.
+const REL_TOL: f64 = 0.01;
+/// Shortest edge interval (m) the search still halves.
+const MIN_INTERVAL: f64 = 1e-7;
+/// Golden-section steps of the concave search (shrinks the interval by 0.618⁶⁰ ≈ 3e-13).
+const GOLDEN_STEPS: usize = 60;
+
+/// A convex piece: its hull's vertices and edges and the planes bounding it, in its own frame.
+#[derive(Clone, Debug)]
+pub struct ConvexSolid {
+    vertices: Vec<P>,
+    /// Vertex index pairs: the hull's edges, the diagonals of its triangulated faces included.
+    edges: Vec<[usize; 2]>,
+    /// Outward unit normals `n` and offsets `d`: the piece is `{x : n·x ≤ d}` for all.
+    planes: Vec<(V, f64)>,
+    /// The centre of its vertices' box and the largest distance of a vertex from it.
+    center: P,
+    radius: f64,
+}
+
+impl ConvexSolid {
+    /// The convex hull of `points` (own frame); `None` where it has no volume.
+    pub fn new(points: &[P]) -> Option<ConvexSolid> {
+        let (vertices, faces) = parry3d_f64::transformation::try_convex_hull(points).ok()?;
+        if faces.len() < 4 {
+            return None;
+        }
+        let (lo, hi) = bounds(&vertices);
+        let center = nalgebra::center(&lo, &hi);
+        let radius = vertices
+            .iter()
+            .map(|v| (v - center).norm())
+            .fold(0.0, f64::max);
+        let centroid =
+            P::from(vertices.iter().map(|v| v.coords).sum::<V>() / vertices.len() as f64);
+        let mut edges: Vec<[usize; 2]> = Vec::new();
+        let mut planes = Vec::with_capacity(faces.len());
+        for f in &faces {
+            let [a, b, c] = f.map(|k| vertices[k as usize]);
+            let n = (b - a).cross(&(c - a));
+            if n.norm() > 1e-14 {
+                let n = n.normalize();
+                let n = if n.dot(&(a - centroid)) >= 0.0 { n } else { -n };
+                let d = n.dot(&a.coords).max(n.dot(&b.coords)).max(n.dot(&c.coords));
+                planes.push((n, d));
+            }
+            for k in 0..3 {
+                let (i, j) = (f[k] as usize, f[(k + 1) % 3] as usize);
+                let e = [i.min(j), i.max(j)];
+                if !edges.contains(&e) {
+                    edges.push(e);
+                }
+            }
+        }
+        (planes.len() >= 4).then_some(ConvexSolid {
+            vertices,
+            edges,
+            planes,
+            center,
+            radius,
+        })
+    }
+
+    /// The box `half` centred on the origin of its frame, as a solid.
+    pub fn cuboid(half: &V) -> Option<ConvexSolid> {
+        let corners: Vec<P> = (0..8)
+            .map(|k| {
+                let s = |bit: usize| if k >> bit & 1 == 1 { 1.0 } else { -1.0 };
+                P::new(s(0) * half.x, s(1) * half.y, s(2) * half.z)
+            })
+            .collect();
+        ConvexSolid::new(&corners)
+    }
+
+    /// How deep `w` (own frame) lies in the piece: `g(w)` of the module documentation.
+    fn depth_of(&self, w: &P) -> f64 {
+        self.planes
+            .iter()
+            .map(|(n, d)| d - n.dot(&w.coords))
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// The smallest box holding `points`.
+fn bounds(points: &[P]) -> (P, P) {
+    points.iter().fold(
+        (P::from([f64::INFINITY; 3]), P::from([f64::NEG_INFINITY; 3])),
+        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+    )
+}
+
+/// `depth(P, M)` of the module documentation for `solid` at `pose` (piece → object frame), to
+/// the precision stated there above `floor` (m, ≥ 0); 0 when they do not overlap.
+pub fn depth_in_part(
+    object: &ObjectGeometry,
+    solid: &ConvexSolid,
+    pose: &Isometry3<f64>,
+    floor: f64,
+) -> f64 {
+    let placed: Vec<P> = solid.vertices.iter().map(|v| pose * v).collect();
+    let (lo, hi) = bounds(&placed);
+    let (mlo, mhi) = object.aabb();
+    if aabb_aabb_sq(&lo, &hi, &mlo, &mhi) > 0.0 {
+        return 0.0;
+    }
+    let part = object.solid();
+    let center = pose * solid.center;
+    let mut best = 0.0f64;
+    match part.signed_distance(&center) {
+        // The whole piece is outside, farther from the surface than any of its points.
+        Some(fc) if fc < -solid.radius => return 0.0,
+        Some(fc) => {
+            if fc + solid.radius > floor {
+                let values: Vec<f64> = placed
+                    .iter()
+                    .map(|x| part.signed_distance(x).unwrap_or(f64::NEG_INFINITY))
+                    .collect();
+                best = values.iter().copied().fold(best, f64::max);
+                for &[i, j] in &solid.edges {
+                    let ends = [(placed[i], values[i]), (placed[j], values[j])];
+                    best = max_on_segment(part, ends, floor, best);
+                }
+            }
+            // The whole piece inside the part: no surface in it.
+            if fc > solid.radius {
+                return best;
+            }
+        }
+        None => {}
+    }
+    let to_piece = pose.inverse();
+    let verts = object.trimesh().vertices();
+    let idx = object.trimesh().indices();
+    object.trimesh().bvh().traverse(|node| {
+        if aabb_aabb_sq(&lo, &hi, &node.mins(), &node.maxs()) > 0.0 {
+            return TraversalAction::Prune;
+        }
+        if let Some(leaf) = node.leaf_data() {
+            let t = idx[leaf as usize].map(|k| to_piece * verts[k as usize]);
+            for k in 0..3 {
+                best = best.max(max_depth_on_edge(solid, &t[k], &t[(k + 1) % 3]));
+            }
+        }
+        TraversalAction::Continue
+    });
+    best
+}
+
+/// The largest `f` on the segment between `ends` (points with their `f`), by Piyavskii's
+/// bound (module documentation), at least `best`.
+fn max_on_segment(part: &PartSolid, ends: [(P, f64); 2], floor: f64, best: f64) -> f64 {
+    let mut best = best;
+    let mut stack = vec![ends];
+    while let Some([(a, fa), (b, fb)]) = stack.pop() {
+        let len = (b - a).norm();
+        let bound = 0.5 * (fa + fb + len);
+        let enough = floor.max(best) + ABS_TOL + REL_TOL * best.max(0.0);
+        if bound <= enough || len < MIN_INTERVAL {
+            continue;
+        }
+        let m = nalgebra::center(&a, &b);
+        let Some(fm) = part.signed_distance(&m) else {
+            continue;
+        };
+        best = best.max(fm);
+        stack.push([(a, fa), (m, fm)]);
+        stack.push([(m, fm), (b, fb)]);
+    }
+    best
+}
+
+/// The largest `g` on the segment `[a, b]` (piece frame), 0 if it misses the piece's interior:
+/// the segment clipped to the piece (Cyrus–Beck), then golden-section search of the concave
+/// `g` on what is left.
+fn max_depth_on_edge(solid: &ConvexSolid, a: &P, b: &P) -> f64 {
+    let ab = b - a;
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    for (n, d) in &solid.planes {
+        let num = d - n.dot(&a.coords);
+        let den = n.dot(&ab);
+        if den.abs() < 1e-300 {
+            if num < 0.0 {
+                return 0.0;
+            }
+        } else if den > 0.0 {
+            hi = hi.min(num / den);
+        } else {
+            lo = lo.max(num / den);
+        }
+        if lo > hi {
+            return 0.0;
+        }
+    }
+    let g = |t: f64| solid.depth_of(&(a + ab * t));
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut x1, mut x2) = (hi - r * (hi - lo), lo + r * (hi - lo));
+    let (mut g1, mut g2) = (g(x1), g(x2));
+    for _ in 0..GOLDEN_STEPS {
+        if g1 < g2 {
+            lo = x1;
+            x1 = x2;
+            g1 = g2;
+            x2 = lo + r * (hi - lo);
+            g2 = g(x2);
+        } else {
+            hi = x2;
+            x2 = x1;
+            g2 = g1;
+            x1 = hi - r * (hi - lo);
+            g1 = g(x1);
+        }
+    }
+    g1.max(g2).max(g(lo)).max(g(hi)).max(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pregrasp_geometry::shapes::cuboid;
+
+    fn part() -> ObjectGeometry {
+        // A 40 × 40 × 20 mm block, its top face at z = 0.
+        let mesh = cuboid(P::new(-0.02, -0.02, -0.02), P::new(0.02, 0.02, 0.0));
+        ObjectGeometry::new(&mesh).unwrap()
+    }
+
+    fn at(x: f64, y: f64, z: f64) -> Isometry3<f64> {
+        Isometry3::translation(x, y, z)
+    }
+
+    /// A small cube pushed `δ` into the top face measures `δ`; one resting on it, 0; one deep
+    /// inside, its deepest edge point's depth (its centre 10 mm down, between the top and the
+    /// bottom face: its vertical edges pass through it).
+    #[test]
+    fn a_cube_in_a_block_measures_how_deep_it_is() {
+        let block = part();
+        let cube = ConvexSolid::cuboid(&V::repeat(0.002)).unwrap();
+        for delta in [0.0, 0.0003, 0.001, 0.004] {
+            let d = depth_in_part(&block, &cube, &at(0.0, 0.0, 0.002 - delta), 0.0);
+            assert!((d - delta).abs() < 3e-5, "δ {delta}: {d}");
+        }
+        let deep = depth_in_part(&block, &cube, &at(0.0, 0.0, -0.01), 0.0);
+        assert!((deep - 0.01).abs() < 1e-4, "{deep}");
+        assert_eq!(depth_in_part(&block, &cube, &at(0.0, 0.0, 0.01), 0.0), 0.0);
+    }
+
+    /// A plate turned 45° pressed onto the block's top edge (along x), narrower than the
+    /// block: no vertex of either lies in the other; the block's edge does, as deep as it is
+    /// from the plate's near face.
+    #[test]
+    fn an_edge_into_a_face_measures_its_depth() {
+        let block = part();
+        let plate = ConvexSolid::cuboid(&V::new(0.01, 0.001, 0.05)).unwrap();
+        let pose = Isometry3::new(
+            V::new(0.0, 0.02 + 0.001 * 2f64.sqrt() - 0.0015, 0.0),
+            V::x() * std::f64::consts::FRAC_PI_4,
+        );
+        let d = depth_in_part(&block, &plate, &pose, 0.0);
+        let n = pose.rotation * V::y();
+        let centre = P::from(pose.translation.vector);
+        let expected = 0.001 - n.dot(&(P::new(0.0, 0.02, 0.0) - centre)).abs();
+        assert!((d - expected).abs() < 1e-6, "{d} vs {expected}");
+    }
+
+    /// The inside test does not depend on how the mesh is wound; an open mesh (no inside)
+    /// measures only the part's edges in the piece.
+    #[test]
+    fn winding_and_open_meshes() {
+        let mut mesh = cuboid(P::new(-0.02, -0.02, -0.02), P::new(0.02, 0.02, 0.0));
+        mesh.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+        let inward = ObjectGeometry::new(&mesh).unwrap();
+        let cube = ConvexSolid::cuboid(&V::repeat(0.002)).unwrap();
+        let d = depth_in_part(&inward, &cube, &at(0.0, 0.0, 0.001), 0.0);
+        assert!((d - 0.001).abs() < 3e-5, "{d}");
+        mesh.triangles.pop();
+        let open = ObjectGeometry::new(&mesh).unwrap();
+        // Deep inside, no edge of the part in the cube: nothing measured without an inside.
+        assert_eq!(depth_in_part(&open, &cube, &at(0.0, 0.0, -0.01), 0.0), 0.0);
+        // Over the block's top edge (along x at y = 0.02): it lies 2 mm deep in the cube.
+        let d = depth_in_part(&open, &cube, &at(0.0, 0.02, 0.0), 0.0);
+        assert!((d - 0.002).abs() < 1e-9, "{d}");
+    }
+}
