@@ -285,3 +285,59 @@ fn the_walk_judges_the_open_hand_at_the_grasp_and_on_the_approach_states() {
     let depth = depth_mm(&detail);
     assert!(depth > 0.5 && depth <= 1.6, "{detail}");
 }
+
+#[test]
+fn the_planner_rejects_a_grasp_whose_open_hand_is_in_the_part_naming_link_and_depth() {
+    use pregrasp_collision::GripFailure;
+    use pregrasp_planner::pipeline::{plan, CandidateOutcome, PlanOptions};
+    use pregrasp_planner::poses::PoseRejection;
+
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scene_path = "examples/chair_side.toml";
+    let text = std::fs::read_to_string(root.join(scene_path)).unwrap();
+    let scene = pregrasp_io::scene::Scene::from_str(&text, Path::new(scene_path)).unwrap();
+    let mesh = load_mesh(&root.join(&scene.object.mesh_path), scene.object.scale)
+        .unwrap()
+        .mesh;
+    // The block of the check's test beside arm 0's power grasp.
+    let arm = 0;
+    let gripper = scene.robots[arm].gripper_model();
+    let flange = scene.grasps.power[arm] * gripper.power_point().inverse();
+    let (lo, hi) = (P::new(0.05, -0.02, 0.10), P::new(0.10, 0.02, 0.17));
+    let (link, depth) = deepest_in_block(&lo, &hi);
+    let edited = with_block(&mesh, &flange, lo, hi);
+    let report = plan(&scene, &edited, &PlanOptions::default(), &|_| {}, &|| {}).unwrap();
+    assert!(report.file.plans.is_empty());
+    let mut rejected = 0;
+    for outcome in &report.outcomes {
+        let CandidateOutcome::NoPose(PoseRejection::CannotClose {
+            arm: a,
+            support: false,
+            failure:
+                GripFailure::OpenInside {
+                    link: l,
+                    depth: d,
+                    back,
+                },
+        }) = outcome
+        else {
+            continue;
+        };
+        assert_eq!((*a, *l, *back), (arm, link, 0.0));
+        assert!((d - depth).abs() <= 2e-5 + 0.01 * depth, "{d} vs {depth}");
+        rejected += 1;
+    }
+    assert!(rejected > 0, "{:?}", report.file.reason);
+    let words = format!(
+        "rejected: power grasp of arm {}: the open {link} is {:.1} mm inside the part (at most \
+         0.5 mm)",
+        scene.robots[arm].name,
+        depth * 1e3
+    );
+    let said = report
+        .file
+        .candidates
+        .iter()
+        .filter(|c| c.outcome.to_string() == words);
+    assert_eq!(said.count(), rejected, "{words}");
+}
