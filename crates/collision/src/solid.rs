@@ -1,6 +1,7 @@
 //! The part as a solid: its closed mesh oriented outward, with the pseudo-normals that tell
 //! inside from outside ([`PartSolid`]), for [`crate::inside`]'s signed distance.
 
+use std::collections::HashMap;
 use std::sync::OnceLock;
 
 use nalgebra::Point3;
@@ -18,9 +19,12 @@ pub(crate) struct PartSolid {
 
 impl PartSolid {
     /// From the part's mesh (object frame).
+    ///
+    /// Vertices within [`WELD`] of each other are one (a mesh built face by face, or read from
+    /// STL without welding, is closed when its faces meet corner to corner); the surface is
+    /// closed when every edge then joins exactly two triangles.
     pub(crate) fn of(mesh: &TriMesh) -> PartSolid {
-        let mut indices: Vec<[u32; 3]> = mesh.indices().to_vec();
-        let vertices = mesh.vertices().to_vec();
+        let (vertices, mut indices) = welded(mesh.vertices(), mesh.indices());
         if open_edges(&indices) > 0 {
             return PartSolid { mesh: None };
         }
@@ -51,6 +55,51 @@ impl PartSolid {
         let d = (x - proj.point).norm();
         Some(if proj.is_inside { d } else { -d })
     }
+}
+
+/// Distance (m) within which two vertices are one.
+const WELD: f64 = 1e-9;
+
+/// `vertices` with those within [`WELD`] of a kept one merged into it (a grid of cells
+/// [`WELD`] wide, the 27 cells about a vertex's searched), and `indices` renumbered to them.
+fn welded(vertices: &[P], indices: &[[u32; 3]]) -> (Vec<P>, Vec<[u32; 3]>) {
+    let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    let mut kept: Vec<P> = Vec::with_capacity(vertices.len());
+    let cell = |v: &P| [v.x, v.y, v.z].map(|c| (c / WELD).floor() as i64);
+    let map: Vec<u32> = vertices
+        .iter()
+        .map(|v| {
+            let c = cell(v);
+            let mut near = None;
+            'search: for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        let key = [c[0] + dx, c[1] + dy, c[2] + dz];
+                        let found = cells.get(&key).and_then(|ks| {
+                            ks.iter()
+                                .copied()
+                                .find(|&k| (kept[k as usize] - v).norm() <= WELD)
+                        });
+                        if found.is_some() {
+                            near = found;
+                            break 'search;
+                        }
+                    }
+                }
+            }
+            near.unwrap_or_else(|| {
+                kept.push(*v);
+                let k = (kept.len() - 1) as u32;
+                cells.entry(c).or_default().push(k);
+                k
+            })
+        })
+        .collect();
+    let indices = indices
+        .iter()
+        .map(|t| t.map(|k| map.get(k as usize).copied().unwrap_or(0)))
+        .collect();
+    (kept, indices)
 }
 
 /// The undirected edges of the triangles `indices` not shared by exactly two of them.

@@ -85,8 +85,19 @@ fn an_off_centre_bar_stops_both_jaws_at_the_first_touch() {
 #[test]
 fn too_wide_or_nothing_between_is_refused() {
     let g = jaws();
+    // Wider than the open jaws, which stand 10 mm inside it (their inner edges are 10 mm
+    // from the bar's ends and faces): rule 2's open hand refuses it, naming the deepest jaw.
     let wide = close_on_part(&bar(-0.05, 0.1), &g, &Isometry3::identity());
-    assert_eq!(wide.unwrap_err(), GripFailure::OpenTouches);
+    match wide.unwrap_err() {
+        GripFailure::OpenInside { link, depth, back } => {
+            assert!(link == "gripper_plus" || link == "gripper_minus", "{link}");
+            assert!((depth - 0.01).abs() < 2e-4 && back == 0.0, "{depth} {back}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // As wide as the open jaws: they touch it, and cannot close on it.
+    let touching = close_on_part(&bar(-0.04, 0.08), &g, &Isometry3::identity());
+    assert_eq!(touching.unwrap_err(), GripFailure::OpenTouches);
     let away = Isometry3::from(Translation3::new(0.0, 0.0, 0.5));
     let nothing = close_on_part(&bar(-0.015, 0.03), &g, &away);
     assert_eq!(nothing.unwrap_err(), GripFailure::ClosesOnNothing);
