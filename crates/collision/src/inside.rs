@@ -37,6 +37,8 @@
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::partitioning::TraversalAction;
+use parry3d_f64::query;
+use parry3d_f64::shape::ConvexPolyhedron;
 
 use crate::distance::aabb_aabb_sq;
 use crate::object::ObjectGeometry;
@@ -65,6 +67,8 @@ pub struct ConvexSolid {
     /// The centre of its vertices' box and the largest distance of a vertex from it.
     center: P,
     radius: f64,
+    /// The piece for parry's queries.
+    poly: ConvexPolyhedron,
 }
 
 impl ConvexSolid {
@@ -101,7 +105,9 @@ impl ConvexSolid {
                 }
             }
         }
+        let poly = ConvexPolyhedron::from_convex_mesh(vertices.clone(), &faces)?;
         (planes.len() >= 4).then_some(ConvexSolid {
+            poly,
             vertices,
             edges,
             planes,
@@ -138,6 +144,24 @@ fn bounds(points: &[P]) -> (P, P) {
     )
 }
 
+/// Whether the ball about `center` (object frame) of `radius` misses the part's box.
+pub fn sphere_clear(object: &ObjectGeometry, center: &P, radius: f64) -> bool {
+    let (lo, hi) = object.aabb();
+    let outside = (lo - center).sup(&(center - hi)).sup(&V::zeros());
+    outside.norm() > radius
+}
+
+/// Whether the ball about `center` (object frame) of `radius` lies wholly outside the part,
+/// farther from its surface than `radius` (never for a part without an inside test, unless it
+/// misses the part's box).
+pub fn sphere_outside(object: &ObjectGeometry, center: &P, radius: f64) -> bool {
+    sphere_clear(object, center, radius)
+        || object
+            .solid()
+            .signed_distance(center)
+            .is_some_and(|f| f < -radius)
+}
+
 /// `depth(P, M)` of the module documentation for `solid` at `pose` (piece → object frame), to
 /// the precision stated there above `floor` (m, ≥ 0); 0 when they do not overlap.
 pub fn depth_in_part(
@@ -146,37 +170,43 @@ pub fn depth_in_part(
     pose: &Isometry3<f64>,
     floor: f64,
 ) -> f64 {
-    let placed: Vec<P> = solid.vertices.iter().map(|v| pose * v).collect();
-    let (lo, hi) = bounds(&placed);
-    let (mlo, mhi) = object.aabb();
-    if aabb_aabb_sq(&lo, &hi, &mlo, &mhi) > 0.0 {
+    let center = pose * solid.center;
+    if sphere_clear(object, &center, solid.radius) {
         return 0.0;
     }
     let part = object.solid();
-    let center = pose * solid.center;
-    let mut best = 0.0f64;
-    match part.signed_distance(&center) {
-        // The whole piece is outside, farther from the surface than any of its points.
-        Some(fc) if fc < -solid.radius => return 0.0,
-        Some(fc) => {
-            if fc + solid.radius > floor {
-                let values: Vec<f64> = placed
-                    .iter()
-                    .map(|x| part.signed_distance(x).unwrap_or(f64::NEG_INFINITY))
-                    .collect();
-                best = values.iter().copied().fold(best, f64::max);
-                for &[i, j] in &solid.edges {
-                    let ends = [(placed[i], values[i]), (placed[j], values[j])];
-                    best = max_on_segment(part, ends, floor, best);
-                }
-            }
-            // The whole piece inside the part: no surface in it.
-            if fc > solid.radius {
-                return best;
-            }
-        }
-        None => {}
+    let fc = part.signed_distance(&center);
+    // The whole piece is outside, farther from the surface than any of its points.
+    if fc.is_some_and(|fc| fc < -solid.radius) {
+        return 0.0;
     }
+    // A piece that meets no triangle is wholly outside the part or wholly inside (GJK on the
+    // piece against the triangles its box meets); only then is its centre's side its side.
+    let meets =
+        query::intersection_test(pose, &solid.poly, &Isometry3::identity(), object.trimesh())
+            .unwrap_or(true);
+    let inside = fc.is_some_and(|fc| fc > 0.0);
+    if !meets && !inside {
+        return 0.0;
+    }
+    let placed: Vec<P> = solid.vertices.iter().map(|v| pose * v).collect();
+    let mut best = 0.0f64;
+    if fc.is_some_and(|fc| fc + solid.radius > floor) {
+        let values: Vec<f64> = placed
+            .iter()
+            .map(|x| part.signed_distance(x).unwrap_or(f64::NEG_INFINITY))
+            .collect();
+        best = values.iter().copied().fold(best, f64::max);
+        for &[i, j] in &solid.edges {
+            let ends = [(placed[i], values[i]), (placed[j], values[j])];
+            best = max_on_segment(part, ends, floor, best);
+        }
+    }
+    // No surface in the piece: nothing of the part's edges either.
+    if !meets {
+        return best;
+    }
+    let (lo, hi) = bounds(&placed);
     let to_piece = pose.inverse();
     let verts = object.trimesh().vertices();
     let idx = object.trimesh().indices();

@@ -16,10 +16,10 @@
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use nalgebra::{Isometry3, Translation3};
+use nalgebra::{Isometry3, Point3, Translation3};
 use pregrasp_robot::{Gripper, GripperState, Primitive};
 
-use crate::inside::{depth_in_part, ConvexSolid};
+use crate::inside::{depth_in_part, sphere_outside, ConvexSolid};
 use crate::object::ObjectGeometry;
 
 /// How deep (m) an open gripper link may lie in the part it grasps: touching, not inside.
@@ -38,11 +38,27 @@ pub struct OpenInside {
     pub depth: f64,
 }
 
-/// One shape of the open gripper: its name, its frame in G and its convex pieces there.
+/// One shape of the open gripper: its name, its frame in G and its convex pieces there, with
+/// a ball holding them (centre in the shape's frame, radius).
 struct OpenShape {
     name: &'static str,
     frame: Isometry3<f64>,
     pieces: Vec<ConvexSolid>,
+    center: Point3<f64>,
+    radius: f64,
+}
+
+/// The centre of the box of `points` and the largest distance of a point from it.
+fn ball(points: &[Point3<f64>]) -> (Point3<f64>, f64) {
+    let lo = points
+        .iter()
+        .fold(Point3::from([f64::INFINITY; 3]), |a, p| a.inf(p));
+    let hi = points
+        .iter()
+        .fold(Point3::from([f64::NEG_INFINITY; 3]), |a, p| a.sup(p));
+    let c = nalgebra::center(&lo, &hi);
+    let r = points.iter().map(|p| (p - c).norm()).fold(0.0, f64::max);
+    (c, r)
 }
 
 /// The open gripper's shapes (see the module documentation).
@@ -72,21 +88,29 @@ impl OpenHand {
         let mut shapes = Vec::with_capacity(frames.len());
         gripper.for_each_shape(GripperState::Open, |k, name, primitive| {
             let shape = match (pieces.get(k).copied().flatten(), frames.get(k)) {
-                (Some(p), Some(frame)) => OpenShape {
-                    name,
-                    frame: *frame,
-                    pieces: p
-                        .pieces
-                        .iter()
-                        .filter_map(|v| ConvexSolid::new(v))
-                        .collect(),
-                },
+                (Some(p), Some(frame)) => {
+                    let all: Vec<Point3<f64>> = p.pieces.iter().flatten().copied().collect();
+                    let (center, radius) = ball(&all);
+                    OpenShape {
+                        name,
+                        frame: *frame,
+                        pieces: p
+                            .pieces
+                            .iter()
+                            .filter_map(|v| ConvexSolid::new(v))
+                            .collect(),
+                        center,
+                        radius,
+                    }
+                }
                 // An exact primitive (the 2F-85's housing boxes), in the flange frame.
                 _ => match primitive {
                     Primitive::Cuboid { pose, half_extents } => OpenShape {
                         name,
                         frame: pose,
                         pieces: ConvexSolid::cuboid(&half_extents).into_iter().collect(),
+                        center: Point3::origin(),
+                        radius: half_extents.norm(),
                     },
                     _ => return,
                 },
@@ -108,6 +132,9 @@ impl OpenHand {
         let mut deepest: Option<OpenInside> = None;
         for shape in &self.shapes {
             let pose = flange_in_object * shape.frame;
+            if sphere_outside(object, &(pose * shape.center), shape.radius) {
+                continue;
+            }
             for piece in &shape.pieces {
                 let known = deepest.map_or(0.0, |d| d.depth);
                 let depth = depth_in_part(object, piece, &pose, floor.max(known));
