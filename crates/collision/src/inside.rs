@@ -127,6 +127,11 @@ impl ConvexSolid {
         ConvexSolid::new(&corners)
     }
 
+    /// A point of the piece (a vertex of its hull, own frame).
+    pub fn point(&self) -> P {
+        self.vertices[0]
+    }
+
     /// How deep `w` (own frame) lies in the piece: `g(w)` of the module documentation.
     fn depth_of(&self, w: &P) -> f64 {
         self.planes
@@ -162,6 +167,19 @@ pub fn sphere_outside(object: &ObjectGeometry, center: &P, radius: f64) -> bool 
             .is_some_and(|f| f < -radius)
 }
 
+/// Whether `solid` at `pose` (piece → object frame) meets a triangle of the part (GJK on the
+/// piece against the triangles its box meets). A piece that meets none lies wholly outside the
+/// part or wholly inside it: [`ConvexSolid::point`] tells which.
+pub fn meets_surface(object: &ObjectGeometry, solid: &ConvexSolid, pose: &Isometry3<f64>) -> bool {
+    query::intersection_test(pose, &solid.poly, &Isometry3::identity(), object.trimesh())
+        .unwrap_or(true)
+}
+
+/// Whether the point `x` (object frame) lies inside the part (`false` without an inside test).
+pub fn inside_part(object: &ObjectGeometry, x: &P) -> bool {
+    object.solid().signed_distance(x).is_some_and(|f| f > 0.0)
+}
+
 /// `depth(P, M)` of the module documentation for `solid` at `pose` (piece → object frame), to
 /// the precision stated there above `floor` (m, ≥ 0); 0 when they do not overlap.
 pub fn depth_in_part(
@@ -181,12 +199,9 @@ pub fn depth_in_part(
         return 0.0;
     }
     // A piece that meets no triangle is wholly outside the part or wholly inside (GJK on the
-    // piece against the triangles its box meets); only then is its centre's side its side.
-    let meets =
-        query::intersection_test(pose, &solid.poly, &Isometry3::identity(), object.trimesh())
-            .unwrap_or(true);
-    let inside = fc.is_some_and(|fc| fc > 0.0);
-    if !meets && !inside {
+    // piece against the triangles its box meets); then any of its points tells which.
+    let meets = meets_surface(object, solid, pose);
+    if !meets && !inside_part(object, &(pose * solid.vertices[0])) {
         return 0.0;
     }
     let placed: Vec<P> = solid.vertices.iter().map(|v| pose * v).collect();

@@ -120,6 +120,15 @@ impl OpenHand {
         OpenHand { shapes }
     }
 
+    /// The largest distance (m) of a point of the open hand from the flange frame's origin:
+    /// a turn of the flange by `a` (rad) moves no point of it farther than `a` times this.
+    pub fn reach(&self) -> f64 {
+        self.shapes
+            .iter()
+            .map(|s| (s.frame * s.center).coords.norm() + s.radius)
+            .fold(0.0, f64::max)
+    }
+
     /// The deepest link of the open hand in the part, the flange at `flange_in_object` (G →
     /// object frame): `None` if no link overlaps it. Depths at or below `floor` (m) are
     /// measured without precision ([`depth_in_part`]).

@@ -99,6 +99,8 @@ impl<'a> PlanCheck<'a> {
             .map(|k| edge(pts, k, &weights, resolution(k)).1)
             .sum();
         let mut queue = Queued::with_capacity(total);
+        // The flange (object frame) where the open hand was last judged.
+        let mut judged = None;
         for k in 0..n {
             let (edge_end, steps) = edge(pts, k, &weights, resolution(k));
             for s in 0..steps {
@@ -139,7 +141,7 @@ impl<'a> PlanCheck<'a> {
                     } else {
                         OpenAt::Retreat
                     };
-                    self.open_hand(arm, &qi, object, place, || {
+                    self.open_hand(arm, &qi, object, place, &mut judged, || {
                         format!("{} (+{f:.2})", at(index, seg, k))
                     });
                 }

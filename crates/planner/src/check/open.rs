@@ -11,10 +11,14 @@
 //! flange_world`.
 
 use nalgebra::Isometry3;
-use pregrasp_collision::{open_inside, OPEN_CONTACT_DEPTH};
+use pregrasp_collision::{open_inside, OpenHand, OPEN_CONTACT_DEPTH};
 use pregrasp_robot::Joints;
 
 use super::walk::PlanCheck;
+
+/// Largest travel (m) of any point of an open gripper between two states judged for
+/// penetration: half the 0.5 mm allowed.
+pub(super) const OPEN_STEP: f64 = 0.0005;
 
 /// Where an open-hand state lies on its segment, for the message.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,20 +35,39 @@ impl<'a> PlanCheck<'a> {
     /// The open gripper of arm `arm` at joints `q`, the part at `object` (world): no link more
     /// than [`OPEN_CONTACT_DEPTH`] inside the part, else rule 2 fails naming the link and its
     /// depth at `at` (the state's words).
+    ///
+    /// States are judged at most [`OPEN_STEP`] of gripper travel apart (`judged`: the flange,
+    /// object frame, at the last judged state of the segment); the grasp itself always is.
+    /// Between two judged states no point of the open hand moves more than [`OPEN_STEP`], and
+    /// the depth is 1-Lipschitz in that motion (a distance to a surface, or to a piece's
+    /// face): a link at most 0.5 mm deep at both is at most 0.75 mm deep between them.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn open_hand(
         &mut self,
         arm: usize,
         q: &Joints,
         object: &Isometry3<f64>,
         place: OpenAt,
+        judged: &mut Option<Isometry3<f64>>,
         at: impl FnOnce() -> String,
     ) {
         let Some(part) = self.world.object() else {
             return;
         };
-        *self.open_states += 1;
+        let gripper = &self.arms[arm].gripper;
         let flange_in_object = object.inverse() * self.arms[arm].flange_world(q);
-        if let Some(d) = open_inside(part, &self.arms[arm].gripper, &flange_in_object) {
+        let travel = |from: &Isometry3<f64>| {
+            let shift = (flange_in_object.translation.vector - from.translation.vector).norm();
+            shift
+                + flange_in_object.rotation.angle_to(&from.rotation) * OpenHand::of(gripper).reach()
+        };
+        let due = place == OpenAt::Grasp || judged.as_ref().is_none_or(|j| travel(j) >= OPEN_STEP);
+        if !due {
+            return;
+        }
+        *judged = Some(flange_in_object);
+        *self.open_states += 1;
+        if let Some(d) = open_inside(part, gripper, &flange_in_object) {
             let place = match place {
                 OpenAt::Approach => "on the straight approach",
                 OpenAt::Grasp => "at the grasp, before the fingers close",
