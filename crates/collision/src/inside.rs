@@ -35,14 +35,16 @@
 //! Frames: the piece's vertices are given in its own frame and placed in the object frame by
 //! `pose` (piece → object); `f` is evaluated in the object frame, `g` in the piece's.
 
-use nalgebra::{Isometry3, Point3, Vector3};
+use std::sync::OnceLock;
+
+use nalgebra::{Isometry3, Point3, Translation3, Vector3};
 use parry3d_f64::partitioning::TraversalAction;
 use parry3d_f64::query;
 use parry3d_f64::shape::ConvexPolyhedron;
 
 use crate::distance::aabb_aabb_sq;
 use crate::object::ObjectGeometry;
-use crate::solid::PartSolid;
+use crate::solid::{Ball, PartSolid};
 
 type P = Point3<f64>;
 type V = Vector3<f64>;
@@ -56,34 +58,37 @@ const MIN_INTERVAL: f64 = 1e-7;
 /// Golden-section steps of the concave search (shrinks the interval by 0.618⁶⁰ ≈ 3e-13).
 const GOLDEN_STEPS: usize = 60;
 
-/// A convex piece: its hull's vertices and edges and the planes bounding it, in its own frame.
+/// A convex piece, in its own frame: the points it is the hull of, a ball holding them, and
+/// (built when first needed: most pieces never come near the part) its hull.
 #[derive(Clone, Debug)]
 pub struct ConvexSolid {
+    points: Vec<P>,
+    /// The centre of its points' box (about its frame's axes), the box's half extents, and
+    /// the largest distance of a point from the centre.
+    center: P,
+    half: V,
+    radius: f64,
+    hull: OnceLock<Option<Hull>>,
+}
+
+/// A piece's hull: its vertices and edges, the planes bounding it, and the piece for parry.
+#[derive(Clone, Debug)]
+struct Hull {
     vertices: Vec<P>,
     /// Vertex index pairs: the hull's edges, the diagonals of its triangulated faces included.
     edges: Vec<[usize; 2]>,
     /// Outward unit normals `n` and offsets `d`: the piece is `{x : n·x ≤ d}` for all.
     planes: Vec<(V, f64)>,
-    /// The centre of its vertices' box and the largest distance of a vertex from it.
-    center: P,
-    radius: f64,
-    /// The piece for parry's queries.
     poly: ConvexPolyhedron,
 }
 
-impl ConvexSolid {
-    /// The convex hull of `points` (own frame); `None` where it has no volume.
-    pub fn new(points: &[P]) -> Option<ConvexSolid> {
+impl Hull {
+    /// The convex hull of `points`; `None` where it has no volume.
+    fn of(points: &[P]) -> Option<Hull> {
         let (vertices, faces) = parry3d_f64::transformation::try_convex_hull(points).ok()?;
         if faces.len() < 4 {
             return None;
         }
-        let (lo, hi) = bounds(&vertices);
-        let center = nalgebra::center(&lo, &hi);
-        let radius = vertices
-            .iter()
-            .map(|v| (v - center).norm())
-            .fold(0.0, f64::max);
         let centroid =
             P::from(vertices.iter().map(|v| v.coords).sum::<V>() / vertices.len() as f64);
         let mut edges: Vec<[usize; 2]> = Vec::new();
@@ -106,14 +111,47 @@ impl ConvexSolid {
             }
         }
         let poly = ConvexPolyhedron::from_convex_mesh(vertices.clone(), &faces)?;
-        (planes.len() >= 4).then_some(ConvexSolid {
-            poly,
+        (planes.len() >= 4).then_some(Hull {
             vertices,
             edges,
             planes,
-            center,
-            radius,
+            poly,
         })
+    }
+
+    /// How deep `w` (own frame) lies in the piece: `g(w)` of the module documentation.
+    fn depth_of(&self, w: &P) -> f64 {
+        self.planes
+            .iter()
+            .map(|(n, d)| d - n.dot(&w.coords))
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+impl ConvexSolid {
+    /// The convex hull of `points` (own frame); `None` without points. A piece whose hull has
+    /// no volume measures 0.
+    pub fn new(points: &[P]) -> Option<ConvexSolid> {
+        if points.is_empty() {
+            return None;
+        }
+        let (lo, hi) = bounds(points);
+        let center = nalgebra::center(&lo, &hi);
+        let radius = points
+            .iter()
+            .map(|v| (v - center).norm())
+            .fold(0.0, f64::max);
+        Some(ConvexSolid {
+            points: points.to_vec(),
+            center,
+            half: (hi - lo) * 0.5,
+            radius,
+            hull: OnceLock::new(),
+        })
+    }
+
+    fn hull(&self) -> Option<&Hull> {
+        self.hull.get_or_init(|| Hull::of(&self.points)).as_ref()
     }
 
     /// The box `half` centred on the origin of its frame, as a solid.
@@ -127,17 +165,9 @@ impl ConvexSolid {
         ConvexSolid::new(&corners)
     }
 
-    /// A point of the piece (a vertex of its hull, own frame).
+    /// A point of the piece (own frame).
     pub fn point(&self) -> P {
-        self.vertices[0]
-    }
-
-    /// How deep `w` (own frame) lies in the piece: `g(w)` of the module documentation.
-    fn depth_of(&self, w: &P) -> f64 {
-        self.planes
-            .iter()
-            .map(|(n, d)| d - n.dot(&w.coords))
-            .fold(f64::INFINITY, f64::min)
+        self.points[0]
     }
 }
 
@@ -161,18 +191,17 @@ pub fn sphere_clear(object: &ObjectGeometry, center: &P, radius: f64) -> bool {
 /// misses the part's box).
 pub fn sphere_outside(object: &ObjectGeometry, center: &P, radius: f64) -> bool {
     sphere_clear(object, center, radius)
-        || object
-            .solid()
-            .signed_distance(center)
-            .is_some_and(|f| f < -radius)
+        || object.solid().about(center, radius) == Some(Ball::Outside)
 }
 
 /// Whether `solid` at `pose` (piece → object frame) meets a triangle of the part (GJK on the
 /// piece against the triangles its box meets). A piece that meets none lies wholly outside the
 /// part or wholly inside it: [`ConvexSolid::point`] tells which.
 pub fn meets_surface(object: &ObjectGeometry, solid: &ConvexSolid, pose: &Isometry3<f64>) -> bool {
-    query::intersection_test(pose, &solid.poly, &Isometry3::identity(), object.trimesh())
-        .unwrap_or(true)
+    solid.hull().is_some_and(|h| {
+        query::intersection_test(pose, &h.poly, &Isometry3::identity(), object.trimesh())
+            .unwrap_or(true)
+    })
 }
 
 /// Whether the point `x` (object frame) lies inside the part (`false` without an inside test).
@@ -193,18 +222,31 @@ pub fn depth_in_part(
         return 0.0;
     }
     let part = object.solid();
-    let fc = part.signed_distance(&center);
-    // The whole piece is outside, farther from the surface than any of its points.
-    if fc.is_some_and(|fc| fc < -solid.radius) {
-        return 0.0;
-    }
+    // The centre's signed distance where the surface is within the ball (`None` without an
+    // inside test); a ball wholly outside holds no point inside, one wholly inside is a piece
+    // deep in the part, measured in full.
+    let fc = match part.about(&center, solid.radius) {
+        Some(Ball::Outside) => return 0.0,
+        Some(Ball::Meets(f)) => Some(f),
+        Some(Ball::Inside) => part.signed_distance(&center),
+        None => None,
+    };
     // A piece that meets no triangle is wholly outside the part or wholly inside (GJK on the
     // piece against the triangles its box meets); then any of its points tells which.
-    let meets = meets_surface(object, solid, pose);
-    if !meets && !inside_part(object, &(pose * solid.vertices[0])) {
+    // The piece's box meets no triangle: it lies wholly outside the part or wholly inside,
+    // as its centre does (separating axes, no hull needed).
+    let in_box = pose * Translation3::from(solid.center.coords);
+    if !object.box_touches(&in_box, &solid.half) && fc.is_none_or(|fc| fc <= 0.0) {
         return 0.0;
     }
-    let placed: Vec<P> = solid.vertices.iter().map(|v| pose * v).collect();
+    let Some(hull) = solid.hull() else {
+        return 0.0;
+    };
+    let meets = meets_surface(object, solid, pose);
+    if !meets && !inside_part(object, &(pose * solid.point())) {
+        return 0.0;
+    }
+    let placed: Vec<P> = hull.vertices.iter().map(|v| pose * v).collect();
     let mut best = 0.0f64;
     if fc.is_some_and(|fc| fc + solid.radius > floor) {
         let values: Vec<f64> = placed
@@ -212,7 +254,7 @@ pub fn depth_in_part(
             .map(|x| part.signed_distance(x).unwrap_or(f64::NEG_INFINITY))
             .collect();
         best = values.iter().copied().fold(best, f64::max);
-        for &[i, j] in &solid.edges {
+        for &[i, j] in &hull.edges {
             let ends = [(placed[i], values[i]), (placed[j], values[j])];
             best = max_on_segment(part, ends, floor, best);
         }
@@ -232,7 +274,7 @@ pub fn depth_in_part(
         if let Some(leaf) = node.leaf_data() {
             let t = idx[leaf as usize].map(|k| to_piece * verts[k as usize]);
             for k in 0..3 {
-                best = best.max(max_depth_on_edge(solid, &t[k], &t[(k + 1) % 3]));
+                best = best.max(max_depth_on_edge(hull, &t[k], &t[(k + 1) % 3]));
             }
         }
         TraversalAction::Continue
@@ -266,7 +308,7 @@ fn max_on_segment(part: &PartSolid, ends: [(P, f64); 2], floor: f64, best: f64) 
 /// The largest `g` on the segment `[a, b]` (piece frame), 0 if it misses the piece's interior:
 /// the segment clipped to the piece (Cyrus–Beck), then golden-section search of the concave
 /// `g` on what is left.
-fn max_depth_on_edge(solid: &ConvexSolid, a: &P, b: &P) -> f64 {
+fn max_depth_on_edge(solid: &Hull, a: &P, b: &P) -> f64 {
     let ab = b - a;
     let (mut lo, mut hi) = (0.0f64, 1.0f64);
     for (n, d) in &solid.planes {

@@ -5,8 +5,8 @@ use std::collections::HashMap;
 use std::sync::OnceLock;
 
 use nalgebra::Point3;
-use parry3d_f64::query::PointQueryWithLocation;
-use parry3d_f64::shape::{TriMesh, TriMeshFlags};
+use parry3d_f64::query::{PointQueryWithLocation, Ray};
+use parry3d_f64::shape::{CompositeShapeRef, TriMesh, TriMeshFlags};
 
 type P = Point3<f64>;
 
@@ -100,6 +100,56 @@ fn welded(vertices: &[P], indices: &[[u32; 3]]) -> (Vec<P>, Vec<[u32; 3]>) {
         .map(|t| t.map(|k| map.get(k as usize).copied().unwrap_or(0)))
         .collect();
     (kept, indices)
+}
+
+/// Where a ball lies with respect to the part ([`PartSolid::about`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Ball {
+    /// The surface comes within the radius: the centre's signed distance (positive inside).
+    Meets(f64),
+    /// No surface within the radius, the ball wholly outside the part.
+    Outside,
+    /// No surface within the radius, the ball wholly inside the part.
+    Inside,
+}
+
+/// Directions of the rays that tell inside from outside, away from the axes and each other.
+const RAYS: [[f64; 3]; 2] = [[0.5773, 0.5775, 0.5774], [-0.6, 0.48, -0.64]];
+
+impl PartSolid {
+    /// Where the ball about `x` (object frame) of radius `r` lies: `None` without an inside
+    /// test. The nearest surface is searched only within `r` (a bounded descent of the BVH);
+    /// when there is none, the ball is on one side, told by the first triangle each of two
+    /// rays from `x` meets (outward normals: the ray leaves the part there iff `x` is inside)
+    /// — both rays must agree, else the unbounded signed distance decides.
+    pub(crate) fn about(&self, x: &P, r: f64) -> Option<Ball> {
+        let mesh = self.mesh.as_ref()?;
+        if let Some((proj, _)) =
+            mesh.project_local_point_and_get_location_with_max_dist(x, false, r)
+        {
+            let d = (x - proj.point).norm();
+            if d <= r {
+                return Some(Ball::Meets(if proj.is_inside { d } else { -d }));
+            }
+        }
+        let side = |dir: &[f64; 3]| {
+            let dir = nalgebra::Vector3::from(*dir);
+            let ray = Ray::new(*x, dir);
+            match CompositeShapeRef(mesh).cast_local_ray_and_get_normal(&ray, f64::MAX, false) {
+                None => Some(false),
+                Some((id, _)) => {
+                    let n = mesh.triangle(id).scaled_normal();
+                    let along = n.dot(&dir);
+                    (along.abs() > 1e-9 * n.norm()).then_some(along > 0.0)
+                }
+            }
+        };
+        let inside = match (side(&RAYS[0]), side(&RAYS[1])) {
+            (Some(a), Some(b)) if a == b => a,
+            _ => self.signed_distance(x)? > 0.0,
+        };
+        Some(if inside { Ball::Inside } else { Ball::Outside })
+    }
 }
 
 /// The undirected edges of the triangles `indices` not shared by exactly two of them.
