@@ -30,7 +30,13 @@
 //! maximum is found by golden-section search to ~1e-11 of the edge's length. `f` needs an
 //! inside test: the angle-weighted pseudo-normal at the nearest feature (parry, with the mesh
 //! oriented outward by the sign of its volume). A mesh that is not closed (an edge not shared
-//! by exactly two triangles) has no inside: only the `g` term is measured there.
+//! by exactly two triangles, vertices within 1e-9 m welded) has no inside: only the `g` term is
+//! measured there.
+//!
+//! Most pieces are settled before any of that: a piece whose ball misses the part's box, or
+//! holds no surface point (the nearest surface searched only within its radius) and lies
+//! outside (two rays' first hits tell), or whose box meets no triangle with its centre outside,
+//! measures 0; its hull is built only for the rest.
 //!
 //! Frames: the piece's vertices are given in its own frame and placed in the object frame by
 //! `pose` (piece → object); `f` is evaluated in the object frame, `g` in the piece's.
