@@ -192,12 +192,40 @@ pub fn sphere_clear(object: &ObjectGeometry, center: &P, radius: f64) -> bool {
     outside.norm() > radius
 }
 
+/// A ball (object frame) known to hold no point of the part's surface, and whether it lies
+/// inside the part.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FreeBall {
+    pub center: P,
+    pub radius: f64,
+    pub inside: bool,
+}
+
 /// Whether the ball about `center` (object frame) of `radius` lies wholly outside the part,
 /// farther from its surface than `radius` (never for a part without an inside test, unless it
-/// misses the part's box).
-pub fn sphere_outside(object: &ObjectGeometry, center: &P, radius: f64) -> bool {
-    sphere_clear(object, center, radius)
-        || object.solid().about(center, radius) == Some(Ball::Outside)
+/// misses the part's box), and the ball as a [`FreeBall`] when it holds no surface point.
+/// `known`: a free ball from before (the same shape a little earlier): one that overlaps it
+/// tells the side without a search ([`PartSolid::about`]).
+pub fn ball_outside(
+    object: &ObjectGeometry,
+    center: &P,
+    radius: f64,
+    known: Option<FreeBall>,
+) -> (bool, Option<FreeBall>) {
+    let free = |inside| FreeBall {
+        center: *center,
+        radius,
+        inside,
+    };
+    if sphere_clear(object, center, radius) {
+        return (true, Some(free(false)));
+    }
+    let known = known.map(|k| (k.center, k.radius, k.inside));
+    match object.solid().about(center, radius, known) {
+        Some(Ball::Outside) => (true, Some(free(false))),
+        Some(Ball::Inside) => (false, Some(free(true))),
+        _ => (false, None),
+    }
 }
 
 /// Whether `solid` at `pose` (piece → object frame) meets a triangle of the part (GJK on the
@@ -231,7 +259,7 @@ pub fn depth_in_part(
     // The centre's signed distance where the surface is within the ball (`None` without an
     // inside test); a ball wholly outside holds no point inside, one wholly inside is a piece
     // deep in the part, measured in full.
-    let fc = match part.about(&center, solid.radius) {
+    let fc = match part.about(&center, solid.radius, None) {
         Some(Ball::Outside) => return 0.0,
         Some(Ball::Meets(f)) => Some(f),
         Some(Ball::Inside) => part.signed_distance(&center),

@@ -45,7 +45,7 @@ pub use closing::{FingerShapes, PartClosing};
 pub use error::CollisionError;
 pub use grip::{
     close_on_part, open_approach_inside, open_inside, pad_patches, Grip, GripFailure, OpenHand,
-    OpenInside, PadPatch, OPEN_CONTACT_DEPTH,
+    OpenInside, OpenMemo, PadPatch, OPEN_CONTACT_DEPTH,
 };
 pub use object::{check_mesh, ObjectGeometry};
 pub use shape::Placed;

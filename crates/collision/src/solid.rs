@@ -122,7 +122,11 @@ impl PartSolid {
     /// when there is none, the ball is on one side, told by the first triangle each of two
     /// rays from `x` meets (outward normals: the ray leaves the part there iff `x` is inside)
     /// — both rays must agree, else the unbounded signed distance decides.
-    pub(crate) fn about(&self, x: &P, r: f64) -> Option<Ball> {
+    ///
+    /// `known`: a ball (centre, radius) known to hold no surface point, and whether it lies
+    /// inside. A surface-free ball that overlaps it is on the same side (their union is
+    /// connected and meets no surface), so no ray is cast.
+    pub(crate) fn about(&self, x: &P, r: f64, known: Option<(P, f64, bool)>) -> Option<Ball> {
         let mesh = self.mesh.as_ref()?;
         if let Some((proj, _)) =
             mesh.project_local_point_and_get_location_with_max_dist(x, false, r)
@@ -130,6 +134,11 @@ impl PartSolid {
             let d = (x - proj.point).norm();
             if d <= r {
                 return Some(Ball::Meets(if proj.is_inside { d } else { -d }));
+            }
+        }
+        if let Some((c, rc, inside)) = known {
+            if (x - c).norm() < r + rc {
+                return Some(if inside { Ball::Inside } else { Ball::Outside });
             }
         }
         let side = |dir: &[f64; 3]| {

@@ -28,7 +28,7 @@ mod patches;
 mod sweep;
 
 pub use open::{
-    open_approach_inside, open_inside, OpenHand, OpenInside, OPEN_APPROACH_STEP,
+    open_approach_inside, open_inside, OpenHand, OpenInside, OpenMemo, OPEN_APPROACH_STEP,
     OPEN_APPROACH_ZONE, OPEN_CONTACT_DEPTH,
 };
 pub use patches::{pad_patches, PadPatch, PATCH_DEPTH, PATCH_STEP};

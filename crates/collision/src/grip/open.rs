@@ -19,7 +19,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use nalgebra::{Isometry3, Point3, Translation3};
 use pregrasp_robot::{Gripper, GripperState, Primitive};
 
-use crate::inside::{depth_in_part, sphere_outside, ConvexSolid};
+use crate::inside::{ball_outside, depth_in_part, ConvexSolid, FreeBall};
 use crate::object::ObjectGeometry;
 
 /// How deep (m) an open gripper link may lie in the part it grasps: touching, not inside.
@@ -138,10 +138,27 @@ impl OpenHand {
         flange_in_object: &Isometry3<f64>,
         floor: f64,
     ) -> Option<OpenInside> {
+        self.deepest_along(object, flange_in_object, floor, &mut OpenMemo::default())
+    }
+
+    /// [`deepest`](Self::deepest) at one state of a motion, `memo` carried from its earlier
+    /// states: where a shape's ball held no surface point before, an overlapping ball that
+    /// holds none now is on the same side (the answers are the same as without it).
+    pub fn deepest_along(
+        &self,
+        object: &ObjectGeometry,
+        flange_in_object: &Isometry3<f64>,
+        floor: f64,
+        memo: &mut OpenMemo,
+    ) -> Option<OpenInside> {
+        memo.free.resize(self.shapes.len(), None);
         let mut deepest: Option<OpenInside> = None;
-        for shape in &self.shapes {
+        for (shape, known) in self.shapes.iter().zip(memo.free.iter_mut()) {
             let pose = flange_in_object * shape.frame;
-            if sphere_outside(object, &(pose * shape.center), shape.radius) {
+            let (outside, free) =
+                ball_outside(object, &(pose * shape.center), shape.radius, *known);
+            *known = free.or(*known);
+            if outside {
                 continue;
             }
             for piece in &shape.pieces {
@@ -159,15 +176,23 @@ impl OpenHand {
     }
 }
 
+/// What [`OpenHand::deepest_along`] carries from one state of a motion to the next: per shape,
+/// the last ball of it found free of the part's surface.
+#[derive(Clone, Debug, Default)]
+pub struct OpenMemo {
+    free: Vec<Option<FreeBall>>,
+}
+
 /// The open hand's deepest link in the part with the flange at `flange_in_object`, when it is
-/// more than [`OPEN_CONTACT_DEPTH`] inside.
+/// more than [`OPEN_CONTACT_DEPTH`] inside; `memo` as [`OpenHand::deepest_along`] takes it.
 pub fn open_inside(
     object: &ObjectGeometry,
     gripper: &Gripper,
     flange_in_object: &Isometry3<f64>,
+    memo: &mut OpenMemo,
 ) -> Option<OpenInside> {
     OpenHand::of(gripper)
-        .deepest(object, flange_in_object, OPEN_CONTACT_DEPTH)
+        .deepest_along(object, flange_in_object, OPEN_CONTACT_DEPTH, memo)
         .filter(|d| d.depth > OPEN_CONTACT_DEPTH)
 }
 
@@ -182,10 +207,11 @@ pub fn open_approach_inside(
 ) -> Option<(OpenInside, f64)> {
     let hand = OpenHand::of(gripper);
     let steps = (OPEN_APPROACH_ZONE / OPEN_APPROACH_STEP).round() as usize;
+    let mut memo = OpenMemo::default();
     (0..=steps).find_map(|k| {
         let back = k as f64 * OPEN_APPROACH_STEP;
         let at = flange_in_object * Translation3::new(0.0, 0.0, -back);
-        hand.deepest(object, &at, OPEN_CONTACT_DEPTH)
+        hand.deepest_along(object, &at, OPEN_CONTACT_DEPTH, &mut memo)
             .filter(|d| d.depth > OPEN_CONTACT_DEPTH)
             .map(|d| (d, back))
     })

@@ -99,8 +99,8 @@ impl<'a> PlanCheck<'a> {
             .map(|k| edge(pts, k, &weights, resolution(k)).1)
             .sum();
         let mut queue = Queued::with_capacity(total);
-        // The flange (object frame) where the open hand was last judged.
-        let mut judged = None;
+        // The flange (object frame) where the open hand was last judged, and its memo.
+        let mut judged = (None, pregrasp_collision::OpenMemo::default());
         for k in 0..n {
             let (edge_end, steps) = edge(pts, k, &weights, resolution(k));
             for s in 0..steps {

@@ -11,7 +11,7 @@
 //! flange_world`.
 
 use nalgebra::Isometry3;
-use pregrasp_collision::{open_inside, OpenHand, OPEN_CONTACT_DEPTH};
+use pregrasp_collision::{open_inside, OpenHand, OpenMemo, OPEN_CONTACT_DEPTH};
 use pregrasp_robot::Joints;
 
 use super::walk::PlanCheck;
@@ -37,7 +37,8 @@ impl<'a> PlanCheck<'a> {
     /// depth at `at` (the state's words).
     ///
     /// States are judged at most [`OPEN_STEP`] of gripper travel apart (`judged`: the flange,
-    /// object frame, at the last judged state of the segment); the grasp itself always is.
+    /// object frame, at the last judged state of the segment, and the memo of the open hand's
+    /// free balls along it); the grasp itself always is.
     /// Between two judged states no point of the open hand moves more than [`OPEN_STEP`], and
     /// the depth is 1-Lipschitz in that motion (a distance to a surface, or to a piece's
     /// face): a link at most 0.5 mm deep at both is at most 0.75 mm deep between them.
@@ -48,7 +49,7 @@ impl<'a> PlanCheck<'a> {
         q: &Joints,
         object: &Isometry3<f64>,
         place: OpenAt,
-        judged: &mut Option<Isometry3<f64>>,
+        judged: &mut (Option<Isometry3<f64>>, OpenMemo),
         at: impl FnOnce() -> String,
     ) {
         let Some(part) = self.world.object() else {
@@ -61,13 +62,14 @@ impl<'a> PlanCheck<'a> {
             shift
                 + flange_in_object.rotation.angle_to(&from.rotation) * OpenHand::of(gripper).reach()
         };
-        let due = place == OpenAt::Grasp || judged.as_ref().is_none_or(|j| travel(j) >= OPEN_STEP);
+        let due =
+            place == OpenAt::Grasp || judged.0.as_ref().is_none_or(|j| travel(j) >= OPEN_STEP);
         if !due {
             return;
         }
-        *judged = Some(flange_in_object);
+        judged.0 = Some(flange_in_object);
         *self.open_states += 1;
-        if let Some(d) = open_inside(part, gripper, &flange_in_object) {
+        if let Some(d) = open_inside(part, gripper, &flange_in_object, &mut judged.1) {
             let place = match place {
                 OpenAt::Approach => "on the straight approach",
                 OpenAt::Grasp => "at the grasp, before the fingers close",
