@@ -50,7 +50,7 @@ use parry3d_f64::shape::ConvexPolyhedron;
 
 use crate::distance::aabb_aabb_sq;
 use crate::object::ObjectGeometry;
-use crate::solid::{Ball, PartSolid};
+use crate::solid::PartSolid;
 
 type P = Point3<f64>;
 type V = Vector3<f64>;
@@ -171,6 +171,12 @@ impl ConvexSolid {
         ConvexSolid::new(&corners)
     }
 
+    /// The largest distance from the origin of `frame`'s parent of a point of the piece placed
+    /// by `frame`.
+    pub fn reach(&self, frame: &Isometry3<f64>) -> f64 {
+        (frame * self.center).coords.norm() + self.radius
+    }
+
     /// A point of the piece (own frame).
     pub fn point(&self) -> P {
         self.points[0]
@@ -192,40 +198,53 @@ pub fn sphere_clear(object: &ObjectGeometry, center: &P, radius: f64) -> bool {
     outside.norm() > radius
 }
 
-/// A ball (object frame) known to hold no point of the part's surface, and whether it lies
-/// inside the part.
+/// A box (its pose, box → object frame, and half extents) known to meet no triangle of the
+/// part, and whether it lies inside the part.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FreeBall {
-    pub center: P,
-    pub radius: f64,
+pub struct FreeBox {
+    pub pose: Isometry3<f64>,
+    pub half: V,
     pub inside: bool,
 }
 
-/// Whether the ball about `center` (object frame) of `radius` lies wholly outside the part,
-/// farther from its surface than `radius` (never for a part without an inside test, unless it
-/// misses the part's box), and the ball as a [`FreeBall`] when it holds no surface point.
-/// `known`: a free ball from before (the same shape a little earlier): one that overlaps it
-/// tells the side without a search ([`PartSolid::about`]).
-pub fn ball_outside(
+impl FreeBox {
+    /// Whether `x` (object frame) lies in the box.
+    fn holds(&self, x: &P) -> bool {
+        let local = self.pose.inverse_transform_point(x);
+        (0..3).all(|i| local[i].abs() <= self.half[i])
+    }
+}
+
+/// Whether `solid`'s box (about its frame's axes) at `pose` (solid → object frame) lies wholly
+/// outside the part, and the box as a [`FreeBox`] when it meets no triangle (separating axes
+/// against the triangles near it). A box that meets none is wholly inside or outside: `known`,
+/// a free box from before (the same shape a little earlier) holding this one's centre, is on
+/// the same side (the two overlap, their union meets no surface); else two rays tell
+/// ([`PartSolid::side`]). A part without an inside test has no inside.
+pub fn box_outside(
     object: &ObjectGeometry,
-    center: &P,
-    radius: f64,
-    known: Option<FreeBall>,
-) -> (bool, Option<FreeBall>) {
-    let free = |inside| FreeBall {
-        center: *center,
-        radius,
+    solid: &ConvexSolid,
+    pose: &Isometry3<f64>,
+    known: Option<FreeBox>,
+) -> (bool, Option<FreeBox>) {
+    let center = pose * solid.center;
+    let box_pose = pose * Translation3::from(solid.center.coords);
+    let free = |inside| FreeBox {
+        pose: box_pose,
+        half: solid.half,
         inside,
     };
-    if sphere_clear(object, center, radius) {
+    if sphere_clear(object, &center, solid.radius) {
         return (true, Some(free(false)));
     }
-    let known = known.map(|k| (k.center, k.radius, k.inside));
-    match object.solid().about(center, radius, known) {
-        Some(Ball::Outside) => (true, Some(free(false))),
-        Some(Ball::Inside) => (false, Some(free(true))),
-        _ => (false, None),
+    if object.box_touches(&box_pose, &solid.half) {
+        return (false, None);
     }
+    let inside = match known {
+        Some(k) if k.holds(&center) => k.inside,
+        _ => object.solid().side(&center).unwrap_or(false),
+    };
+    (!inside, Some(free(inside)))
 }
 
 /// Whether `solid` at `pose` (piece → object frame) meets a triangle of the part (GJK on the
@@ -251,32 +270,20 @@ pub fn depth_in_part(
     pose: &Isometry3<f64>,
     floor: f64,
 ) -> f64 {
-    let center = pose * solid.center;
-    if sphere_clear(object, &center, solid.radius) {
+    let (outside, free) = box_outside(object, solid, pose, None);
+    if outside {
         return 0.0;
     }
+    let meets = free.is_none();
     let part = object.solid();
-    // The centre's signed distance where the surface is within the ball (`None` without an
-    // inside test); a ball wholly outside holds no point inside, one wholly inside is a piece
-    // deep in the part, measured in full.
-    let fc = match part.about(&center, solid.radius, None) {
-        Some(Ball::Outside) => return 0.0,
-        Some(Ball::Meets(f)) => Some(f),
-        Some(Ball::Inside) => part.signed_distance(&center),
-        None => None,
-    };
-    // A piece that meets no triangle is wholly outside the part or wholly inside (GJK on the
-    // piece against the triangles its box meets); then any of its points tells which.
-    // The piece's box meets no triangle: it lies wholly outside the part or wholly inside,
-    // as its centre does (separating axes, no hull needed).
-    let in_box = pose * Translation3::from(solid.center.coords);
-    if !object.box_touches(&in_box, &solid.half) && fc.is_none_or(|fc| fc <= 0.0) {
-        return 0.0;
-    }
+    // The centre's signed distance (`None` without an inside test): whether the piece's edges
+    // can reach deeper than the floor.
+    let fc = part.signed_distance(&(pose * solid.center));
     let Some(hull) = solid.hull() else {
         return 0.0;
     };
-    let meets = meets_surface(object, solid, pose);
+    // Its box meets a triangle, the piece perhaps not (GJK on the piece against them).
+    let meets = meets && meets_surface(object, solid, pose);
     if !meets && !inside_part(object, &(pose * solid.point())) {
         return 0.0;
     }

@@ -102,45 +102,15 @@ fn welded(vertices: &[P], indices: &[[u32; 3]]) -> (Vec<P>, Vec<[u32; 3]>) {
     (kept, indices)
 }
 
-/// Where a ball lies with respect to the part ([`PartSolid::about`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Ball {
-    /// The surface comes within the radius: the centre's signed distance (positive inside).
-    Meets(f64),
-    /// No surface within the radius, the ball wholly outside the part.
-    Outside,
-    /// No surface within the radius, the ball wholly inside the part.
-    Inside,
-}
-
 /// Directions of the rays that tell inside from outside, away from the axes and each other.
 const RAYS: [[f64; 3]; 2] = [[0.5773, 0.5775, 0.5774], [-0.6, 0.48, -0.64]];
 
 impl PartSolid {
-    /// Where the ball about `x` (object frame) of radius `r` lies: `None` without an inside
-    /// test. The nearest surface is searched only within `r` (a bounded descent of the BVH);
-    /// when there is none, the ball is on one side, told by the first triangle each of two
-    /// rays from `x` meets (outward normals: the ray leaves the part there iff `x` is inside)
-    /// — both rays must agree, else the unbounded signed distance decides.
-    ///
-    /// `known`: a ball (centre, radius) known to hold no surface point, and whether it lies
-    /// inside. A surface-free ball that overlaps it is on the same side (their union is
-    /// connected and meets no surface), so no ray is cast.
-    pub(crate) fn about(&self, x: &P, r: f64, known: Option<(P, f64, bool)>) -> Option<Ball> {
+    /// Whether `x` (object frame) lies inside the part (`None` without an inside test): by the
+    /// first triangle each of two rays from `x` meets (outward normals: the ray leaves the part
+    /// there iff `x` is inside), the unbounded signed distance when they disagree or graze.
+    pub(crate) fn side(&self, x: &P) -> Option<bool> {
         let mesh = self.mesh.as_ref()?;
-        if let Some((proj, _)) =
-            mesh.project_local_point_and_get_location_with_max_dist(x, false, r)
-        {
-            let d = (x - proj.point).norm();
-            if d <= r {
-                return Some(Ball::Meets(if proj.is_inside { d } else { -d }));
-            }
-        }
-        if let Some((c, rc, inside)) = known {
-            if (x - c).norm() < r + rc {
-                return Some(if inside { Ball::Inside } else { Ball::Outside });
-            }
-        }
         let side = |dir: &[f64; 3]| {
             let dir = nalgebra::Vector3::from(*dir);
             let ray = Ray::new(*x, dir);
@@ -153,11 +123,10 @@ impl PartSolid {
                 }
             }
         };
-        let inside = match (side(&RAYS[0]), side(&RAYS[1])) {
-            (Some(a), Some(b)) if a == b => a,
-            _ => self.signed_distance(x)? > 0.0,
-        };
-        Some(if inside { Ball::Inside } else { Ball::Outside })
+        match (side(&RAYS[0]), side(&RAYS[1])) {
+            (Some(a), Some(b)) if a == b => Some(a),
+            _ => Some(self.signed_distance(x)? > 0.0),
+        }
     }
 }
 

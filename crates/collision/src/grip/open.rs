@@ -19,7 +19,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use nalgebra::{Isometry3, Point3, Translation3};
 use pregrasp_robot::{Gripper, GripperState, Primitive};
 
-use crate::inside::{ball_outside, depth_in_part, ConvexSolid, FreeBall};
+use crate::inside::{box_outside, depth_in_part, ConvexSolid, FreeBox};
 use crate::object::ObjectGeometry;
 
 /// How deep (m) an open gripper link may lie in the part it grasps: touching, not inside.
@@ -38,27 +38,13 @@ pub struct OpenInside {
     pub depth: f64,
 }
 
-/// One shape of the open gripper: its name, its frame in G and its convex pieces there, with
-/// a ball holding them (centre in the shape's frame, radius).
+/// One shape of the open gripper: its name, its frame in G and its convex pieces there.
 struct OpenShape {
     name: &'static str,
     frame: Isometry3<f64>,
     pieces: Vec<ConvexSolid>,
-    center: Point3<f64>,
-    radius: f64,
-}
-
-/// The centre of the box of `points` and the largest distance of a point from it.
-fn ball(points: &[Point3<f64>]) -> (Point3<f64>, f64) {
-    let lo = points
-        .iter()
-        .fold(Point3::from([f64::INFINITY; 3]), |a, p| a.inf(p));
-    let hi = points
-        .iter()
-        .fold(Point3::from([f64::NEG_INFINITY; 3]), |a, p| a.sup(p));
-    let c = nalgebra::center(&lo, &hi);
-    let r = points.iter().map(|p| (p - c).norm()).fold(0.0, f64::max);
-    (c, r)
+    /// All its pieces' points as one solid: its box settles most states.
+    outline: ConvexSolid,
 }
 
 /// The open gripper's shapes (see the module documentation).
@@ -90,7 +76,9 @@ impl OpenHand {
             let shape = match (pieces.get(k).copied().flatten(), frames.get(k)) {
                 (Some(p), Some(frame)) => {
                     let all: Vec<Point3<f64>> = p.pieces.iter().flatten().copied().collect();
-                    let (center, radius) = ball(&all);
+                    let Some(outline) = ConvexSolid::new(&all) else {
+                        return;
+                    };
                     OpenShape {
                         name,
                         frame: *frame,
@@ -99,19 +87,22 @@ impl OpenHand {
                             .iter()
                             .filter_map(|v| ConvexSolid::new(v))
                             .collect(),
-                        center,
-                        radius,
+                        outline,
                     }
                 }
                 // An exact primitive (the 2F-85's housing boxes), in the flange frame.
                 _ => match primitive {
-                    Primitive::Cuboid { pose, half_extents } => OpenShape {
-                        name,
-                        frame: pose,
-                        pieces: ConvexSolid::cuboid(&half_extents).into_iter().collect(),
-                        center: Point3::origin(),
-                        radius: half_extents.norm(),
-                    },
+                    Primitive::Cuboid { pose, half_extents } => {
+                        let Some(outline) = ConvexSolid::cuboid(&half_extents) else {
+                            return;
+                        };
+                        OpenShape {
+                            name,
+                            frame: pose,
+                            pieces: vec![outline.clone()],
+                            outline,
+                        }
+                    }
                     _ => return,
                 },
             };
@@ -125,7 +116,7 @@ impl OpenHand {
     pub fn reach(&self) -> f64 {
         self.shapes
             .iter()
-            .map(|s| (s.frame * s.center).coords.norm() + s.radius)
+            .map(|s| s.outline.reach(&s.frame))
             .fold(0.0, f64::max)
     }
 
@@ -142,8 +133,8 @@ impl OpenHand {
     }
 
     /// [`deepest`](Self::deepest) at one state of a motion, `memo` carried from its earlier
-    /// states: where a shape's ball held no surface point before, an overlapping ball that
-    /// holds none now is on the same side (the answers are the same as without it).
+    /// states: where a shape's box met no surface before, a box that meets none now and whose
+    /// centre it holds is on the same side (the answers are the same as without it).
     pub fn deepest_along(
         &self,
         object: &ObjectGeometry,
@@ -155,8 +146,7 @@ impl OpenHand {
         let mut deepest: Option<OpenInside> = None;
         for (shape, known) in self.shapes.iter().zip(memo.free.iter_mut()) {
             let pose = flange_in_object * shape.frame;
-            let (outside, free) =
-                ball_outside(object, &(pose * shape.center), shape.radius, *known);
+            let (outside, free) = box_outside(object, &shape.outline, &pose, *known);
             *known = free.or(*known);
             if outside {
                 continue;
@@ -177,10 +167,10 @@ impl OpenHand {
 }
 
 /// What [`OpenHand::deepest_along`] carries from one state of a motion to the next: per shape,
-/// the last ball of it found free of the part's surface.
+/// the last box of it found free of the part's surface.
 #[derive(Clone, Debug, Default)]
 pub struct OpenMemo {
-    free: Vec<Option<FreeBall>>,
+    free: Vec<Option<FreeBox>>,
 }
 
 /// The open hand's deepest link in the part with the flange at `flange_in_object`, when it is
