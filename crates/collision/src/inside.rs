@@ -33,10 +33,10 @@
 //! by exactly two triangles, vertices within 1e-9 m welded) has no inside: only the `g` term is
 //! measured there.
 //!
-//! Most pieces are settled before any of that: a piece whose ball misses the part's box, or
-//! holds no surface point (the nearest surface searched only within its radius) and lies
-//! outside (two rays' first hits tell), or whose box meets no triangle with its centre outside,
-//! measures 0; its hull is built only for the rest.
+//! Most pieces are settled before any of that ([`box_outside`]): a piece whose ball misses the
+//! part's box, or whose box (about its frame's axes) meets no triangle (separating axes) and
+//! lies outside the part (two rays' first hits tell, or a free box of the same shape a moment
+//! earlier that holds its centre), measures 0; its hull is built only for the rest.
 //!
 //! Frames: the piece's vertices are given in its own frame and placed in the object frame by
 //! `pose` (piece → object); `f` is evaluated in the object frame, `g` in the piece's.

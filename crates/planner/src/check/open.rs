@@ -38,7 +38,7 @@ impl<'a> PlanCheck<'a> {
     ///
     /// States are judged at most [`OPEN_STEP`] of gripper travel apart (`judged`: the flange,
     /// object frame, at the last judged state of the segment, and the memo of the open hand's
-    /// free balls along it); the grasp itself always is.
+    /// free boxes along it); the grasp itself always is.
     /// Between two judged states no point of the open hand moves more than [`OPEN_STEP`], and
     /// the depth is 1-Lipschitz in that motion (a distance to a surface, or to a piece's
     /// face): a link at most 0.5 mm deep at both is at most 0.75 mm deep between them.
