@@ -73,15 +73,18 @@ fn expect(sup1: u8, mas1: u8, sup2: u8) -> Vec<(String, u8)> {
 }
 
 #[test]
-fn the_planner_gives_sup1_the_pinch_force_and_no_power_forces_yet() {
+fn the_planner_gives_every_closing_its_force() {
     let (file, _) = common::chair_side();
     let plan = &file.plans[0];
     let recommended = plan.physics.as_ref().unwrap().grip_force_recommended;
     assert!(recommended.is_some());
     for seg in &plan.segments {
+        // The pinch its recommended force, the power grasps the 2F-85's largest (the carry
+        // check finds the chair side carried), `rot` none (it closes nothing).
         let want = match seg.name {
             SegmentName::Sup1 => recommended,
-            _ => None,
+            SegmentName::Mas1 | SegmentName::Sup2 => Some(235.0),
+            SegmentName::Rot => None,
         };
         assert_eq!(seg.grip_force, want, "{}", seg.name);
     }

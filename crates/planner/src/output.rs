@@ -167,10 +167,10 @@ pub struct PowerGripForces {
 }
 
 /// The grip forces of the power grasps of the plan of `pose`, written as `mas1`'s and `sup2`'s
-/// `grip_force`: what the carry check of its final state sets ([`crate::carry`]); where no
-/// force carries the part (a plan kept without `[physics] reject_uncarried`, flagged in its
-/// `physics.warnings`), each gripper's largest; none where the check could not run (a part
-/// without mass properties: the exports then use their own setting).
+/// `grip_force`: what the carry check of its final state sets ([`crate::carry`]: each
+/// gripper's largest force), also where no force carries the part (a plan kept without
+/// `[physics] reject_uncarried`, flagged in its `physics.warnings`); none where the check could
+/// not run (a part without mass properties: the exports then use their own setting).
 pub fn power_grip_forces(
     ctx: &PlanningContext,
     pose: &PowerGraspPose,
