@@ -484,8 +484,9 @@ fn options_reach_the_program_and_output_is_deterministic() {
 }
 
 /// The fingertip pinch of the support grasp squeezes with the force the plan's quasi-static
-/// check recommends (`physics.grip_force_recommended`, issue 15), the power grasps with
-/// `--grip-force`; `--support-grip-force` overrides the plan.
+/// check recommends (`physics.grip_force_recommended`, issue 15), the power grasps with their
+/// segments' `grip_force` (235 N on the chair side: register 255); `--support-grip-force` and
+/// `--grip-force` override the plan.
 #[test]
 fn support_grasp_squeezes_with_the_recommended_force() {
     let (file, _) = common::chair_side();
@@ -534,8 +535,10 @@ fn support_grasp_squeezes_with_the_recommended_force() {
         v
     };
     assert_eq!(force_before_closes(&Options::default()), expect(pinch, 255));
+    // `--grip-force` is `power_grip_force`: it overrides the plan's power-grasp forces.
     let custom = Options {
         grip_force: 200,
+        power_grip_force: Some(200),
         support_grip_force: Some(17),
         ..Options::default()
     };
