@@ -17,15 +17,19 @@ fn golden() -> PlanFile {
 }
 
 #[test]
-fn the_planner_writes_sup1s_pinch_force_only() {
+fn the_planner_writes_every_closings_force() {
     let file = golden();
     for plan in &file.plans {
         let recommended = plan.physics.as_ref().unwrap().grip_force_recommended;
         assert!(recommended.is_some());
         for seg in &plan.segments {
-            let want = (seg.name == SegmentName::Sup1)
-                .then_some(recommended)
-                .flatten();
+            // The pinch its recommended force, the power grasps the 2F-85's largest (the
+            // carry check), `rot` none.
+            let want = match seg.name {
+                SegmentName::Sup1 => recommended,
+                SegmentName::Mas1 | SegmentName::Sup2 => Some(235.0),
+                SegmentName::Rot => None,
+            };
             assert_eq!(seg.grip_force, want, "{}", seg.name);
         }
     }
@@ -77,9 +81,12 @@ fn an_absent_grip_force_is_omitted() {
     }
     let text = file.to_json();
     assert!(!text.contains("\"grip_force\""));
-    // … and the golden text has it once per plan (sup1's).
+    // … and the golden text has it three times per plan (sup1's, mas1's, sup2's).
     let golden = golden_text();
-    assert_eq!(golden.matches("\"grip_force\":").count(), file.plans.len());
+    assert_eq!(
+        golden.matches("\"grip_force\":").count(),
+        3 * file.plans.len()
+    );
 }
 
 /// The golden chair plan with `plans[0].segments[seg].grip_force` set to the JSON `value`.

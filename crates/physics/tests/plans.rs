@@ -313,8 +313,8 @@ fn screening_stops_at_the_first_failing_point() {
 }
 
 /// The report lists each closing with the force the plan gives it: `sup1` the pinch's recommended
-/// force (equal to this check's with the same settings), the power grasps none yet; a force the
-/// plan gives `mas1` is reported as given.
+/// force (equal to this check's with the same settings), the power grasps the 2F-85's largest
+/// (the planner's carry check); a force the plan gives `mas1` is reported as given.
 #[test]
 fn the_report_gives_each_closings_grip_force() {
     let (mut file, mesh) = planned("chair_side");
@@ -329,8 +329,8 @@ fn the_report_gives_each_closings_grip_force() {
         words,
         [
             ("sup1".to_string(), Some(rec)),
-            ("mas1".to_string(), None),
-            ("sup2".to_string(), None)
+            ("mas1".to_string(), Some(235.0)),
+            ("sup2".to_string(), Some(235.0))
         ]
     );
     let sup = model(&file).plans[0].roles.supportive;

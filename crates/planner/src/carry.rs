@@ -1,8 +1,9 @@
 //! Will the power grasps carry the part? The carry check ([`pregrasp_physics::carry`]) of a
 //! candidate's final state: the part at P_obj held by both arms' power grasps as their real
 //! closings hold it ([`crate::context::Grips`]), lifted. It depends on P_obj alone, so it runs
-//! once Algorithm 2 has found the pose, before any motion is planned: a candidate whose grasps
-//! cannot carry the part gets no paths.
+//! once Algorithm 2 has found the pose, before any motion is planned: with `[physics]
+//! reject_uncarried` a candidate whose grasps cannot carry the part gets no paths; without it
+//! its plan says so in `physics.warnings`.
 //!
 //! The check decides *whether* the power grasps can carry the part; they close (`mas1`, `sup2`)
 //! at the gripper's largest force, not at `safety_factor ×` its minimum. Replayed at that
@@ -26,7 +27,7 @@ use pregrasp_robot::ClosingKind;
 
 use crate::context::{Grips, PlanningContext};
 
-/// Half the 2F-85 pad's width (m), along the bar it holds.
+/// Half the 2F-85 pad's width (m), along the bar it holds (a jaw's patch is taken alike).
 const PAD_HALF_WIDTH: f64 = 0.011;
 
 /// One power grasp as the carry check needs it, in the object frame.
@@ -177,9 +178,12 @@ impl CarryCheck {
                     })
                 }
             }
-            Ok(CarryOutcome::CannotCarry) | Err(_) => Err(Uncarried::NoForce {
+            Ok(CarryOutcome::CannotCarry) => Err(Uncarried::NoForce {
                 kinds: [a.0.closing, b.0.closing],
             }),
+            // The solver could not decide: nothing is known (the plan is not flagged, and its
+            // power grasps get no force of their own).
+            Err(_) => return None,
         })
     }
 }
