@@ -59,9 +59,10 @@ def test_plan_segments_are_numpy_arrays(examples):
     assert np.all(np.diff(rot.t) > 0)
     assert rot.object_poses.shape == (len(rot), 4, 4)
     assert best.segment("sup1").object_poses is None
-    # Each closing's grip force: sup1 the pinch's recommended one, the power grasps none yet.
+    # Each closing's grip force: sup1 the pinch's recommended one, the power grasps the
+    # 2F-85's largest (the planner's carry check), rot none.
     assert best.segment("sup1").grip_force == best.physics["grip_force_recommended"]
-    assert [best.segment(n).grip_force for n in ("rot", "mas1", "sup2")] == [None, None, None]
+    assert [best.segment(n).grip_force for n in ("rot", "mas1", "sup2")] == [None, 235.0, 235.0]
     file = json.loads(plan.to_json())
     assert rot.q.tolist() == [p["q"] for p in file["plans"][0]["segments"][1]["points"]]
     assert [c["id"] for c in plan.candidates] == [c["id"] for c in file["candidates"]]

@@ -139,7 +139,8 @@ pub struct Options {
     /// Robotiq speed register (`SET SPE`, 0..255).
     pub grip_speed: u8,
     /// Robotiq force register (`SET FOR`, 0..255) set at the start, and of every close whose
-    /// segment the plan gives no grip force (the power grasps, until the plan carries theirs).
+    /// segment the plan gives no grip force (plans of parts without mass properties, or of
+    /// older planners).
     pub grip_force: u8,
     /// Force register of the support grasp (the fingertip pinch of `rot`); `None`: from `sup1`'s
     /// `grip_force`, else the plan's recommended grip force ([`urscript::force_register`]),

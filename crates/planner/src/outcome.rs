@@ -49,12 +49,12 @@ pub enum CandidateOutcome {
         pose: PowerGraspPose,
         failure: PathFailure,
     },
-    /// Not planned: [`PlanOptions::only`] leaves it out.
+    /// Not planned: [`PlanOptions::only`](crate::pipeline::PlanOptions::only) leaves it out.
     Skipped,
     /// Not planned: the arms' start configurations are already in collision (the plan file's
-    /// `reason` names the pair: [`Rejection::StartBlocked`]), so no candidate can be.
+    /// `reason` names the pair: [`Rejection::StartBlocked`](crate::rejection::Rejection::StartBlocked)), so no candidate can be.
     StartBlocked,
     /// Algorithm 2 found a pose, but Algorithm 3 was not run: `max_plans` plans were kept from
-    /// candidates that rank above it whatever it would give (see [`PlanOptions::wave`]).
+    /// candidates that rank above it whatever it would give (see [`PlanOptions::wave`](crate::pipeline::PlanOptions::wave)).
     NotEvaluated,
 }
