@@ -23,7 +23,7 @@
 //! **Computing it.** `f` is 1-Lipschitz, so on an edge interval `[x₀, x₁]` of length `L` with
 //! known end values `f₀`, `f₁`, no point exceeds `(f₀ + f₁ + L) / 2` (Piyavskii's bound): the
 //! intervals whose bound beats the best value found by more than a tolerance are halved
-//! (branch and bound, [`max_on_segment`]). Values at or below a `floor` (the depth that
+//! (branch and bound, `max_on_segment`). Values at or below a `floor` (the depth that
 //! matters, 0.5 mm for rule 2) need no precision: the result is a depth `D̂` reached by some
 //! edge point, with the true maximum at most `max(floor, D̂ + tol)`, `tol` = 0.02 mm + 1 % of
 //! `D̂`. `g` is concave (a minimum of affine functions): on an edge of `M` clipped to `P` its
@@ -220,7 +220,7 @@ impl FreeBox {
 /// against the triangles near it). A box that meets none is wholly inside or outside: `known`,
 /// a free box from before (the same shape a little earlier) holding this one's centre, is on
 /// the same side (the two overlap, their union meets no surface); else two rays tell
-/// ([`PartSolid::side`]). A part without an inside test has no inside.
+/// (`PartSolid::side`). A part without an inside test has no inside.
 pub fn box_outside(
     object: &ObjectGeometry,
     solid: &ConvexSolid,
