@@ -25,7 +25,7 @@ impl PartSolid {
     /// closed when every edge then joins exactly two triangles.
     pub(crate) fn of(mesh: &TriMesh) -> PartSolid {
         let (vertices, mut indices) = welded(mesh.vertices(), mesh.indices());
-        if open_edges(&indices) > 0 {
+        if pregrasp_geometry::mesh::open_edges(&indices) > 0 {
             return PartSolid { mesh: None };
         }
         let o = vertices.first().copied().unwrap_or_else(P::origin);
@@ -128,20 +128,6 @@ impl PartSolid {
             _ => Some(self.signed_distance(x)? > 0.0),
         }
     }
-}
-
-/// The undirected edges of the triangles `indices` not shared by exactly two of them.
-fn open_edges(indices: &[[u32; 3]]) -> usize {
-    let mut edges: Vec<(u32, u32)> = indices
-        .iter()
-        .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
-        .map(|(a, b)| (a.min(b), a.max(b)))
-        .collect();
-    edges.sort_unstable();
-    edges
-        .chunk_by(|a, b| a == b)
-        .filter(|run| run.len() != 2)
-        .count()
 }
 
 /// The part's [`PartSolid`], built on first use and kept with its geometry.

@@ -62,19 +62,7 @@ impl MassProperties {
 
 /// The undirected edges of `mesh` not shared by exactly two triangles (0 for a closed surface).
 pub fn open_edges(mesh: &Mesh) -> usize {
-    // Every triangle's edges as `(low, high)` vertex pairs, sorted: an edge's triangles are a
-    // run of equal pairs (no hashing; a shelf board's 596 triangles in a few microseconds).
-    let mut edges: Vec<(u32, u32)> = mesh
-        .triangles
-        .iter()
-        .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
-        .map(|(a, b)| (a.min(b), a.max(b)))
-        .collect();
-    edges.sort_unstable();
-    edges
-        .chunk_by(|a, b| a == b)
-        .filter(|run| run.len() != 2)
-        .count()
+    pregrasp_geometry::mesh::open_edges(&mesh.triangles)
 }
 
 #[cfg(test)]
