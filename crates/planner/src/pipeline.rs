@@ -187,11 +187,13 @@ pub fn plan(
     let carry_check = hold_check.carry_check(&ctx);
     let reject_uncarried = scene.physics.reject && scene.physics.reject_uncarried;
     let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose| {
-        // The carry check needs P_obj alone: with `[physics] reject_uncarried` a candidate
-        // whose power grasps cannot lift the part gets no motions.
-        let carry = carry_check.check(&pose.p_obj);
-        if let Some(Err(reason)) = carry {
-            if reject_uncarried {
+        // The carry check needs P_obj alone: with `[physics] reject_uncarried` it runs first,
+        // and a candidate whose power grasps cannot lift the part gets no motions; without it,
+        // only for a candidate that gets them (its verdict is then only written).
+        let mut carry = None;
+        if reject_uncarried {
+            carry = carry_check.check(&pose.p_obj);
+            if let Some(Err(reason)) = carry {
                 progress();
                 return CandidateOutcome::Uncarried { pose, reason };
             }
@@ -215,6 +217,9 @@ pub fn plan(
             Ok((path, physics)) => {
                 let pinch = physics.as_ref().and_then(|p| p.grip_force_recommended);
                 let id = (candidate.id, candidate.score);
+                if !reject_uncarried {
+                    carry = carry_check.check(&pose.p_obj);
+                }
                 let plan = output::plan(&ctx, id, &pose, &path, pinch, carry.as_ref());
                 let (check, closest_grasp_to_support) = match &checker {
                     Ok(checker) => ctx
