@@ -98,10 +98,6 @@ pub struct CarryProblem {
 pub struct Carry {
     /// The smallest setting `N` both grippers need.
     pub grip_force: f64,
-    /// The squeeze each hand puts on the bar at the optimum.
-    pub squeeze: [f64; 2],
-    /// Load each hand carries: `|Σ force|` of its contacts.
-    pub load: [f64; 2],
 }
 
 /// What the carry needs.
@@ -263,24 +259,8 @@ pub fn min_carry_force(problem: &CarryProblem) -> Result<CarryOutcome, SolverErr
         return Ok(CarryOutcome::CannotCarry);
     };
     let x = &solution.x;
-    let hand_load = |g: usize| {
-        let col = &columns[g];
-        let h = &problem.holds[g];
-        let [_, u, v] = squeeze_basis(h);
-        let mut f = Vector3::zeros();
-        for c in col.pads {
-            f += x[c] * u + x[c + 1] * v;
-        }
-        if let Some(c) = col.enclosure {
-            let axis = |i: usize| h.frame.rotation * Vector3::ith(i, 1.0);
-            f += x[c] * axis(0) + x[c + 1] * axis(2);
-        }
-        load * f.norm()
-    };
     Ok(CarryOutcome::Carried(Carry {
         grip_force: load * x[0].max(0.0),
-        squeeze: [0, 1].map(|g| load * x[columns[g].squeeze].max(0.0)),
-        load: [hand_load(0), hand_load(1)],
     }))
 }
 

@@ -30,18 +30,14 @@ use crate::context::{Grips, PlanningContext};
 /// Half the 2F-85 pad's width (m), along the bar it holds (a jaw's patch is taken alike).
 const PAD_HALF_WIDTH: f64 = 0.011;
 
-/// One power grasp as the carry check needs it, in the object frame.
-#[derive(Clone, Copy, Debug)]
-struct HoldInObject(PowerHold);
-
 /// The carry check of one scene: the part's mass and the power grasps' closings, known once.
 pub struct CarryCheck {
     /// Weight (N) and centre of mass (object frame); `None` when the part has no mass
     /// properties (the grip check says why), and then nothing is checked.
     part: Option<(f64, Point3<f64>)>,
-    /// Each arm's power grasp; `None` when its gripper does not close there (Algorithm 2 then
+    /// Each arm's power grasp, in the object frame; `None` when its gripper does not close there (Algorithm 2 then
     /// refuses every pose).
-    holds: [Option<HoldInObject>; 2],
+    holds: [Option<PowerHold>; 2],
     mu: f64,
     safety_factor: f64,
     /// Each arm's gripper's force range (N).
@@ -148,10 +144,10 @@ impl CarryCheck {
         let [Some(a), Some(b)] = self.holds else {
             return None;
         };
-        let place = |h: &HoldInObject| PowerHold {
-            frame: p_obj * h.0.frame,
-            squeeze: h.0.squeeze.map(|p| p_obj * p),
-            ..h.0
+        let place = |h: &PowerHold| PowerHold {
+            frame: p_obj * h.frame,
+            squeeze: h.squeeze.map(|p| p_obj * p),
+            ..*h
         };
         let problem = CarryProblem {
             com: p_obj * com,
@@ -179,7 +175,7 @@ impl CarryCheck {
                 }
             }
             Ok(CarryOutcome::CannotCarry) => Err(Uncarried::NoForce {
-                kinds: [a.0.closing, b.0.closing],
+                kinds: [a.closing, b.closing],
             }),
             // The solver could not decide: nothing is known (the plan is not flagged, and its
             // power grasps get no force of their own).
@@ -195,7 +191,7 @@ fn hold_in_object(
     world: &CollisionWorld,
     arm: usize,
     grip: &Grip,
-) -> Option<HoldInObject> {
+) -> Option<PowerHold> {
     let grasp = scene.grasps.power[arm];
     let gripper = &world.arms()[arm].gripper;
     let flange = grasp * gripper.power_point().inverse();
@@ -219,13 +215,13 @@ fn hold_in_object(
             ([o + half * x, o - half * x], 0.0, [0.0; 2])
         }
     };
-    Some(HoldInObject(PowerHold {
+    Some(PowerHold {
         frame: grasp,
         squeeze,
         torsion_radius,
         patch_half_extent,
         closing: hold_kind(&grip.kinds),
-    }))
+    })
 }
 
 /// How a closing holds: one-sided if a finger closed on nothing, caged if a finger's tips met
