@@ -315,13 +315,50 @@ fn a_urdf_gripper_needs_a_description_with_jaws() {
     );
 }
 
+/// Issue 49: the grasp search works for a jaw gripper too, with its own stroke, jaws and
+/// open-hand test. Two FR3 with the Franka Hand plan the examples with `mode = "auto"`, every
+/// plan passes the check (rule 2 included: no open jaw or palm inside the part), and the
+/// search chose its own grasps.
 #[test]
-fn the_grasp_search_refuses_a_jaw_gripper() {
-    let (path, text) = scene_text("chair_side", &fr3_hand(), 0.0, 0.45);
-    let text = text.replacen("[grasps]", "[grasps]\nmode = \"auto\"", 1);
-    let err = Scene::from_str(&text, &path).unwrap_err().to_string();
-    assert!(
-        err.contains("grasps.mode") && err.contains("give the grasps"),
-        "{err}"
-    );
+fn two_fr3_with_the_franka_hand_plan_the_examples_from_auto_grasps() {
+    for (name, x) in [
+        ("chair_side", 0.0),
+        ("shelf_side", 0.0),
+        ("stool_side", 0.1),
+    ] {
+        let (path, text) = scene_text(name, &fr3_hand(), x, 0.45);
+        let start = text.find("[grasps]").unwrap();
+        let end = text[start + 1..]
+            .find("\n[")
+            .map_or(text.len(), |k| start + 1 + k);
+        let auto = format!(
+            "{}[grasps]\nmode = \"auto\"\n{}",
+            &text[..start],
+            &text[end..]
+        );
+        let scene = Scene::from_str(&auto, &path).unwrap();
+        let mesh = load_mesh(&scene.object.mesh_path, scene.object.scale)
+            .unwrap()
+            .mesh;
+        let file =
+            pregrasp_planner::plan_scene(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
+                .unwrap()
+                .file;
+        planned_and_valid(name, &file, &mesh, &FR3_JOINTS);
+        let search = file.grasps.auto.as_ref().expect("the search is reported");
+        assert!(
+            search.sites > 0 && search.chosen.is_some(),
+            "{name}: {search:?}"
+        );
+        // Every bar the jaws close on fits their 80 mm stroke.
+        assert!(
+            search.widths.iter().all(|&w| w > 0.0 && w < 0.08),
+            "{name}: {search:?}"
+        );
+        for plan in &file.plans {
+            for seg in plan.segments.iter().filter(|s| s.grip_width.is_some()) {
+                assert!(seg.fingers.is_none(), "{name}: {}", seg.name);
+            }
+        }
+    }
 }

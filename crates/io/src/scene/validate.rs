@@ -105,15 +105,6 @@ impl Cx {
         let name = &robots[1].name;
         let message = format!("duplicate robot name {name:?}");
         self.ensure(robots[0].name != *name, "robot[1].name", message)?;
-        // The grasp search models the 2F-85's fingers (their sites and open links).
-        let jaws = robots.iter().position(|r| r.jaws.is_some());
-        if let (Some(i), Some(_)) = (jaws, &grasps.auto) {
-            let message = format!(
-                "mode = \"auto\" finds grasps for the Robotiq 2F-85 only, and robot[{i}] has \
-                 gripper = \"urdf\": give the grasps (power, support)"
-            );
-            return Err(self.err("grasps.mode", message));
-        }
         Ok(Scene {
             file: file.to_path_buf(),
             name: raw.name.map(|Str(s)| s),

@@ -8,13 +8,18 @@
 //! interval of material through the point — the bar's width across `d`. A **site** is the
 //! interval's centre with the narrowest `d` that qualifies:
 //!
-//! - width within the gripper's reach: [`MIN_BAR_WIDTH`] … [`MAX_BAR_WIDTH`] (the 2F-85 opens
-//!   85 mm; 5 mm are left to close);
-//! - straight for a pad: the width at ±[`HALF_PAD`] along the bar differs by at most
+//! - width within the gripper's reach: [`MIN_BAR_WIDTH`] … [`BarHand::max_bar_width`] (the
+//!   2F-85 opens 85 mm; 5 mm are left to close);
+//! - straight for a pad: the width at ±[`BarHand::half_pad`] along the bar differs by at most
 //!   [`STRAIGHT_TOLERANCE`] and the intervals stay centred;
 //! - room for the open fingers: beyond both faces there is no material as far as the open
-//!   fingers reach, [`finger_room`] (a hand hole next to the bar counts only if it is that
-//!   wide): the gripper approaches open.
+//!   fingers reach, [`BarHand::finger_room`] (a hand hole next to the bar counts only if it is
+//!   that wide): the gripper approaches open.
+//!
+//! Each site also says how far along the bar, beyond the fingers' sides, the bar stays the
+//! same and the air beside it free ([`BarSite::clear_along`], up to [`JUNCTION_REACH`]): a
+//! site near a junction (a rail at a rung's end, a corner, a hole's edge) has other material
+//! there, which the closing fingers and the palm may meet.
 //!
 //! Inside test: a point of the mid-plane is in the material when rays up and down both leave
 //! the part within half its height (an extruded part has no material above a hole).
@@ -25,25 +30,17 @@ use parry3d_f64::shape::TriMesh;
 use pregrasp_geometry::Mesh;
 use rayon::prelude::*;
 
+use super::hand::BarHand;
+
 /// Narrowest bar a site may have (m).
 pub const MIN_BAR_WIDTH: f64 = 0.010;
-/// Widest bar (m): the 2F-85's 85 mm stroke less 5 mm to close.
-pub const MAX_BAR_WIDTH: f64 = 0.080;
-/// Half the width of the fingers' links (m; the pads are 22 mm wide, the links a little more):
-/// the bar must be straight, and the air beside it free, this far to each side of a site.
-pub const HALF_PAD: f64 = 0.016;
+/// How far (m) beyond a finger's side the bar is followed to find where other material meets
+/// it ([`BarSite::clear_along`]).
+pub const JUNCTION_REACH: f64 = 0.040;
+/// Step (m) along the bar when following it.
+const ALONG_STEP: f64 = 0.004;
 /// Largest change of width (m) along a pad for a straight bar.
 pub const STRAIGHT_TOLERANCE: f64 = 0.003;
-/// The 2F-85's stroke (m): the gap between the open pads.
-pub const STROKE: f64 = 0.085;
-/// Thickness (m) of a finger beyond its pad, with a little clearance.
-pub const FINGER_THICKNESS: f64 = 0.012;
-
-/// Free space (m) needed beyond each face of a bar of `width` for the open fingers to come
-/// down beside it: from the face to the open pad, plus the finger.
-pub fn finger_room(width: f64) -> f64 {
-    (STROKE - width) / 2.0 + FINGER_THICKNESS
-}
 /// Sites closer than this (m) with the same closing direction are one site.
 pub const SITE_MERGE: f64 = 0.008;
 
@@ -56,6 +53,9 @@ pub struct BarSite {
     pub across: Unit<Vector3<f64>>,
     /// Width of the bar along `across` (m).
     pub width: f64,
+    /// How far (m, at most [`JUNCTION_REACH`]) beyond each finger's side the bar stays
+    /// straight with free air beside it, the smaller of the two sides: 0 next to a junction.
+    pub clear_along: f64,
 }
 
 /// The part's vertical extent seen from `up`: heights of its lowest and highest vertices.
@@ -81,9 +81,14 @@ impl Slab {
     }
 }
 
-/// The bar sites of `mesh` resting on the support with world `+z` = `object_pose⁻¹ · ẑ`.
-/// Deterministic: a fixed grid, fixed directions, sites in grid order.
-pub fn bar_sites(mesh: &Mesh, object_pose: &Isometry3<f64>) -> (Slab, Vec<BarSite>) {
+/// The bar sites of `mesh` resting on the support with world `+z` = `object_pose⁻¹ · ẑ`, for
+/// a gripper of the dimensions `hand`. Deterministic: a fixed grid, fixed directions, sites in
+/// grid order.
+pub fn bar_sites(
+    mesh: &Mesh,
+    object_pose: &Isometry3<f64>,
+    hand: &BarHand,
+) -> (Slab, Vec<BarSite>) {
     let up = Unit::new_normalize(object_pose.rotation.inverse() * Vector3::z());
     let slab = Slab::of(mesh, up);
     let Ok(tri) = TriMesh::new(mesh.vertices.clone(), mesh.triangles.clone()) else {
@@ -122,11 +127,31 @@ pub fn bar_sites(mesh: &Mesh, object_pose: &Isometry3<f64>) -> (Slab, Vec<BarSit
     let inside = |p: &Point3<f64>| {
         hit(p, &up, half + 1e-3).is_some() && hit(p, &-up.into_inner(), half + 1e-3).is_some()
     };
+    let max_width = hand.max_bar_width();
+    let half_pad = hand.half_pad();
     // The material interval through `p` along `d`: (back, forward) distances.
     let interval = |p: &Point3<f64>, d: &Vector3<f64>| -> Option<(f64, f64)> {
-        let f = hit(p, d, MAX_BAR_WIDTH + 1e-3)?;
-        let b = hit(p, &-d, MAX_BAR_WIDTH + 1e-3)?;
+        let f = hit(p, d, max_width + 1e-3)?;
+        let b = hit(p, &-d, max_width + 1e-3)?;
         Some((b, f))
+    };
+    // At `s` along the bar from `centre`: the bar as wide as `width` and centred, with air
+    // beyond both faces for the fingers.
+    let same_bar = |centre: &Point3<f64>, d: &Unit<Vector3<f64>>, width: f64, s: f64| {
+        let along = up.cross(d);
+        let q = centre + along * s;
+        inside(&q)
+            && interval(&q, d).is_some_and(|(bq, fq)| {
+                ((bq + fq) - width).abs() <= STRAIGHT_TOLERANCE
+                    && ((fq - bq) / 2.0).abs() <= STRAIGHT_TOLERANCE
+            })
+    };
+    let air = |centre: &Point3<f64>, d: &Unit<Vector3<f64>>, width: f64, s: f64| {
+        let along = up.cross(d);
+        [1.0, -1.0].iter().all(|&sgn| {
+            let face = centre + along * s + d.into_inner() * (sgn * (width / 2.0 + 5e-4));
+            hit(&face, &(d.into_inner() * sgn), hand.finger_room(width)).is_none()
+        })
     };
     let n1 = ((hi[0] - lo[0]) / spacing).floor() as usize + 1;
     let n2 = ((hi[1] - lo[1]) / spacing).floor() as usize + 1;
@@ -147,7 +172,7 @@ pub fn bar_sites(mesh: &Mesh, object_pose: &Isometry3<f64>) -> (Slab, Vec<BarSit
             .filter_map(|(k, d)| {
                 let (b, f) = interval(&p, d)?;
                 let width = b + f;
-                (MIN_BAR_WIDTH..=MAX_BAR_WIDTH)
+                (MIN_BAR_WIDTH..=max_width)
                     .contains(&width)
                     .then_some((width, k, b, f))
             })
@@ -156,30 +181,37 @@ pub fn bar_sites(mesh: &Mesh, object_pose: &Isometry3<f64>) -> (Slab, Vec<BarSit
         widths.into_iter().find_map(|(width, k, b, f)| {
             let d = &directions[k];
             let centre = p + d.into_inner() * ((f - b) / 2.0);
-            let along = up.cross(d);
-            let straight = [-HALF_PAD, HALF_PAD].iter().all(|&s| {
-                let q = centre + along * s;
-                inside(&q)
-                    && interval(&q, d).is_some_and(|(bq, fq)| {
-                        ((bq + fq) - width).abs() <= STRAIGHT_TOLERANCE
-                            && ((fq - bq) / 2.0).abs() <= STRAIGHT_TOLERANCE
-                    })
-            });
+            let straight = [-half_pad, half_pad]
+                .iter()
+                .all(|&s| same_bar(&centre, d, width, s));
             // Air beyond both faces, for the fingers, across their whole width.
             let room = straight
-                && [-HALF_PAD, 0.0, HALF_PAD].iter().all(|&s| {
-                    [1.0, -1.0].iter().all(|&sgn| {
-                        let face =
-                            centre + along * s + d.into_inner() * (sgn * (width / 2.0 + 5e-4));
-                        hit(&face, &(d.into_inner() * sgn), finger_room(width)).is_none()
-                    })
-                });
+                && [-half_pad, 0.0, half_pad]
+                    .iter()
+                    .all(|&s| air(&centre, d, width, s));
             room.then_some(BarSite {
                 centre,
                 across: *d,
                 width,
+                clear_along: 0.0,
             })
         })
+    };
+    // How far beyond the fingers' sides the bar goes on unchanged, the nearer side.
+    let clear_along = |site: &BarSite| {
+        let steps = (JUNCTION_REACH / ALONG_STEP).round() as usize;
+        let clear = |sign: f64| {
+            (1..=steps)
+                .map(|k| k as f64 * ALONG_STEP)
+                .take_while(|&e| {
+                    let s = sign * (half_pad + e);
+                    same_bar(&site.centre, &site.across, site.width, s)
+                        && air(&site.centre, &site.across, site.width, s)
+                })
+                .last()
+                .unwrap_or(0.0)
+        };
+        clear(1.0).min(clear(-1.0))
     };
     // Rows in parallel, merged in grid order: the same sites on any number of threads.
     let rows: Vec<Vec<BarSite>> = (0..n1)
@@ -195,5 +227,58 @@ pub fn bar_sites(mesh: &Mesh, object_pose: &Isometry3<f64>) -> (Slab, Vec<BarSit
             sites.push(site);
         }
     }
+    let clear: Vec<f64> = sites.par_iter().map(clear_along).collect();
+    for (site, c) in sites.iter_mut().zip(clear) {
+        site.clear_along = c;
+    }
     (slab, sites)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::hand::HALF_PAD_2F85;
+    use super::*;
+    use pregrasp_geometry::shapes::cuboid;
+
+    /// Two boxes side by side as one mesh.
+    fn two_boxes(a: [Point3<f64>; 2], b: [Point3<f64>; 2]) -> Mesh {
+        let mut mesh = cuboid(a[0], a[1]);
+        let other = cuboid(b[0], b[1]);
+        let base = mesh.vertices.len() as u32;
+        mesh.vertices.extend(other.vertices);
+        mesh.triangles
+            .extend(other.triangles.iter().map(|t| t.map(|k| k + base)));
+        mesh
+    }
+
+    #[test]
+    fn a_site_next_to_a_rail_knows_the_rail_is_there() {
+        // A 40 mm rung along y from 0 to 0.3 m meets a 50 mm rail across its end (a T).
+        let mesh = two_boxes(
+            [Point3::new(-0.02, 0.0, 0.0), Point3::new(0.02, 0.3, 0.03)],
+            [Point3::new(-0.3, 0.3, 0.0), Point3::new(0.3, 0.35, 0.03)],
+        );
+        let (_, sites) = bar_sites(&mesh, &Isometry3::identity(), &BarHand::Robotiq2F85);
+        let rung: Vec<&BarSite> = sites
+            .iter()
+            .filter(|s| s.centre.y < 0.3 && (s.width - 0.04).abs() < 1e-3)
+            .collect();
+        assert!(!rung.is_empty());
+        let nearest = |y: f64| {
+            *rung
+                .iter()
+                .min_by(|a, b| (a.centre.y - y).abs().total_cmp(&(b.centre.y - y).abs()))
+                .unwrap()
+        };
+        // Mid-rung: the bar goes on unchanged as far as it is followed.
+        let mid = nearest(0.15);
+        assert!((mid.clear_along - JUNCTION_REACH).abs() < 1e-9, "{mid:?}");
+        // 25 mm from the rail: at most 25 − 16 mm (half the fingers' width) of rung beyond.
+        let near = nearest(0.275);
+        assert!(
+            near.clear_along <= 0.3 - near.centre.y - HALF_PAD_2F85 + 1e-9,
+            "{near:?}"
+        );
+        assert!(near.clear_along < 0.015, "{near:?}");
+    }
 }

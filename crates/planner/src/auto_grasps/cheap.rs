@@ -1,11 +1,13 @@
 //! Cheap tests of a grasp set, run before the pipeline so that the sets most likely to plan
 //! are planned first (issue 35: the pipeline costs 10–40 ms a set, these well under 1 ms).
 //!
-//! - Fingers ([`GraspTests::fingers`]): the open 2F-85 at the grasp does not touch the part
-//!   (real finger geometry, [`OpenFingers`]), and from the end of the contact zone
-//!   ([`CONTACT_ZONE`]) to the stand-off (`approach_distance`) its fingers keep
-//!   `link_clearance` (+ the planner's margin) from the part: the straight approach the
-//!   pipeline will build.
+//! - The open hand ([`GraspTests::fingers`]): the arm's open gripper at the grasp has no
+//!   finger link in the part (real finger geometry, [`OpenFingers`]); the whole open hand,
+//!   palm included, is nowhere more than 0.5 mm inside the whole part from the grasp back
+//!   through the contact zone (the planner's rule, [`open_approach_inside`]); and from the
+//!   end of the contact zone ([`CONTACT_ZONE`]) to the stand-off (`approach_distance`) the
+//!   hand keeps `link_clearance` (+ the planner's margin) from the part: the straight
+//!   approach the pipeline will build.
 //! - The goal ([`GraspTests::at_goal`]): the part turned about the set's axis by an estimate
 //!   of θ_goal (what lifts the nearer power grasp [`FINGER_RISE`] off the table, at most
 //!   θ_max, plus the `n_ext` steps Algorithm 2 adds); collision-free IK, nearest the start,
@@ -20,11 +22,13 @@
 use nalgebra::{Isometry3, Point2, Point3, Translation3, Vector3};
 use parry3d_f64::shape::TriMesh;
 use pregrasp_collision::distance::segment_segment_sq;
-use pregrasp_collision::{ArmModel, CollisionWorld, ObjectPlacement, WorldState};
+use pregrasp_collision::{
+    open_approach_inside, ArmModel, CollisionWorld, ObjectGeometry, ObjectPlacement, WorldState,
+};
 use pregrasp_geometry::Mesh;
 use pregrasp_io::scene::Scene;
 use pregrasp_physics::MassProperties;
-use pregrasp_robot::{GripperState, Joints};
+use pregrasp_robot::Joints;
 
 use super::fingers::OpenFingers;
 use crate::axes::RotationAxisCandidate;
@@ -39,6 +43,8 @@ pub const FINGER_RISE: f64 = 0.045;
 pub struct GraspTests<'a> {
     scene: &'a Scene,
     part: &'a TriMesh,
+    /// The part for the open-hand rule (how deep a link lies in it).
+    object: Option<ObjectGeometry>,
     arms: &'a [ArmModel; 2],
     /// The arms, the support and the part: collision-free IK.
     cell: CollisionWorld,
@@ -88,6 +94,7 @@ impl<'a> GraspTests<'a> {
         GraspTests {
             scene,
             part,
+            object: ObjectGeometry::new(mesh).ok(),
             arms,
             cell,
             p_init,
@@ -95,14 +102,25 @@ impl<'a> GraspTests<'a> {
         }
     }
 
-    /// Whether the open fingers at `grasp` (object frame) held by `point` (tool point in the
-    /// flange frame) straddle the bar, and whether their straight approach keeps the link
-    /// clearance outside the contact zone: `(straddles, approach_clear)`.
-    pub fn fingers(&self, grasp: &Isometry3<f64>, point: &Isometry3<f64>) -> (bool, bool) {
-        let open = OpenFingers::robotiq_2f85();
+    /// Whether arm `arm`'s open hand at `grasp` (object frame), held by `point` (its tool
+    /// point in the flange frame), fits around the bar, and whether its straight approach
+    /// keeps the link clearance outside the contact zone: `(fits, approach_clear)`.
+    pub fn fingers(
+        &self,
+        arm: usize,
+        grasp: &Isometry3<f64>,
+        point: &Isometry3<f64>,
+    ) -> (bool, bool) {
+        let gripper = &self.arms[arm].gripper;
+        let open = OpenFingers::of(gripper);
         let flange = grasp * point.inverse();
         if open.touch(self.part, &flange).is_some() {
             return (false, false);
+        }
+        if let Some(object) = &self.object {
+            if open_approach_inside(object, gripper, &flange).is_some() {
+                return (false, false);
+            }
         }
         let p = &self.scene.planner;
         let (zone, far) = (CONTACT_ZONE.min(p.approach_distance), p.approach_distance);
@@ -160,7 +178,7 @@ impl<'a> GraspTests<'a> {
                 .find(|q| {
                     let mut state = WorldState::new(starts);
                     state.q[arm] = *q;
-                    state.gripper[arm] = GripperState::at_gap(width);
+                    state.gripper[arm] = a.gripper.at_gap(width);
                     state.object = ObjectPlacement::Fixed(goal);
                     state.grasping[arm] = true;
                     self.cell.is_arm_free(arm, &state)

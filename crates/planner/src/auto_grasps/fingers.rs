@@ -1,70 +1,104 @@
-//! The fully open 2F-85 fingers at a grasp, against the part's mesh: the real finger geometry
-//! (each link's convex pieces, [`pregrasp_robot::FingerSolids`], placed by the open linkage,
-//! [`pregrasp_robot::FingerPair::open`]), not a width rule.
+//! The fully open gripper at a grasp, against the part's mesh: the real finger geometry (each
+//! link's convex pieces placed by the open state, [`Gripper::shape_frames`]; the 2F-85's
+//! finger links, [`pregrasp_robot::FingerSolids`], placed by the open linkage; a jaw
+//! gripper's jaw parts), and its palm (the 2F-85's housing boxes, a jaw gripper's static
+//! parts), not a width rule.
 //!
-//! - [`OpenFingers::touch`]: the first link of the open fingers inside the part with the
+//! - [`OpenFingers::touch`]: the first finger link of the open hand inside the part with the
 //!   flange at a grasp: the gripper cannot come down around the bar there (a power grasp's
 //!   inner knuckles reach only ±31 mm just below the palm, so a bar wider than that under them
-//!   is refused whatever the stroke says).
-//! - [`OpenFingers::clear_by`]: every piece at least `d` from the part: the straight approach
-//!   outside its contact zone must keep the cell's link clearance.
+//!   is refused whatever the stroke says). The palm may touch the part it grasps: how deep it
+//!   may be is the open-hand rule's ([`pregrasp_collision::open_approach_inside`]).
+//! - [`OpenFingers::clear_by`]: every piece of the hand, palm included, at least `d` from the
+//!   part: the straight approach outside its contact zone must keep the cell's link clearance.
 //!
 //! Each link's box (grown by `d`) is tested first; the pieces only where it meets the part.
 
-use std::sync::OnceLock;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
 
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Vector3};
 use parry3d_f64::query::{closest_points, intersection_test, ClosestPoints};
 use parry3d_f64::shape::{ConvexPolyhedron, Cuboid, TriMesh};
-use pregrasp_robot::{FingerPair, FingerSolids};
+use pregrasp_robot::{Gripper, GripperState, Primitive};
 
-/// One open finger link: its box and pieces, placed in the flange frame G.
+/// One open link: its box and pieces, placed in the flange frame G.
 struct Link {
     name: &'static str,
+    /// Rigid with the flange (the palm): it may touch the part at a grasp.
+    palm: bool,
     box_pose: Isometry3<f64>,
     half: Vector3<f64>,
     pose: Isometry3<f64>,
     pieces: Vec<ConvexPolyhedron>,
 }
 
-/// The open fingers' links in G (built once).
+/// The open hand's links in G (built once per gripper shape).
 pub struct OpenFingers {
     links: Vec<Link>,
 }
 
 impl OpenFingers {
-    /// The built-in 2F-85's open fingers.
-    pub fn robotiq_2f85() -> &'static OpenFingers {
-        static OPEN: OnceLock<OpenFingers> = OnceLock::new();
-        OPEN.get_or_init(|| {
-            let frames = FingerPair::open().link_frames();
-            let links = frames
-                .iter()
-                .zip(&FingerSolids::robotiq_2f85().links)
-                .map(|(frame, solid)| {
-                    let b = &solid.bounds;
-                    let in_link = Isometry3::from_parts(
-                        Translation3::from(Vector3::from(b.center)),
-                        UnitQuaternion::from_axis_angle(&Vector3::y_axis(), b.angle),
-                    );
-                    Link {
-                        name: solid.name,
-                        box_pose: frame * in_link,
-                        half: Vector3::from(b.half),
-                        pose: *frame,
-                        pieces: solid
-                            .pieces
-                            .pieces
-                            .iter()
-                            .filter_map(|p| ConvexPolyhedron::from_convex_hull(p))
-                            .collect(),
-                    }
-                })
-                .collect();
-            OpenFingers { links }
-        })
+    /// The open hand of `gripper`, built once per gripper shape ([`Gripper::shape_key`]).
+    pub fn of(gripper: &Gripper) -> Arc<OpenFingers> {
+        static HANDS: OnceLock<Mutex<HashMap<String, Arc<OpenFingers>>>> = OnceLock::new();
+        let hands = HANDS.get_or_init(Default::default);
+        let key = gripper.shape_key().to_string();
+        if let Some(hand) = hands.lock().ok().and_then(|h| h.get(&key).cloned()) {
+            return hand;
+        }
+        let hand = Arc::new(Self::build(gripper));
+        if let Ok(mut h) = hands.lock() {
+            h.entry(key).or_insert_with(|| hand.clone());
+        }
+        hand
     }
 
+    fn build(gripper: &Gripper) -> OpenFingers {
+        let frames = gripper.shape_frames(GripperState::Open);
+        let pieces = gripper.shape_pieces();
+        let statics = gripper.static_count();
+        let mut links = Vec::with_capacity(frames.len());
+        gripper.for_each_shape(GripperState::Open, |k, name, primitive| {
+            let Primitive::Cuboid { pose, half_extents } = primitive else {
+                return;
+            };
+            let (frame, pieces) = match (pieces.get(k).copied().flatten(), frames.get(k)) {
+                (Some(p), Some(frame)) => (
+                    *frame,
+                    p.pieces
+                        .iter()
+                        .filter_map(|v| ConvexPolyhedron::from_convex_hull(v))
+                        .collect(),
+                ),
+                // An exact box (the 2F-85's housing), in the flange frame.
+                _ => {
+                    let h = half_extents;
+                    let corners: Vec<_> = (0..8)
+                        .map(|c| {
+                            let s = |b: usize| if c & b == 0 { -1.0 } else { 1.0 };
+                            nalgebra::Point3::new(s(1) * h.x, s(2) * h.y, s(4) * h.z)
+                        })
+                        .collect();
+                    (
+                        pose,
+                        ConvexPolyhedron::from_convex_hull(&corners)
+                            .into_iter()
+                            .collect(),
+                    )
+                }
+            };
+            links.push(Link {
+                name,
+                palm: k < statics,
+                box_pose: pose,
+                half: half_extents,
+                pose: frame,
+                pieces,
+            });
+        });
+        OpenFingers { links }
+    }
     /// Whether `shape` at `pose` comes within `d` of the part (`d = 0`: touches it).
     fn near(
         part: &TriMesh,
@@ -82,15 +116,16 @@ impl OpenFingers {
         )
     }
 
-    /// The first open finger link (by name) within `d` of the part with the flange at
-    /// `flange_in_object` (flange → object frame).
+    /// The first open link (by name; the palm's only if `palm`) within `d` of the part with
+    /// the flange at `flange_in_object` (flange → object frame).
     pub fn within(
         &self,
         part: &TriMesh,
         flange_in_object: &Isometry3<f64>,
         d: f64,
+        palm: bool,
     ) -> Option<&'static str> {
-        for link in &self.links {
+        for link in self.links.iter().filter(|l| palm || !l.palm) {
             let cuboid = Cuboid::new(link.half);
             if !Self::near(part, &(flange_in_object * link.box_pose), &cuboid, d) {
                 continue;
@@ -103,13 +138,14 @@ impl OpenFingers {
         None
     }
 
-    /// The first open finger link inside the part (see [`OpenFingers::within`]).
+    /// The first open finger link (not the palm) inside the part (see
+    /// [`OpenFingers::within`]).
     pub fn touch(&self, part: &TriMesh, flange_in_object: &Isometry3<f64>) -> Option<&'static str> {
-        self.within(part, flange_in_object, 0.0)
+        self.within(part, flange_in_object, 0.0, false)
     }
 
-    /// No open finger link within `d` of the part.
+    /// No open link, palm included, within `d` of the part.
     pub fn clear_by(&self, part: &TriMesh, flange_in_object: &Isometry3<f64>, d: f64) -> bool {
-        self.within(part, flange_in_object, d).is_none()
+        self.within(part, flange_in_object, d, true).is_none()
     }
 }

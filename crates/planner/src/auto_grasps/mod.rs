@@ -1,6 +1,7 @@
 //! `[grasps] mode = "auto"`: the grasps found from the mesh (the paper's future work, §VII).
 //!
-//! 1. [`bars`]: where a 2F-85 can close across the part from above (bar sites).
+//! 1. [`bars`]: where the arms' grippers can close across the part from above (bar sites), for
+//!    the dimensions of both hands ([`hand`]: the 2F-85's linkage, or a jaw gripper's parts).
 //! 2. Grasp sets, per rotation axis of Algorithm 1 (the best [`AXES_CONSIDERED`] by S_rot):
 //!    two power grasps from representative sites beyond Δd_a (+2 cm), at least
 //!    [`POWER_SPREAD`] apart, scored by their distances from the axis plus their spread (a
@@ -11,8 +12,10 @@
 //!    the master's power grasp (both are held at once), with the fingertips
 //!    [`SUPPORT_TIP_HEIGHT`] above the support. Power grasps sit at mid-height, fingers across
 //!    the bar, from above.
-//!    Only sites the fully open fingers straddle (the real finger geometry, [`fingers`]) take
-//!    a grasp.
+//!    Only sites the fully open hand fits around (the real finger geometry, [`fingers`], and
+//!    the whole hand, palm included, nowhere more than 0.5 mm inside the whole part along the
+//!    last 20 mm of the approach) take a grasp. A power grasp's pair loses score for material
+//!    near its sites along the bar ([`JUNCTION_WEIGHT`]): sites away from junctions first.
 //! 3. Cheap ranking ([`cheap`]): sets by how many cheap tests they fail — IK at P_init, the
 //!    open fingers' approach clearance, the pinch's balance (centre of mass inside the
 //!    triangle of the axis' ends and G_s) — then by the axis' S_rot plus the power grasps'
@@ -26,6 +29,7 @@
 pub mod bars;
 pub mod cheap;
 pub mod fingers;
+pub mod hand;
 
 use std::cell::RefCell;
 
@@ -42,8 +46,9 @@ use crate::error::{check_mesh, PlanError};
 use crate::output::plan_file_header;
 use crate::pipeline::{plan, PlanOptions, PlanReport};
 use crate::poses::{distance_to_line, ROLE_TOLERANCE};
-use bars::{bar_sites, BarSite, Slab};
+use bars::{bar_sites, BarSite, Slab, JUNCTION_REACH};
 use cheap::GraspTests;
+use hand::BarHand;
 use pregrasp_collision::CollisionError;
 
 /// Rotation axes (best S_rot first) around which grasp sets are built.
@@ -72,6 +77,10 @@ pub const GOAL_ARM_CLEARANCE: f64 = 0.15;
 pub const COM_MARGIN: f64 = 0.05;
 /// Width (m) the goal test closes a pinned grasp's fingers to (its bar is not measured).
 pub const PINNED_WIDTH: f64 = 0.04;
+/// What a power grasp's site loses of its pair score (m per m) for each metre of bar it lacks,
+/// beyond the fingers' sides, up to [`JUNCTION_REACH`]: sites away from junctions, where the
+/// closing meets no other material, first.
+pub const JUNCTION_WEIGHT: f64 = 2.0;
 
 /// One choice of the three grasps (object frame).
 #[derive(Clone, Debug, PartialEq)]
@@ -153,15 +162,16 @@ pub fn grasp_sets(
         power_pinned: false,
     });
     let arms = arm_models(scene)?;
-    let fingers = pregrasp_robot::FingerKinematics::robotiq_2f85();
-    let precision_z = scene
-        .robots
-        .iter()
-        .map(|r| r.precision_point_z)
-        .fold(f64::NEG_INFINITY, f64::max);
+    let hands = [0, 1].map(|arm| BarHand::of(&arms[arm].gripper));
+    // How far the fingertips reach below the precision point, the deeper of the two hands.
+    let tip_depth = |w: f64| {
+        (0..2)
+            .map(|arm| hands[arm].tip_z(w) - arms[arm].gripper.precision_point_z())
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
     let support_height = |w: f64| {
         // Rounded up to 0.1 mm: the tips never end lower than SUPPORT_TIP_HEIGHT.
-        ((SUPPORT_TIP_HEIGHT + fingers.at(w).tip_z - precision_z) * 1e4).ceil() / 1e4
+        ((SUPPORT_TIP_HEIGHT + tip_depth(w)) * 1e4).ceil() / 1e4
     };
     let min_axis = scene.planner.min_grasp_axis_distance + 0.02;
     let reachable = |arm: usize, grasp: &Isometry3<f64>, point: &Isometry3<f64>| {
@@ -172,17 +182,18 @@ pub fn grasp_sets(
     let base = |arm: usize| Point3::from(arms[arm].base.translation.vector);
     let power_pose = |i: usize| site_pose(&sites[i], slab, slab.height() / 2.0);
     let support_pose = |i: usize| site_pose(&sites[i], slab, support_height(sites[i].width));
-    // The open fingers at a site, per arm (its tool point): (straddles, approach clear).
+    // The open hand at a site, per arm (its gripper and tool point): (fits, approach clear).
     let power_fn =
-        |i: usize, arm: usize| tests.fingers(&power_pose(i), &arms[arm].gripper.power_point());
+        |i: usize, arm: usize| tests.fingers(arm, &power_pose(i), &arms[arm].gripper.power_point());
     let support_fn = |i: usize, arm: usize| {
-        tests.fingers(&support_pose(i), &arms[arm].gripper.precision_point())
+        tests.fingers(arm, &support_pose(i), &arms[arm].gripper.precision_point())
     };
     let power_fingers = Memo::new(sites.len(), &power_fn);
     let support_fingers = Memo::new(sites.len(), &support_fn);
-    // Arms with the same tool point share one test.
+    // Arms with the same gripper and tool point share one test.
     let same = |p: fn(&pregrasp_robot::Gripper) -> Isometry3<f64>| {
-        p(&arms[0].gripper) == p(&arms[1].gripper)
+        let (a, b) = (&arms[0].gripper, &arms[1].gripper);
+        a.shape_key() == b.shape_key() && p(a) == p(b)
     };
     let (power_same, support_same) = (
         same(pregrasp_robot::Gripper::power_point),
@@ -228,7 +239,12 @@ pub fn grasp_sets(
                 for &b in &reps[k + 1..] {
                     let spread = apart(a, &sites[b].centre);
                     if spread >= POWER_SPREAD {
-                        let score = dist(&sites[a]) + dist(&sites[b]) + 0.5 * spread.min(0.5);
+                        let junction = |i: usize| {
+                            JUNCTION_WEIGHT * (JUNCTION_REACH - sites[i].clear_along).max(0.0)
+                        };
+                        let score = dist(&sites[a]) + dist(&sites[b]) + 0.5 * spread.min(0.5)
+                            - junction(a)
+                            - junction(b);
                         pairs.push((a, b, score));
                     }
                 }
@@ -362,7 +378,10 @@ pub fn plan_auto(
     };
     check_mesh(mesh)?;
     let t0 = std::time::Instant::now();
-    let (slab, sites) = bar_sites(mesh, &scene.object.pose);
+    let arms = arm_models(scene)?;
+    let [h0, h1] = [0, 1].map(|arm| BarHand::of(&arms[arm].gripper));
+    let hand = BarHand::both(&h0, &h1);
+    let (slab, sites) = bar_sites(mesh, &scene.object.pose, &hand);
     let axes = rotation_axis_candidates(
         mesh,
         &scene.object.pose,
@@ -375,7 +394,6 @@ pub fn plan_auto(
     } else {
         let part = TriMesh::new(mesh.vertices.clone(), mesh.triangles.clone())
             .map_err(|e| PlanError::Mesh(CollisionError::Mesh(e)))?;
-        let arms = arm_models(scene)?;
         let tests = GraspTests::new(scene, mesh, &part, &arms, axes.p_init);
         grasp_sets(scene, &slab, &sites, &axes.candidates, &tests, &axes.p_init)?
     };
@@ -394,11 +412,11 @@ pub fn plan_auto(
     if sets.is_empty() {
         let reason = if sites.is_empty() {
             format!(
-                "no graspable bar: nowhere on the part (height {:.0} mm) can a 2F-85 close across \
-                 {:.0}–{:.0} mm of material with room for the open fingers on both sides",
+                "no graspable bar: nowhere on the part (height {:.0} mm) can the grippers close \
+                 across {:.0}–{:.0} mm of material with room for the open fingers on both sides",
                 slab.height() * 1e3,
                 bars::MIN_BAR_WIDTH * 1e3,
-                bars::MAX_BAR_WIDTH * 1e3,
+                hand.max_bar_width() * 1e3,
             )
         } else {
             format!(
