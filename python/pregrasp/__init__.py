@@ -15,6 +15,12 @@ In a cell, :class:`Replanner` replans a plan each time the part is measured agai
 >>> cell = pregrasp.Replanner(scene, plan)
 >>> again = cell.replan(measured_pose)      # 4x4, brought onto the table first
 
+Before the robot moves, :func:`simulate` replays a plan in MuJoCo (two Robotiq 2F-85 grippers, the part a
+free body on the table, then a lift; ``pip install "pregrasp[sim]"``):
+
+>>> result = pregrasp.simulate("plan.json", lift=0.05)
+>>> result.verdict.passed, result.lift.rise_mm, [s.name for s in result.segments]
+
 Errors: :class:`SceneError` (a scene or its mesh cannot be used), :class:`PlanFileError`
 (a plan file cannot be read or written); both derive from :class:`PregraspError` and carry the
 CLI's message, which names the file and the key.
@@ -40,6 +46,7 @@ from ._pregrasp import (
     default_robots,
 )
 from . import batch, kin
+from .sim import SimResult, SimulationError, simulate
 
 __all__ = [
     "Plan",
@@ -51,6 +58,8 @@ __all__ = [
     "Scene",
     "SceneError",
     "Segment",
+    "SimResult",
+    "SimulationError",
     "__version__",
     "axes",
     "batch",
@@ -58,6 +67,7 @@ __all__ = [
     "default_robots",
     "kin",
     "plan",
+    "simulate",
     "write_examples",
 ]
 

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The whole-plan replay (plan_replay.py) as a sweep over a directory of scenes: each scene is planned with the
 pregrasp binary (`pregrasp plan`), plans 0 and 1 (when present) are replayed with the power grasps at one force
-(default 235 N), and every row gets its verdict (plan_verdict.py). A scene that plans nothing is a row too, verdict
-"no plan".
+(default 235 N), and every row gets its verdict (python/pregrasp/sim/verdict.py). A scene that plans nothing is a
+row too, verdict "no plan".
 
     cargo build --release -p pregrasp
     target/release/pregrasp example generate parts --per-family 5 --first-seed 1
