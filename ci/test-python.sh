@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The Python package's tests: a fresh virtual environment under target/, the package installed
-# the way the README tells users (`pip install ./python`: maturin builds the abi3 wheel), its
-# test dependencies (pytest, Ray for the cluster backend), then pytest against the CLI binary
+# the way the README tells users (`pip install "./python[sim]"`: maturin builds the abi3 wheel, the
+# `sim` extra adds MuJoCo for pregrasp.simulate), its test dependencies (pytest, Ray for the cluster
+# backend), then pytest against the CLI binary
 # that `cargo test --workspace` built (the byte-for-byte comparison).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,7 +13,7 @@ rm -rf "$venv"
 "$python" -m venv "$venv"
 "$venv/bin/pip" install --quiet --upgrade pip
 "$venv/bin/pip" install --quiet pytest "ray>=2.9"
-"$venv/bin/pip" install --quiet ./python
+"$venv/bin/pip" install --quiet "./python[sim]"
 # The binary `cargo test --workspace` built (a plain `cargo build -p pregrasp` would resolve other
 # features and rebuild the dependencies).
 [ -x "$target/debug/pregrasp" ] || cargo build --workspace --quiet

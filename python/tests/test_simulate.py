@@ -1,0 +1,95 @@
+"""pregrasp.simulate: the chair example planned, written and replayed in MuJoCo (the `sim` extra); bad input."""
+
+import json
+import pathlib
+import time
+
+import pytest
+
+import pregrasp
+
+SEGMENTS = ["sup1", "rot", "mas1", "sup2"]
+
+
+@pytest.fixture(scope="module")
+def chair(tmp_path_factory):
+    """The chair example's plan file (planned here, as a user would) and its replay at the plan's own forces."""
+    pytest.importorskip("mujoco", reason='the sim extra: pip install "./python[sim]"')
+    folder = tmp_path_factory.mktemp("sim")
+    scene = pregrasp.write_examples(folder / "examples", only="chair_side")[0]
+    path = folder / "chair_side.json"
+    pregrasp.plan(scene).write(str(path))
+    t0 = time.time()
+    result = pregrasp.simulate(path, lift=0.05)
+    print(f"simulate chair_side plan 0: {time.time() - t0:.1f} s wall, {result.sim_seconds:.1f} s simulated")
+    return path, json.loads(path.read_text()), result
+
+
+def test_every_segment_in_order(chair):
+    _, doc, r = chair
+    plan = doc["plans"][0]
+    assert [s.name for s in r.segments] == SEGMENTS
+    assert [s.robot for s in r.segments] == [s["robot"] for s in plan["segments"]]
+    assert (r.master, r.supportive, r.candidate) == (plan["master"], plan["supportive"], plan["candidate"])
+    assert r.segment("rot").closing is None
+    for name in ("sup1", "mas1", "sup2"):
+        c = r.segment(name).closing
+        # each closing at its segment's own grip_force (20 N pinch, 235 N power grasps)
+        assert c.force == next(s["grip_force"] for s in plan["segments"] if s["name"] == name)
+        assert c.force_from == "segment grip_force"
+        assert c.arm == ("master" if name == "mas1" else "supportive")
+    pinch = r.segment("sup1").closing
+    assert pinch.kind == "both_sides"
+    assert all(abs(f - 20.0) < 1.0 for f in pinch.pad_force)  # the pinch squeezes at its force
+    # rot turns the part as planned, on the table
+    rot = r.segment("rot")
+    assert abs(rot.turned_deg - rot.details["turn_plan_deg"]) < 1.0
+    assert rot.details["edge_lift_max"] < 0.003
+    assert r.sim_seconds > 15.0
+
+
+def test_the_part_is_lifted(chair):
+    _, _, r = chair
+    assert r.lift.lift_mm == pytest.approx(50.0)
+    assert r.lift.rise_mm >= 45.0, r.summary()
+    assert r.lift.tilt_deg < 5.0, r.summary()
+    assert not r.lift.on_table
+    # the verdict names what failed, with numbers
+    assert r.verdict.passed == (not r.verdict.failures) == r.record["carried"]
+    assert [f.criterion for f in r.verdict.failures] == r.record["failures"]
+    assert all("mm" in f.message or "deg" in f.message or "grasp" in f.message for f in r.verdict.failures)
+    assert "part rose" in r.summary()
+
+
+def test_carried_at_the_pinch_force(chair):
+    """At 20 N for the power grasps the truth table (plan_replay_2f85.csv) has chair plan 0 carried."""
+    path, _, _ = chair
+    r = pregrasp.simulate(path, power_force=20.0)
+    assert [s.closing.force_from for s in r.segments if s.closing] == ["segment grip_force", "argument", "argument"]
+    assert r.verdict.passed, r.summary()
+    assert r.lift.rise_mm >= 45.0 and r.lift.tilt_deg < 5.0
+
+
+def test_bad_input_names_the_file(tmp_path):
+    missing = tmp_path / "nowhere.json"
+    with pytest.raises(pregrasp.SimulationError, match="nowhere.json"):
+        pregrasp.simulate(missing)
+    empty = tmp_path / "no_plan.json"
+    empty.write_text(json.dumps({"format": "pregrasp.plan/1", "status": "no_plan", "reason": "no axis",
+                                 "plans": []}))
+    with pytest.raises(pregrasp.SimulationError, match=r"no_plan\.json: no plan to simulate"):
+        pregrasp.simulate(empty)
+    not_json = tmp_path / "broken.json"
+    not_json.write_text("{")
+    with pytest.raises(pregrasp.SimulationError, match="broken.json"):
+        pregrasp.simulate(not_json)
+    with pytest.raises(pregrasp.SimulationError, match="no plan 5"):
+        pregrasp.simulate({"plans": [{"segments": []}]}, plan_index=5)
+
+
+def test_the_model_ships_with_its_licence():
+    folder = pathlib.Path(pregrasp.__file__).parent / "_menagerie" / "robotiq_2f85"
+    assert "Redistribution and use" in (folder / "LICENSE").read_text()
+    assert "75df466bb0e39d8d7fa66b556513cfc676919924" in (folder / "PROVENANCE.md").read_text()
+    assert (folder / "2f85.xml").is_file()
+    assert len(list((folder / "assets").glob("*.stl"))) == 8
