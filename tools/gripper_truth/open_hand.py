@@ -11,7 +11,7 @@ the part at a plan's grasps? Checked with MuJoCo's collision engine, not with pr
 For every plan: four states of an open hand (the support pinch G_s at the end of sup1, part at P_init; the power
 grasps at the end of mas1 and of sup2, part at P_obj; the start of sup2's retreat, the opened pinch hand at P_obj),
 each also with the flange moved back 0-20 mm (0.5 mm steps) along the flange z (the approach / retreat line). The
-flange pose is the UR forward kinematics of the segment's joints (plan_replay.dh_fk). The gripper is Menagerie's
+flange pose is the UR forward kinematics of the segment's joints (pregrasp.sim.geometry.dh_fk). The gripper is Menagerie's
 2F-85 at its open pose (finger joints settled under the unmodified actuator at ctrl 0); the part is replay_part's
 convex decomposition of the plan's mesh. Depth = the deepest penetration of any gripper geom into any part piece
 (`mujoco.mj_geomDistance`, negative distance), cross-checked by the depth of the geom's vertices inside the part mesh
@@ -39,7 +39,8 @@ import trimesh
 from scipy.spatial import ConvexHull
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from plan_replay import DEFAULT_PREGRASP, DH, OUT_DIR, REPO_ROOT, dh_fk  # noqa: E402
+from plan_replay import DEFAULT_PREGRASP, OUT_DIR, REPO_ROOT  # noqa: E402
+from pregrasp_sim.geometry import DH, dh_fk  # noqa: E402
 from plan_sweep import EXIT_NO_PLAN, EXIT_PLANNED, git_commit, plan_scene, scene_mesh, sha256  # noqa: E402
 from replay import resolve_mesh  # noqa: E402
 from replay_part import decompose_coacd, decompose_extrusion  # noqa: E402
