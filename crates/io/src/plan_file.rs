@@ -165,6 +165,11 @@ pub struct GraspsJson {
     /// (Extension) How the grasps were found when the scene asked for `mode = "auto"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub auto: Option<AutoGraspsJson>,
+    /// (Extension) How far (m) each power grasp (`power[0]`, `power[1]`) was moved deeper
+    /// along its approach from the scene's, so the bar sits against the palm (0: as given);
+    /// absent when neither moved. `power` holds the moved grasps.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seated: Option<[f64; 2]>,
 }
 
 /// The grasp search of an auto scene (`[grasps] mode = "auto"`).

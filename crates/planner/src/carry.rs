@@ -15,6 +15,7 @@
 
 use std::fmt;
 
+use crate::hold_kind::hold_kind;
 use nalgebra::{Isometry3, Point3, Vector3};
 use pregrasp_collision::{pad_patches, CollisionWorld, Grip};
 use pregrasp_io::scene::Scene;
@@ -23,7 +24,6 @@ use pregrasp_physics::{
     min_carry_force, CarryOutcome, CarryProblem, HoldKind, PartMass, PhysicsSettings, PowerHold,
     GRAVITY,
 };
-use pregrasp_robot::ClosingKind;
 
 use crate::context::{Grips, PlanningContext};
 
@@ -222,18 +222,4 @@ fn hold_in_object(
         patch_half_extent,
         closing: hold_kind(&grip.kinds),
     })
-}
-
-/// How a closing holds: one-sided if a finger closed on nothing, caged if a finger's tips met
-/// the other's, encompassing if a finger wrapped the bar, else a pinch.
-fn hold_kind(kinds: &[ClosingKind; 2]) -> HoldKind {
-    if kinds.contains(&ClosingKind::Closed) {
-        HoldKind::OneSided
-    } else if kinds.contains(&ClosingKind::Caged) {
-        HoldKind::Caged
-    } else if kinds.contains(&ClosingKind::Encompassing) {
-        HoldKind::Encompassing
-    } else {
-        HoldKind::Pinch
-    }
 }

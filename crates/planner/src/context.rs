@@ -108,10 +108,20 @@ impl std::fmt::Debug for PartKnowledge {
 impl PartKnowledge {
     /// The part's geometry and closings for `scene` on `mesh` (as a planning context builds
     /// them).
+    /// The power grasps are the seated ones ([`crate::seat`]), as the pipeline plans with.
     pub fn new(scene: &Scene, mesh: &Mesh) -> Result<PartKnowledge, PlanError> {
-        let ctx = PlanningContext::new(scene, mesh)?;
+        let part =
+            Arc::new(pregrasp_collision::ObjectGeometry::new(mesh).map_err(PlanError::Mesh)?);
+        let seated = crate::seat::seated_scene(scene, &part, &arm_models(scene)?);
+        let scene = seated.as_ref().map_or(scene, |(s, _)| s);
+        let ctx = PlanningContext::with_part(scene, mesh, None, Some(part))?;
         let hull = ConvexHull::of_mesh(mesh).ok().map(Arc::new);
         Ok(PartKnowledge::of(&ctx, hull))
+    }
+
+    /// The part's collision geometry (object frame).
+    pub fn part(&self) -> Arc<pregrasp_collision::ObjectGeometry> {
+        self.part.clone()
     }
 
     /// What `ctx` built, and `hull`, the convex hull of its mesh.
@@ -190,6 +200,17 @@ impl<'a> PlanningContext<'a> {
         mesh: &'a Mesh,
         known: Option<&PartKnowledge>,
     ) -> Result<Self, PlanError> {
+        PlanningContext::with_part(scene, mesh, known, None)
+    }
+
+    /// [`PlanningContext::with_knowledge`], with the part's collision geometry `part` (built
+    /// from `mesh`) when `known` does not fit.
+    pub fn with_part(
+        scene: &'a Scene,
+        mesh: &'a Mesh,
+        known: Option<&PartKnowledge>,
+        part: Option<Arc<pregrasp_collision::ObjectGeometry>>,
+    ) -> Result<Self, PlanError> {
         let arms = arm_models(scene)?;
         let spaces = [
             pregrasp_collision::joint_space(&arms[0]),
@@ -197,11 +218,14 @@ impl<'a> PlanningContext<'a> {
         ];
         let params = &scene.planner;
         let known = known.filter(|k| k.fits(scene, mesh));
-        let world = match known {
-            Some(k) => {
+        let world = match (known, part) {
+            (Some(k), _) => {
                 CollisionWorld::with_part(Some(scene.support_height), Some(k.part.clone()), arms)
             }
-            None => CollisionWorld::try_new(Some(scene.support_height), Some(mesh), arms)
+            (None, Some(part)) => {
+                CollisionWorld::with_part(Some(scene.support_height), Some(part), arms)
+            }
+            (None, None) => CollisionWorld::try_new(Some(scene.support_height), Some(mesh), arms)
                 .map_err(PlanError::Mesh)?,
         }
         .with_margin(params.link_clearance + PLANNING_MARGIN)

@@ -8,6 +8,7 @@
 //! - [`check`]: the plan-file validity rules, re-verified with our own models;
 //! - [`hold`]: will the pinch hold the part during `μ_rot` (quasi-static grip force check);
 //! - [`carry`]: will the power grasps carry the part once it is lifted off the table;
+//! - [`seat`]: power grasps moved onto the palm, so the closing does not pull the part;
 //! - [`pipeline`]: all of it, candidates in parallel, deterministic for any thread count;
 //! - [`replan`]: the same plan for a part measured at another pose (issue 16);
 //! - [`settle`]: a measured pose brought onto the support (the part lies on the table);
@@ -25,6 +26,7 @@ pub mod context;
 pub mod dummies;
 pub mod error;
 pub mod hold;
+pub mod hold_kind;
 mod no_plan;
 mod outcome;
 pub mod output;
@@ -39,6 +41,7 @@ pub mod replan;
 pub mod resume;
 pub mod robustness;
 pub mod rotate;
+pub mod seat;
 pub mod settle;
 pub mod timing;
 

@@ -130,6 +130,7 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
             ],
             support: PoseJson::from(&scene.grasps.support),
             auto: None,
+            seated: None,
         },
         candidates: Vec::new(),
         plans: Vec::new(),

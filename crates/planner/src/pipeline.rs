@@ -138,7 +138,17 @@ pub fn plan(
     let t_axes = t0.elapsed();
 
     let t_ctx = Instant::now();
-    let mut ctx = PlanningContext::with_knowledge(scene, mesh, options.known.as_deref())?;
+    // The power grasps seated on the palm (`seat`): the plan is made with them.
+    let known = options.known.as_deref().filter(|k| k.fits_mesh(mesh));
+    let part = match known {
+        Some(k) => k.part(),
+        None => std::sync::Arc::new(
+            pregrasp_collision::ObjectGeometry::new(mesh).map_err(PlanError::Mesh)?,
+        ),
+    };
+    let seated = crate::seat::seated_scene(scene, &part, &crate::context::arm_models(scene)?);
+    let scene = seated.as_ref().map_or(scene, |(s, _)| s);
+    let mut ctx = PlanningContext::with_part(scene, mesh, options.known.as_deref(), Some(part))?;
     let t_grips = t_ctx.elapsed();
     ctx.fixed_rot_start = options.fixed_rot_start;
     let ctx = ctx;
@@ -168,6 +178,7 @@ pub fn plan(
     let t2 = Instant::now();
     let header = {
         let mut h = plan_file_header(scene, PlanStatus::Planned, None);
+        h.grasps.seated = seated.as_ref().map(|(_, moved)| *moved);
         h.candidates = candidates
             .iter()
             .map(RotationAxisCandidate::to_json)

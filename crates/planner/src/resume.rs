@@ -94,6 +94,11 @@ pub fn replan_remaining(
     from: Resume,
 ) -> Result<Replanned, ResumeError> {
     let ran = RanPlan::new(nominal, plan_index)?;
+    // The power grasps the nominal plan was made with (seated on the palm where the planner
+    // moved them, `crate::seat`).
+    let mut planned = scene.clone();
+    planned.grasps.power = nominal.grasps.power.each_ref().map(PoseJson::to_isometry);
+    let scene = &planned;
     let plan = ran.plan;
     let (sup1, rot, mas1) = (
         ran.segment(SegmentName::Sup1)?,
@@ -235,6 +240,7 @@ pub fn replan_remaining(
 
     let mut header = plan_file_header(&moved, PlanStatus::Planned, None);
     header.candidates = nominal.candidates.clone();
+    header.grasps.seated = nominal.grasps.seated;
     let no_plan = |mut header: PlanFile, failure: ResumeFailure| {
         header.status = PlanStatus::NoPlan;
         header.reason = Some(format!("replan --from {}: {failure}", from.segment()));

@@ -197,9 +197,11 @@ fn a_power_grasp_with_an_open_finger_in_material_is_rejected_naming_link_and_dep
 fn a_power_grasp_whose_open_palm_merely_touches_material_is_accepted() {
     for name in ["chair_side", "shelf_side", "stool_side"] {
         let (file, mesh) = example(name);
-        // A bump on the bar's face beside the palm, 0.3 mm into the palm's top (z = 0.101),
-        // clear of the fingers (|y| ≥ 20 mm).
-        let (lo, hi) = (P::new(-0.040, 0.020, 0.1007), P::new(-0.030, 0.035, 0.104));
+        // A bump beside the palm, 0.3 mm into the palm's top (z = 0.101), clear of the fingers
+        // (|y| ≥ 20 mm) and of where the open pads come down (|x| ≥ 42.5 mm) by more than the
+        // link clearance; 1 mm thick: it reaches the bar's face where the grasp is seated (the
+        // stool's) and floats just above it where not.
+        let (lo, hi) = (P::new(-0.030, 0.020, 0.1007), P::new(-0.024, 0.035, 0.1017));
         let (link, depth) = deepest_in_block(&lo, &hi);
         assert_eq!(link, "gripper_body", "{name}");
         assert!((depth - 0.0003).abs() < 1e-6, "{name}: {depth}");

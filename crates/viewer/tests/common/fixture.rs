@@ -160,6 +160,7 @@ fn base_file(mesh_path: &str) -> PlanFile {
             power: [PoseJson::from(&grasp(-0.2)), PoseJson::from(&grasp(0.2))],
             support: PoseJson::from(&grasp(0.1)),
             auto: None,
+            seated: None,
         },
         candidates: candidates(),
         plans: Vec::new(),

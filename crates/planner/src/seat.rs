@@ -1,0 +1,189 @@
+//! Power grasps seated on the palm (issue 48, closings that do not push).
+//!
+//! A 2F-85 power grasp wraps the bar: once its fingers touch the bar's top corners, their tips
+//! curl under it and pull it towards the palm until it rests there. A bar that the scene's
+//! grasp holds a few millimetres below the palm is therefore pulled up by that gap while the
+//! other gripper still pinches the part — the master's closing shoves the pinched part (the
+//! whole-plan replay measured 3–8 mm on bars held 4–5 mm below the palm, along the approach
+//! axis, and under 2 mm once the bar sat on the palm: `docs/physics.md`, "Closings that do not
+//! push").
+//!
+//! [`seat_power_grasps`] moves each power grasp deeper along its approach (the gripper frame's
+//! `z`, pointing from the palm to the fingertips) until the palm is [`SEAT_GAP`] from the part
+//! as it rests on the support — the planned part is `lift` higher (P_init), so the planned
+//! palm ends `lift · cos(approach, down) − SEAT_GAP` inside it, at most [`SEAT_DEPTH`] —
+//! when all of these hold:
+//! - the gripper is the 2F-85 (jaws translate; they pull nothing);
+//! - the bar is at least [`MIN_SEAT_THICKNESS`] thick along the approach through the grasp
+//!   ([`thickness_at`]);
+//! - the palm (the gripper's static shapes) is more than [`SEAT_TOLERANCE`] and at most
+//!   [`SEAT_REACH`] from the part along the approach (the time of impact of the palm's boxes
+//!   moved along `z`, `parry3d::query::cast_shapes`);
+//! - the closing at the scene's grasp wraps the bar ([`HoldKind::Encompassing`]): a pinch of
+//!   the pads pulls nothing, and fingertips that meet under a thin bar stop the pull;
+//! - the closing at the seated grasp still squeezes the bar from both sides (a pinch or an
+//!   encompassing grasp, not caged or one-sided) and starts from a free open hand; where it
+//!   would not, the grasp is seated against the part as planned ([`SEAT_GAP`] from it) if the
+//!   closing squeezes there.
+//!
+//! Frames: grasps in the object frame; the flange at `grasp · point⁻¹` (the arm's power point);
+//! the part's mesh in the object frame. The move is `grasp · Translation(0, 0, d)`.
+
+use nalgebra::{Isometry3, Translation3, Vector3};
+use parry3d_f64::query::{cast_shapes, Ray, RayCast, ShapeCastOptions};
+use parry3d_f64::shape::Cuboid;
+use pregrasp_collision::{close_on_part, ArmModel, ObjectGeometry};
+use pregrasp_physics::HoldKind;
+use pregrasp_robot::{GripperState, Primitive};
+
+use crate::hold_kind::hold_kind;
+
+/// Gap (m) left between the palm and the part as it rests on the support once a grasp is
+/// seated: touching, with room for the mesh's and the arm's tolerances.
+pub const SEAT_GAP: f64 = 0.0005;
+/// Deepest (m) a seated palm may lie in the part as planned: the planner plans the part
+/// `[planner] lift` above the support (P_init), so where the part really rests the palm is
+/// that much farther from it; rule 2 of the plan format lets a gripper touch the part it
+/// holds up to 0.5 mm deep.
+pub const SEAT_DEPTH: f64 = 0.0004;
+/// A palm at most this far (m) from the part is seated already.
+pub const SEAT_TOLERANCE: f64 = 0.0015;
+/// Farthest (m) a grasp is moved: a palm farther from the part holds a bar by the pads.
+pub const SEAT_REACH: f64 = 0.025;
+/// Thinnest bar (m, its material along the approach through the grasp) that is seated: under
+/// a thinner bar against the palm the curling fingertips meet each other (caged) or close on
+/// one side. Whole-plan replay of the generated parts with every wrapped bar seated
+/// (`plan_replay_generated_seat_all_2f85.csv`): bars 18–22 mm thick ended caged or one-sided
+/// (4 of 4), bars 25–44 mm thick squeezed from both sides (every one).
+pub const MIN_SEAT_THICKNESS: f64 = 0.024;
+
+/// The power grasps after seating, and how far each moved along its approach (m; 0: kept).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SeatedGrasps {
+    pub power: [Isometry3<f64>; 2],
+    pub moved: [f64; 2],
+}
+
+/// How far (m) the palm of `arm`'s gripper, the flange at `flange` (object frame), may move
+/// along its approach before it touches the part: `None` beyond [`SEAT_REACH`].
+fn palm_gap(object: &ObjectGeometry, arm: &ArmModel, flange: &Isometry3<f64>) -> Option<f64> {
+    let gripper = &arm.gripper;
+    let statics = gripper.static_count();
+    let direction = flange.rotation * Vector3::z();
+    let part_pose = Isometry3::identity();
+    let mut nearest: Option<f64> = None;
+    gripper.for_each_shape(GripperState::Open, |k, _, primitive| {
+        let Primitive::Cuboid { pose, half_extents } = primitive else {
+            return;
+        };
+        if k >= statics {
+            return;
+        }
+        let hit = cast_shapes(
+            &(flange * pose),
+            &direction,
+            &Cuboid::new(half_extents),
+            &part_pose,
+            &Vector3::zeros(),
+            object.trimesh(),
+            ShapeCastOptions::with_max_time_of_impact(SEAT_REACH),
+        );
+        if let Ok(Some(hit)) = hit {
+            nearest = Some(nearest.map_or(hit.time_of_impact, |n| n.min(hit.time_of_impact)));
+        }
+    });
+    nearest
+}
+
+/// How much material (m) the line through `grasp`'s origin along its approach (`z`) crosses
+/// from where it enters the part to where it leaves it again: the bar's thickness there.
+/// `None` if the line misses the part within 0.5 m of the grasp.
+pub fn thickness_at(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f64> {
+    let direction = grasp.rotation * Vector3::z();
+    let start = grasp * nalgebra::Point3::new(0.0, 0.0, -0.25);
+    let mesh = object.trimesh();
+    let entry = mesh.cast_local_ray(&Ray::new(start, direction), 0.5, false)?;
+    let inside = start + direction * (entry + 1e-6);
+    let exit = mesh.cast_local_ray(&Ray::new(inside, direction), 0.5, false)?;
+    Some(exit + 1e-6)
+}
+
+/// The kind of `arm`'s closing with its flange at `flange`, if it closes on the part.
+fn closing(object: &ObjectGeometry, arm: &ArmModel, flange: &Isometry3<f64>) -> Option<HoldKind> {
+    close_on_part(object, &arm.gripper, flange)
+        .ok()
+        .map(|grip| hold_kind(&grip.kinds))
+}
+
+/// The scene's power grasps `power` (object frame) seated on the palm where that stops the
+/// closing from pulling the part (see the module documentation).
+///
+/// `rest`: how far (m) the part as it rests lies from the planned part along each grasp's
+/// approach (`lift` times the cosine between the approach at P_init and the world's down).
+pub fn seat_power_grasps(
+    object: &ObjectGeometry,
+    arms: &[ArmModel; 2],
+    power: &[Isometry3<f64>; 2],
+    rest: [f64; 2],
+) -> SeatedGrasps {
+    let seat = |k: usize| -> (Isometry3<f64>, f64) {
+        let arm = &arms[k];
+        let grasp = power[k];
+        if arm.gripper.robotiq().is_none() {
+            return (grasp, 0.0);
+        }
+        let point = arm.gripper.power_point();
+        let flange = grasp * point.inverse();
+        let Some(gap) = palm_gap(object, arm, &flange) else {
+            return (grasp, 0.0);
+        };
+        let thick = thickness_at(object, &grasp).is_some_and(|t| t >= MIN_SEAT_THICKNESS);
+        if gap <= SEAT_TOLERANCE
+            || !thick
+            || closing(object, arm, &flange) != Some(HoldKind::Encompassing)
+        {
+            return (grasp, 0.0);
+        }
+        // Seated against the part as it rests, else against the part as planned.
+        let deepest = gap + (rest[k] - SEAT_GAP).clamp(-SEAT_GAP, SEAT_DEPTH);
+        // Rounded down to 0.01 mm: the time of impact converges to within ~1e-7 m, which a
+        // finer tessellation of the same part moves; the plan must not (same part, same plan).
+        let round = |m: f64| (m * 1e5).floor() / 1e5;
+        for moved in [round(deepest), round(gap - SEAT_GAP)] {
+            let seated = grasp * Translation3::new(0.0, 0.0, moved);
+            let squeezes = matches!(
+                closing(object, arm, &(seated * point.inverse())),
+                Some(HoldKind::Encompassing | HoldKind::Pinch)
+            );
+            if squeezes {
+                return (seated, moved);
+            }
+        }
+        (grasp, 0.0)
+    };
+    let (a, b) = rayon::join(|| seat(0), || seat(1));
+    SeatedGrasps {
+        power: [a.0, b.0],
+        moved: [a.1, b.1],
+    }
+}
+
+/// `scene` with its power grasps seated ([`seat_power_grasps`]) on `part`, and how far each
+/// moved; `None` when none moved.
+pub fn seated_scene(
+    scene: &pregrasp_io::scene::Scene,
+    part: &ObjectGeometry,
+    arms: &[ArmModel; 2],
+) -> Option<(pregrasp_io::scene::Scene, [f64; 2])> {
+    let p_init = scene.initial_object_pose();
+    let rest = scene.grasps.power.each_ref().map(|g| {
+        let approach = (p_init * g).rotation * Vector3::z();
+        scene.planner.lift * (-approach.z).max(0.0)
+    });
+    let seated = seat_power_grasps(part, arms, &scene.grasps.power, rest);
+    (seated.moved != [0.0; 2]).then(|| {
+        let mut s = scene.clone();
+        s.grasps.power = seated.power;
+        (s, seated.moved)
+    })
+}

@@ -1,0 +1,164 @@
+//! Power grasps seated on the palm (issue 48, closings that do not push): where the scene's
+//! power grasp holds a bar the closing wraps a few millimetres below the palm, the planner
+//! moves it deeper until the palm is 0.5 mm from the part; a closing that does not wrap, or
+//! would not squeeze once moved, keeps the scene's grasp. The palm's distance is measured here
+//! with parry's distance query, not the time of impact the planner uses.
+
+use std::path::Path;
+
+use nalgebra::{Isometry3, Translation3};
+use parry3d_f64::query::distance;
+use parry3d_f64::shape::Cuboid;
+use pregrasp_collision::{close_on_part, ObjectGeometry};
+use pregrasp_examples::generated::generated_scene;
+use pregrasp_examples::parts::families::{generate, Family};
+use pregrasp_io::scene::Scene;
+use pregrasp_planner::context::arm_models;
+use pregrasp_planner::pipeline::PlanOptions;
+use pregrasp_planner::seat::{
+    seat_power_grasps, seated_scene, thickness_at, MIN_SEAT_THICKNESS, SEAT_DEPTH, SEAT_GAP,
+    SEAT_TOLERANCE,
+};
+use pregrasp_robot::{ClosingKind, GripperState, Primitive};
+
+/// The smallest distance (m) from the palm (the gripper's static boxes) of `arm`'s 2F-85,
+/// its flange at `flange` (object frame), to the part.
+fn palm_distance(
+    part: &ObjectGeometry,
+    gripper: &pregrasp_robot::Gripper,
+    flange: &Isometry3<f64>,
+) -> f64 {
+    let statics = gripper.static_count();
+    let mut nearest = f64::INFINITY;
+    gripper.for_each_shape(GripperState::Open, |k, _, primitive| {
+        if let (true, Primitive::Cuboid { pose, half_extents }) = (k < statics, primitive) {
+            let d = distance(
+                &(flange * pose),
+                &Cuboid::new(half_extents),
+                &Isometry3::identity(),
+                part.trimesh(),
+            )
+            .unwrap();
+            nearest = nearest.min(d);
+        }
+    });
+    nearest
+}
+
+fn example(name: &str) -> (Scene, pregrasp_geometry::Mesh) {
+    let ex = pregrasp_examples::by_name(name).unwrap();
+    let scene = Scene::from_str(&ex.scene_toml, Path::new(&format!("{name}.toml"))).unwrap();
+    (scene, ex.mesh)
+}
+
+#[test]
+fn a_wrapped_bar_below_the_palm_is_seated_and_still_squeezed() {
+    let mut seated_any = 0;
+    for name in ["chair_side", "stool_side"] {
+        let (scene, mesh) = example(name);
+        let part = ObjectGeometry::new(&mesh).unwrap();
+        let arms = arm_models(&scene).unwrap();
+        let seated = seat_power_grasps(&part, &arms, &scene.grasps.power, [0.0; 2]);
+        for (k, arm) in arms.iter().enumerate() {
+            let gripper = &arm.gripper;
+            let point = gripper.power_point();
+            let before = palm_distance(&part, gripper, &(scene.grasps.power[k] * point.inverse()));
+            let after = palm_distance(&part, gripper, &(seated.power[k] * point.inverse()));
+            if seated.moved[k] == 0.0 {
+                assert_eq!(seated.power[k], scene.grasps.power[k]);
+                continue;
+            }
+            seated_any += 1;
+            // Moved along its own approach by what the palm lacked, less the gap left.
+            let expected = scene.grasps.power[k] * Translation3::new(0.0, 0.0, seated.moved[k]);
+            assert!(
+                (seated.power[k].translation.vector - expected.translation.vector).norm() < 1e-12
+            );
+            assert!(
+                before > SEAT_TOLERANCE,
+                "{name} power[{k}]: palm {before} m away before"
+            );
+            assert!(
+                (before - seated.moved[k] - SEAT_GAP).abs() < 1e-4,
+                "{name}: {before} {seated:?}"
+            );
+            assert!(
+                (after - SEAT_GAP).abs() < 1e-4,
+                "{name} power[{k}]: palm {after} m away after"
+            );
+            // The seated closing still squeezes from both sides: no finger closed on nothing
+            // or on the other's tips.
+            let grip = close_on_part(&part, gripper, &(seated.power[k] * point.inverse())).unwrap();
+            assert!(
+                grip.kinds
+                    .iter()
+                    .all(|k| !matches!(k, ClosingKind::Closed | ClosingKind::Caged)),
+                "{name}: {:?}",
+                grip.kinds
+            );
+        }
+    }
+    assert!(
+        seated_any > 0,
+        "the examples hold wrapped bars 4–5 mm below the palm"
+    );
+}
+
+#[test]
+fn caged_closings_keep_the_scenes_grasps_and_the_plan_file_says_what_moved() {
+    // The shelf side's power closings end caged (tips on each other): nothing is seated.
+    let (scene, mesh) = example("shelf_side");
+    let part = ObjectGeometry::new(&mesh).unwrap();
+    let seated = seat_power_grasps(
+        &part,
+        &arm_models(&scene).unwrap(),
+        &scene.grasps.power,
+        [0.0; 2],
+    );
+    assert_eq!(seated.moved, [0.0, 0.0]);
+    assert_eq!(seated.power, scene.grasps.power);
+    // The chair's plan is made with the seated grasps (seated against the part as it rests,
+    // `lift` below the planned part) and says how far they moved.
+    let (scene, mesh) = example("chair_side");
+    let part = ObjectGeometry::new(&mesh).unwrap();
+    let (seated, moved) = seated_scene(&scene, &part, &arm_models(&scene).unwrap()).unwrap();
+    let file =
+        pregrasp_planner::plan_scene(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
+            .unwrap()
+            .file;
+    assert_eq!(file.grasps.seated, Some(moved));
+    let model = file.to_model().unwrap();
+    assert_eq!(model.grasps.power, seated.grasps.power);
+    // Seated deeper than against the planned part by the lift (the approach is vertical at
+    // P_init), less the gap left, at most SEAT_DEPTH into the planned part.
+    let against_plan = seat_power_grasps(
+        &part,
+        &arm_models(&scene).unwrap(),
+        &scene.grasps.power,
+        [0.0; 2],
+    );
+    for (moved, plain) in moved.iter().zip(against_plan.moved) {
+        if *moved > 0.0 {
+            let extra = moved - plain;
+            let expected = (scene.planner.lift - SEAT_GAP).min(SEAT_DEPTH) + SEAT_GAP;
+            assert!((extra - expected).abs() < 1e-9, "{extra} {expected}");
+        }
+    }
+}
+
+#[test]
+fn thin_bars_are_not_seated_and_the_thickness_is_the_bars() {
+    // The generated frame of 18 mm stock wraps its bars but is not seated (its fingertips
+    // would meet under it); the chair's 25 mm rail is.
+    let part = generate(Family::Frame, 2);
+    assert!(part.thickness < MIN_SEAT_THICKNESS, "{}", part.thickness);
+    let generated = generated_scene(&part);
+    let scene = Scene::from_str(&generated.scene_toml, Path::new("frame_2.toml")).unwrap();
+    let object = ObjectGeometry::new(&generated.mesh).unwrap();
+    let arms = arm_models(&scene).unwrap();
+    for g in &scene.grasps.power {
+        let t = thickness_at(&object, g).unwrap();
+        assert!((t - part.thickness).abs() < 1e-6, "{t} {}", part.thickness);
+    }
+    assert!(seated_scene(&scene, &object, &arms).is_none());
+}
