@@ -82,3 +82,42 @@ fn one_family_only_and_an_unknown_family_is_bad_input() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown family"));
     assert!(!other.path().join("x").exists(), "nothing written");
 }
+
+#[test]
+fn hard_families_by_flag_or_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    generate(
+        dir.path(),
+        &["--per-family", "1", "--first-seed", "2", "--hard"],
+    );
+    let names: Vec<String> = files(dir.path()).into_iter().map(|(n, _)| n).collect();
+    assert_eq!(names.len(), 12, "six scenes and six meshes: {names:?}");
+    for family in [
+        "t_junction",
+        "l_corner",
+        "hand_hole",
+        "parallel_bars",
+        "chamfered",
+        "thin_rungs",
+    ] {
+        assert!(names.contains(&format!("{family}_2.toml")), "{names:?}");
+    }
+    let one = tempfile::tempdir().unwrap();
+    generate(
+        one.path(),
+        &[
+            "--per-family",
+            "1",
+            "--first-seed",
+            "2",
+            "--family",
+            "chamfered",
+        ],
+    );
+    let by_name = files(one.path());
+    assert_eq!(by_name.len(), 2);
+    assert!(
+        files(dir.path()).contains(&by_name[0]),
+        "same part, same bytes"
+    );
+}

@@ -14,6 +14,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::parts::families::{generate, Family, GeneratedPart, FAMILIES};
+use crate::parts::hard::HARD_FAMILIES;
 use crate::scene::{scene_toml, SceneLayout};
 use crate::{mesh_relative_path, Mesh, WriteError};
 
@@ -30,9 +31,14 @@ pub struct GeneratedScene {
 }
 
 impl Family {
-    /// The family called `name` (its [`Family::name`], e.g. `"u_frame"`).
+    /// The family called `name` (its [`Family::name`], e.g. `"u_frame"` or the hard family
+    /// `"t_junction"`).
     pub fn from_name(name: &str) -> Option<Family> {
-        FAMILIES.iter().copied().find(|f| f.name() == name)
+        FAMILIES
+            .iter()
+            .chain(&HARD_FAMILIES)
+            .copied()
+            .find(|f| f.name() == name)
     }
 }
 
@@ -41,17 +47,33 @@ pub fn stem(part: &GeneratedPart) -> String {
     format!("{}_{}", part.family.name(), part.seed)
 }
 
-/// `per_family` parts (seeds `first_seed`, `first_seed + 1`, …) of every family, or of the
-/// family called `family` only. `Err` names the unknown family and lists the known ones.
+/// `per_family` parts (seeds `first_seed`, `first_seed + 1`, …) of every family of
+/// [`FAMILIES`], or of the family called `family` only (a family of [`FAMILIES`] or of
+/// [`HARD_FAMILIES`]). `Err` names the unknown family and lists the known ones.
 pub fn select(
     first_seed: u64,
     per_family: usize,
     family: Option<&str>,
 ) -> Result<Vec<GeneratedPart>, String> {
+    select_from(&FAMILIES, first_seed, per_family, family)
+}
+
+/// [`select`] among `families` when no `family` is named (e.g. [`HARD_FAMILIES`] for
+/// `pregrasp example generate --hard`); a named family may be any.
+pub fn select_from(
+    families: &[Family],
+    first_seed: u64,
+    per_family: usize,
+    family: Option<&str>,
+) -> Result<Vec<GeneratedPart>, String> {
     let families: Vec<Family> = match family {
-        None => FAMILIES.to_vec(),
+        None => families.to_vec(),
         Some(name) => vec![Family::from_name(name).ok_or_else(|| {
-            let known: Vec<&str> = FAMILIES.iter().map(|f| f.name()).collect();
+            let known: Vec<&str> = FAMILIES
+                .iter()
+                .chain(&HARD_FAMILIES)
+                .map(|f| f.name())
+                .collect();
             format!(
                 "unknown family \"{name}\" (expected one of {})",
                 known.join(", ")
@@ -117,13 +139,19 @@ mod tests {
 
     #[test]
     fn same_seed_same_bytes_and_every_family_by_name() {
-        for f in FAMILIES {
+        for f in FAMILIES.into_iter().chain(HARD_FAMILIES) {
             assert_eq!(Family::from_name(f.name()), Some(f));
         }
+        assert!(select(1, 1, Some("sofa"))
+            .unwrap_err()
+            .contains("thin_rungs"));
+        let hard = select_from(&HARD_FAMILIES, 2, 2, None).unwrap();
+        assert_eq!(hard.len(), 12);
+        assert_eq!(select(2, 2, Some("l_corner")).unwrap()[..], hard[2..4]);
         assert!(select(1, 1, Some("sofa")).unwrap_err().contains("u_frame"));
         let a = select(4, 2, None).unwrap();
         assert_eq!(a.len(), 12);
-        for part in &a {
+        for part in a.iter().chain(&hard) {
             let (x, y) = (generated_scene(part), generated_scene(part));
             assert_eq!(x.scene_toml, y.scene_toml);
             assert_eq!(

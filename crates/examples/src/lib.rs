@@ -31,6 +31,7 @@ pub use extrude::{extrude, try_extrude, ExtrudeError};
 pub use parts::bench_end::BenchEndParams;
 pub use parts::chair::{chair_side, ChairSideParams};
 pub use parts::families::{Family, GeneratedPart, FAMILIES};
+pub use parts::hard::HARD_FAMILIES;
 pub use parts::ladder::LadderParams;
 pub use parts::shelf::{shelf_side, ShelfSideParams};
 pub use parts::stool::{stool_side, StoolSideParams};

@@ -22,7 +22,8 @@ pub enum ExampleCommand {
         only: Option<String>,
     },
     /// Write generated parts (six families, drawn from seeds, hand-placed grasps by the
-    /// family's rule) into DIR: each part's scene `<family>_<seed>.toml` and mesh
+    /// family's rule; with `--hard` the six hard-case families, whose grasps have material
+    /// next to them) into DIR: each part's scene `<family>_<seed>.toml` and mesh
     /// `meshes/<family>_<seed>.stl` (binary STL), all files or none. Same seed, same bytes.
     Generate {
         /// Output directory (created if missing; existing files of the same names are
@@ -34,9 +35,15 @@ pub enum ExampleCommand {
         /// Seed of each family's first part; the next parts take the following seeds.
         #[arg(long, value_name = "S", default_value_t = 1)]
         first_seed: u64,
-        /// Only this family: frame, ladder, u_frame, panel, stool or h_frame (default: all).
+        /// Only this family: frame, ladder, u_frame, panel, stool or h_frame, or a hard one:
+        /// t_junction, l_corner, hand_hole, parallel_bars, chamfered or thin_rungs (default:
+        /// all of the six, or of the hard six with `--hard`).
         #[arg(long, value_name = "NAME")]
         family: Option<String>,
+        /// The hard-case families instead of the six (T-junctions, L-corners, hand holes,
+        /// parallel bars, chamfers and tapers, thin rungs next to the grasps).
+        #[arg(long, conflicts_with = "family")]
+        hard: bool,
     },
 }
 
@@ -76,10 +83,16 @@ pub fn run(command: ExampleCommand) -> anyhow::Result<ExitCode> {
             per_family,
             first_seed,
             family,
+            hard,
         } => {
-            use pregrasp_examples::generated::{generated_scene, select, write_generated};
-            let parts =
-                select(first_seed, per_family, family.as_deref()).map_err(anyhow::Error::msg)?;
+            use pregrasp_examples::generated::{generated_scene, select_from, write_generated};
+            let set = if hard {
+                &pregrasp_examples::HARD_FAMILIES
+            } else {
+                &pregrasp_examples::FAMILIES
+            };
+            let parts = select_from(set, first_seed, per_family, family.as_deref())
+                .map_err(anyhow::Error::msg)?;
             let scenes: Vec<_> = parts.iter().map(generated_scene).collect();
             for path in write_generated(&dir, &scenes)? {
                 println!("wrote {}", path.display());

@@ -13,6 +13,11 @@
 //! (the end bars, at 0.6 and 0.7 of the depth: one nearer the axis than the other), closing
 //! along `x`; the support pinch across the bar farthest from the axis, near its middle (the
 //! stool: its own rule).
+//!
+//! Six more families, the hard cases ([`crate::parts::hard`], [`HARD_FAMILIES`]), put material
+//! next to those grasps (T-junctions, L-corners, hand holes, parallel bars, chamfers and
+//! tapers, thin rungs); [`generate`] draws them too, but [`FAMILIES`] and [`sweep`] leave them
+//! out, so the sweeps and tables over the six stay as they are.
 
 use std::f64::consts::FRAC_PI_2;
 
@@ -21,9 +26,12 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::design::{GraspSite, PartDesign};
+#[cfg(doc)]
+use crate::parts::hard::HARD_FAMILIES;
 use crate::parts::stool::StoolSideParams;
 
-/// The six families.
+/// The six families ([`FAMILIES`]) and the six hard-case families
+/// ([`HARD_FAMILIES`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Family {
     /// A rectangular frame: four bars around one window.
@@ -38,6 +46,24 @@ pub enum Family {
     Stool,
     /// Two legs standing on the axis joined by a crossbar half-way up.
     HFrame,
+    /// Hard case ([`crate::parts::hard::t_junction`]): legs, far bar and a crossbar meeting
+    /// the legs in T-junctions; the power grasps 20–40 mm from the crossbar.
+    TJunction,
+    /// Hard case ([`crate::parts::hard::l_corner`]): legs and a wide far rail; the power
+    /// grasps 20–40 mm below the inner corners.
+    LCorner,
+    /// Hard case ([`crate::parts::hard::hand_hole`]): a board with narrow hand holes; the power
+    /// grasps on the end bars beside the holes, 20–40 mm from a hole's end.
+    HandHole,
+    /// Hard case ([`crate::parts::hard::parallel_bars`]): a frame with a second stile beside each
+    /// end bar, the slot between them as narrow as the open fingers allow.
+    ParallelBars,
+    /// Hard case ([`crate::parts::hard::chamfered`]): tapered legs, chamfered inner corners;
+    /// the power grasps just below the chamfers.
+    Chamfered,
+    /// Hard case ([`crate::parts::hard::thin_rungs`]): thick rails, rungs 12–20 mm wide; the
+    /// power grasps on the thin end rungs, one 20–40 mm from the far rail.
+    ThinRungs,
 }
 
 /// Every family, in sweep order.
@@ -55,7 +81,7 @@ pub const STOCK: (f64, f64) = (0.018, 0.045);
 /// Narrowest and widest bar (m).
 pub const BAR: (f64, f64) = (0.020, 0.060);
 /// Leg length (m) of the chamfer at the far corner.
-const CHAMFER: f64 = 0.012;
+pub(crate) const CHAMFER: f64 = 0.012;
 /// Hand holes of the panel: length along the bar and width across it (m); 75 mm leave the
 /// open fingers room beside any bar of [`BAR`].
 const HAND_HOLE: (f64, f64) = (0.14, 0.075);
@@ -70,6 +96,12 @@ impl Family {
             Family::Panel => "panel",
             Family::Stool => "stool",
             Family::HFrame => "h_frame",
+            Family::TJunction => "t_junction",
+            Family::LCorner => "l_corner",
+            Family::HandHole => "hand_hole",
+            Family::ParallelBars => "parallel_bars",
+            Family::Chamfered => "chamfered",
+            Family::ThinRungs => "thin_rungs",
         }
     }
 }
@@ -105,13 +137,13 @@ impl GeneratedPart {
 }
 
 /// Clockwise axis-aligned rectangle `[x0, x1] × [y0, y1]` (a hole ring).
-fn rect_cw(x0: f64, x1: f64, y0: f64, y1: f64) -> Vec<Point2<f64>> {
+pub(crate) fn rect_cw(x0: f64, x1: f64, y0: f64, y1: f64) -> Vec<Point2<f64>> {
     let p = Point2::new;
     vec![p(x0, y0), p(x0, y1), p(x1, y1), p(x1, y0)]
 }
 
 /// A grasp across a bar closing along `x` (the end bars) or `y` (bars along the axis).
-fn site(bar: &'static str, x: f64, y: f64, along_x: bool, width: f64) -> GraspSite {
+pub(crate) fn site(bar: &'static str, x: f64, y: f64, along_x: bool, width: f64) -> GraspSite {
     GraspSite {
         bar,
         point: Point2::new(x, y),
@@ -121,7 +153,7 @@ fn site(bar: &'static str, x: f64, y: f64, along_x: bool, width: f64) -> GraspSi
 }
 
 /// The outer rectangle `length × depth` with its far corner chamfered (counter-clockwise).
-fn chamfered(l: f64, d: f64) -> Vec<Point2<f64>> {
+pub(crate) fn chamfered(l: f64, d: f64) -> Vec<Point2<f64>> {
     let p = Point2::new;
     vec![
         p(0.0, 0.0),
@@ -134,7 +166,7 @@ fn chamfered(l: f64, d: f64) -> Vec<Point2<f64>> {
 
 /// The hand rule's power grasps on the end bars (centred `b / 2` in from either end) and the
 /// support pinch at `support` on the far bar.
-fn end_bar_design(
+pub(crate) fn end_bar_design(
     outline: Vec<Point2<f64>>,
     holes: Vec<Vec<Point2<f64>>>,
     [l, d, t, b]: [f64; 4],
@@ -243,8 +275,13 @@ fn stool(rng: &mut ChaCha8Rng, t: f64, b: f64) -> (PartDesign, [f64; 2]) {
     (params.design(), size)
 }
 
-/// The part of `family` drawn from `seed` (same seed, same part).
+/// The part of `family` drawn from `seed` (same seed, same part); the hard families
+/// ([`HARD_FAMILIES`]) are drawn by
+/// [`crate::parts::hard::generate_hard`].
 pub fn generate(family: Family, seed: u64) -> GeneratedPart {
+    if !FAMILIES.contains(&family) {
+        return crate::parts::hard::generate_hard(family, seed);
+    }
     // Each family its own stream: seed k of two families draws different stock.
     let index = FAMILIES.iter().position(|&f| f == family).unwrap_or(0) as u64;
     let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_mul(FAMILIES.len() as u64) + index);
@@ -275,6 +312,7 @@ pub fn generate(family: Family, seed: u64) -> GeneratedPart {
             let [l, d] = size((0.55, 0.80), (0.40, 0.55));
             (h_frame(l, d, t, b), [l, d])
         }
+        _ => unreachable!("hard families are drawn by parts::hard"),
     };
     GeneratedPart {
         family,
