@@ -7,6 +7,7 @@ pub mod bench_end;
 pub mod chair;
 pub mod families;
 pub mod hard;
+mod kit;
 pub mod ladder;
 pub mod shelf;
 pub mod stool;

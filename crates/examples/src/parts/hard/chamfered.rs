@@ -14,7 +14,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::{next_to, Drawn};
 use crate::design::PartDesign;
-use crate::parts::families::{end_bar_design, site, BAR};
+use crate::parts::kit::{end_bar_design, site, BAR};
 
 /// Leg and rail widths of a chamfered part (m).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -13,7 +13,7 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 use super::{next_to, Drawn, FINGER_REACH, NEXT_TO};
-use crate::parts::families::{chamfered, end_bar_design, rect_cw, site};
+use crate::parts::kit::{chamfered, end_bar_design, rect_cw, site};
 
 /// Length (along the far bar) and width of the middle hole (m), the families' hand hole.
 const MIDDLE_HOLE: (f64, f64) = (0.14, 0.075);

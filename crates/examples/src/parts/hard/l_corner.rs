@@ -12,7 +12,7 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 use super::{next_to, Drawn};
-use crate::parts::families::{end_bar_design, site, BAR, CHAMFER};
+use crate::parts::kit::{end_bar_design, site, BAR, CHAMFER};
 
 /// The design: length `l`, depth `d`, stock `t`, legs `b`, far rail `r` wide, the power grasps
 /// `left` and `right` below the rail's inner edge (m).

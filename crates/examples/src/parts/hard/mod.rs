@@ -34,7 +34,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::design::PartDesign;
-use crate::parts::families::{Family, GeneratedPart, BAR, STOCK};
+use crate::parts::kit::{Family, GeneratedPart, BAR, STOCK};
 
 /// The hard-case families, in sweep order (not in [`crate::parts::families::FAMILIES`]: the
 /// sweeps and tables over those stay as they are).

@@ -12,7 +12,7 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 use super::{Drawn, FINGER_REACH};
-use crate::parts::families::{chamfered, end_bar_design, rect_cw, site, BAR};
+use crate::parts::kit::{chamfered, end_bar_design, rect_cw, site, BAR};
 
 /// Narrowest end bar (m).
 const BAR_MIN: f64 = 0.036;

@@ -12,7 +12,7 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 use super::{next_to, Drawn, NEXT_TO};
-use crate::parts::families::{end_bar_design, rect_cw, site, BAR, CHAMFER};
+use crate::parts::kit::{end_bar_design, rect_cw, site, BAR, CHAMFER};
 
 /// The design: length `l`, depth `d`, stock `t`, legs and far bar `b`, crossbar `w` wide
 /// centred at `yc`, the power grasps `below` under and `above` over the crossbar (m).

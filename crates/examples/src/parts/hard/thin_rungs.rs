@@ -12,7 +12,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::{next_to, Drawn, NEXT_TO};
 use crate::design::PartDesign;
-use crate::parts::families::{chamfered, end_bar_design, rect_cw, site};
+use crate::parts::kit::{chamfered, end_bar_design, rect_cw, site};
 
 /// Narrowest and widest rung (m).
 pub const RUNG: (f64, f64) = (0.012, 0.020);
