@@ -126,6 +126,18 @@ pub fn seat_power_grasps(
     power: &[Isometry3<f64>; 2],
     rest: [f64; 2],
 ) -> SeatedGrasps {
+    seat_power_grasps_thicker_than(object, arms, power, rest, MIN_SEAT_THICKNESS)
+}
+
+/// [`seat_power_grasps`] with bars of at least `min_thickness` (m) seated: the replay sweep
+/// that set [`MIN_SEAT_THICKNESS`] seated every thickness (0).
+pub fn seat_power_grasps_thicker_than(
+    object: &ObjectGeometry,
+    arms: &[ArmModel; 2],
+    power: &[Isometry3<f64>; 2],
+    rest: [f64; 2],
+    min_thickness: f64,
+) -> SeatedGrasps {
     let seat = |k: usize| -> (Isometry3<f64>, f64) {
         let arm = &arms[k];
         let grasp = power[k];
@@ -137,7 +149,7 @@ pub fn seat_power_grasps(
         let Some(gap) = palm_gap(object, arm, &flange) else {
             return (grasp, 0.0);
         };
-        let thick = thickness_at(object, &grasp).is_some_and(|t| t >= MIN_SEAT_THICKNESS);
+        let thick = thickness_at(object, &grasp).is_some_and(|t| t >= min_thickness);
         if gap <= SEAT_TOLERANCE
             || !thick
             || closing(object, arm, &flange) != Some(HoldKind::Encompassing)
@@ -175,12 +187,24 @@ pub fn seated_scene(
     part: &ObjectGeometry,
     arms: &[ArmModel; 2],
 ) -> Option<(pregrasp_io::scene::Scene, [f64; 2])> {
+    seated_scene_thicker_than(scene, part, arms, MIN_SEAT_THICKNESS)
+}
+
+/// [`seated_scene`] with bars of at least `min_thickness` (m) seated
+/// ([`seat_power_grasps_thicker_than`]).
+pub fn seated_scene_thicker_than(
+    scene: &pregrasp_io::scene::Scene,
+    part: &ObjectGeometry,
+    arms: &[ArmModel; 2],
+    min_thickness: f64,
+) -> Option<(pregrasp_io::scene::Scene, [f64; 2])> {
     let p_init = scene.initial_object_pose();
     let rest = scene.grasps.power.each_ref().map(|g| {
         let approach = (p_init * g).rotation * Vector3::z();
         scene.planner.lift * (-approach.z).max(0.0)
     });
-    let seated = seat_power_grasps(part, arms, &scene.grasps.power, rest);
+    let seated =
+        seat_power_grasps_thicker_than(part, arms, &scene.grasps.power, rest, min_thickness);
     (seated.moved != [0.0; 2]).then(|| {
         let mut s = scene.clone();
         s.grasps.power = seated.power;

@@ -16,13 +16,11 @@
 //! sweep of 30 generated parts (`plan_replay_generated_2f85.csv`, 34 plans at 235 N; each part
 //! made again here from its family and seed).
 
-use std::collections::HashMap;
+mod common;
+
 use std::path::Path;
 
-use pregrasp_examples::generated::generated_scene;
-use pregrasp_examples::parts::families::generate;
-use pregrasp_examples::Family;
-use pregrasp_geometry::Mesh;
+use common::replay_table::{planned_scene, rows, scene_of};
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::axes::rotation_axis_candidates;
@@ -32,63 +30,6 @@ use pregrasp_planner::hold::HoldCheck;
 /// The replay's verdict thresholds (issue 48).
 const MIN_RISE: f64 = 0.045;
 const MAX_TILT_DEG: f64 = 5.0;
-
-fn rows(table: &str) -> Vec<HashMap<String, String>> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../physics/data/replay_truth")
-        .join(table);
-    let text = std::fs::read_to_string(&path).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    lines
-        .map(|l| {
-            header
-                .iter()
-                .zip(split_csv(l))
-                .map(|(k, v)| (k.to_string(), v.to_string()))
-                .collect()
-        })
-        .collect()
-}
-
-/// A CSV line's cells (the tables quote cells holding commas).
-fn split_csv(line: &str) -> Vec<String> {
-    let (mut cells, mut cell, mut quoted) = (Vec::new(), String::new(), false);
-    for c in line.chars() {
-        match c {
-            '"' => quoted = !quoted,
-            ',' if !quoted => cells.push(std::mem::take(&mut cell)),
-            c => cell.push(c),
-        }
-    }
-    cells.push(cell);
-    cells
-}
-
-/// The scene and mesh of a row: an example's files, or a generated part made again from its
-/// family and seed.
-fn scene_of(row: &HashMap<String, String>) -> (Scene, Mesh) {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let family = row.get("family").map_or("example", String::as_str);
-    if family == "example" {
-        let name = &row["example"];
-        let scene_path = format!("examples/{name}.toml");
-        let text = std::fs::read_to_string(root.join(&scene_path)).unwrap();
-        let scene = Scene::from_str(&text, Path::new(&scene_path)).unwrap();
-        let mesh = load_mesh(&root.join(&scene.object.mesh_path), scene.object.scale)
-            .unwrap()
-            .mesh;
-        return (scene, mesh);
-    }
-    let seed: u64 = row["seed"].parse().unwrap();
-    let part = generate(Family::from_name(family).unwrap(), seed);
-    let g = generated_scene(&part);
-    let path = format!("generated/{}.toml", g.stem);
-    (
-        Scene::from_str(&g.scene_toml, Path::new(&path)).unwrap(),
-        g.mesh,
-    )
-}
 
 #[test]
 fn the_carry_check_agrees_with_the_replay_both_ways() {
@@ -105,6 +46,8 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
     for row in &all {
         let name = row.get("part").unwrap_or(&row["example"]);
         let (scene, mesh) = scene_of(row);
+        // The power grasps as the planner plans with them (seated on the palm).
+        let scene = planned_scene(&scene, &mesh);
         let ctx = PlanningContext::new(&scene, &mesh).unwrap();
         let axes = rotation_axis_candidates(
             &mesh,

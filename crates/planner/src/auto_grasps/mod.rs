@@ -14,8 +14,8 @@
 //!    the bar, from above.
 //!    Only sites the fully open hand fits around (the real finger geometry, [`fingers`], and
 //!    the whole hand, palm included, nowhere more than 0.5 mm inside the whole part along the
-//!    last 20 mm of the approach) take a grasp. A power grasp's pair loses score for material
-//!    near its sites along the bar ([`JUNCTION_WEIGHT`]): sites away from junctions first.
+//!    last 20 mm of the approach) take a grasp. A set loses rank for material near its power
+//!    grasps' sites along the bar ([`JUNCTION_WEIGHT`]): sites away from junctions first.
 //! 3. Cheap ranking ([`cheap`]): sets by how many cheap tests they fail — IK at P_init, the
 //!    open fingers' approach clearance, the pinch's balance (centre of mass inside the
 //!    triangle of the axis' ends and G_s) — then by the axis' S_rot plus the power grasps'
@@ -77,9 +77,10 @@ pub const GOAL_ARM_CLEARANCE: f64 = 0.15;
 pub const COM_MARGIN: f64 = 0.05;
 /// Width (m) the goal test closes a pinned grasp's fingers to (its bar is not measured).
 pub const PINNED_WIDTH: f64 = 0.04;
-/// What a power grasp's site loses of its pair score (m per m) for each metre of bar it lacks,
-/// beyond the fingers' sides, up to [`JUNCTION_REACH`]: sites away from junctions, where the
-/// closing meets no other material, first.
+/// What a set's rank loses (m per m) for each metre of bar a power grasp's site lacks beyond
+/// the fingers' sides, up to [`JUNCTION_REACH`]: among the sets kept (the pairs by their
+/// distances and spread alone), those with sites away from junctions, where the closing meets
+/// no other material, are tried first.
 pub const JUNCTION_WEIGHT: f64 = 2.0;
 
 /// One choice of the three grasps (object frame).
@@ -212,8 +213,9 @@ pub fn grasp_sets(
         // Power grasps: pairs of representative sites (far from the axis, on different parts
         // of the part, straddled by the open fingers), scored by their distances from the
         // axis plus their spread.
-        let pairs: Vec<(usize, usize, f64)> = if pins.power_pinned {
-            vec![(usize::MAX, usize::MAX, 0.0)]
+        // (site, site, score, junction penalty).
+        let pairs: Vec<(usize, usize, f64, f64)> = if pins.power_pinned {
+            vec![(usize::MAX, usize::MAX, 0.0, 0.0)]
         } else {
             // Sites whose approach is clear too first; the others only if too few are.
             let mut reps: Vec<usize> = Vec::new();
@@ -242,10 +244,8 @@ pub fn grasp_sets(
                         let junction = |i: usize| {
                             JUNCTION_WEIGHT * (JUNCTION_REACH - sites[i].clear_along).max(0.0)
                         };
-                        let score = dist(&sites[a]) + dist(&sites[b]) + 0.5 * spread.min(0.5)
-                            - junction(a)
-                            - junction(b);
-                        pairs.push((a, b, score));
+                        let score = dist(&sites[a]) + dist(&sites[b]) + 0.5 * spread.min(0.5);
+                        pairs.push((a, b, score, junction(a) + junction(b)));
                     }
                 }
             }
@@ -253,7 +253,7 @@ pub fn grasp_sets(
             pairs.truncate(PAIRS_PER_AXIS);
             pairs
         };
-        for &(a, b, pair_score) in &pairs {
+        for &(a, b, pair_score, junction) in &pairs {
             let (power, widths_p, clear_p) = if pins.power_pinned {
                 (scene.grasps.power, [0.0, 0.0], true)
             } else {
@@ -324,7 +324,7 @@ pub fn grasp_sets(
                 supportive: sup,
                 reachable: ok,
                 doubts: doubts.iter().filter(|&&d| d).count(),
-                rank: axis.score + pair_score,
+                rank: axis.score + pair_score - junction,
             };
             if !sets
                 .iter()

@@ -1,0 +1,81 @@
+//! The whole-plan replay's tables (`crates/physics/data/replay_truth/`) as tests read them:
+//! rows of cells by column name, and each row's part made again (an example's files, or a
+//! generated part from its family and seed).
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use pregrasp_collision::ObjectGeometry;
+use pregrasp_examples::generated::generated_scene;
+use pregrasp_examples::parts::families::generate;
+use pregrasp_examples::Family;
+use pregrasp_geometry::Mesh;
+use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::scene::Scene;
+use pregrasp_planner::context::arm_models;
+use pregrasp_planner::seat::seated_scene;
+
+/// The rows of `table` (a CSV file of the replay tables), each a map from column to cell.
+pub fn rows(table: &str) -> Vec<HashMap<String, String>> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../physics/data/replay_truth")
+        .join(table);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    lines
+        .map(|l| {
+            header
+                .iter()
+                .zip(split_csv(l))
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect()
+        })
+        .collect()
+}
+
+/// A CSV line's cells (the tables quote cells holding commas).
+pub fn split_csv(line: &str) -> Vec<String> {
+    let (mut cells, mut cell, mut quoted) = (Vec::new(), String::new(), false);
+    for c in line.chars() {
+        match c {
+            '"' => quoted = !quoted,
+            ',' if !quoted => cells.push(std::mem::take(&mut cell)),
+            c => cell.push(c),
+        }
+    }
+    cells.push(cell);
+    cells
+}
+
+/// The scene and mesh of a row: an example's files, or a generated part made again from its
+/// family and seed.
+pub fn scene_of(row: &HashMap<String, String>) -> (Scene, Mesh) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let family = row.get("family").map_or("example", String::as_str);
+    if family == "example" {
+        let name = &row["example"];
+        let scene_path = format!("examples/{name}.toml");
+        let text = std::fs::read_to_string(root.join(&scene_path)).unwrap();
+        let scene = Scene::from_str(&text, Path::new(&scene_path)).unwrap();
+        let mesh = load_mesh(&root.join(&scene.object.mesh_path), scene.object.scale)
+            .unwrap()
+            .mesh;
+        return (scene, mesh);
+    }
+    let seed: u64 = row["seed"].parse().unwrap();
+    let part = generate(Family::from_name(family).unwrap(), seed);
+    let g = generated_scene(&part);
+    let path = format!("generated/{}.toml", g.stem);
+    (
+        Scene::from_str(&g.scene_toml, Path::new(&path)).unwrap(),
+        g.mesh,
+    )
+}
+
+/// `scene` with the power grasps the planner plans with ([`seated_scene`]).
+pub fn planned_scene(scene: &Scene, mesh: &Mesh) -> Scene {
+    let part = ObjectGeometry::new(mesh).unwrap();
+    seated_scene(scene, &part, &arm_models(scene).unwrap())
+        .map_or_else(|| scene.clone(), |(s, _)| s)
+}
