@@ -112,9 +112,9 @@ impl PartKnowledge {
     pub fn new(scene: &Scene, mesh: &Mesh) -> Result<PartKnowledge, PlanError> {
         let part =
             Arc::new(pregrasp_collision::ObjectGeometry::new(mesh).map_err(PlanError::Mesh)?);
-        let seated = crate::seat::seated_scene(scene, &part, &arm_models(scene)?);
+        let (seated, power_grips) = crate::seat::planned_scene(scene, &part, &arm_models(scene)?);
         let scene = seated.as_ref().map_or(scene, |(s, _)| s);
-        let ctx = PlanningContext::with_part(scene, mesh, None, Some(part))?;
+        let ctx = PlanningContext::with_part(scene, mesh, None, Some(part), power_grips)?;
         let hull = ConvexHull::of_mesh(mesh).ok().map(Arc::new);
         Ok(PartKnowledge::of(&ctx, hull))
     }
@@ -200,16 +200,18 @@ impl<'a> PlanningContext<'a> {
         mesh: &'a Mesh,
         known: Option<&PartKnowledge>,
     ) -> Result<Self, PlanError> {
-        PlanningContext::with_part(scene, mesh, known, None)
+        PlanningContext::with_part(scene, mesh, known, None, [None, None])
     }
 
     /// [`PlanningContext::with_knowledge`], with the part's collision geometry `part` (built
-    /// from `mesh`) when `known` does not fit.
+    /// from `mesh`) when `known` does not fit, and the closings at the power grasps where
+    /// they are known already (`power_grips`, from the seating: [`crate::seat`]).
     pub fn with_part(
         scene: &'a Scene,
         mesh: &'a Mesh,
         known: Option<&PartKnowledge>,
         part: Option<Arc<pregrasp_collision::ObjectGeometry>>,
+        power_grips: [Option<Result<Grip, GripFailure>>; 2],
     ) -> Result<Self, PlanError> {
         let arms = arm_models(scene)?;
         let spaces = [
@@ -232,7 +234,12 @@ impl<'a> PlanningContext<'a> {
         .with_grasp_support_margin(params.finger_support_clearance + FINE_PLANNING_MARGIN);
         let grips = match known {
             Some(k) => k.grips.clone(),
-            None => grips(&world, &scene.grasps.support, &scene.grasps.power),
+            None => grips_knowing(
+                &world,
+                &scene.grasps.support,
+                &scene.grasps.power,
+                power_grips,
+            ),
         };
         let held = |arm: usize| -> Vec<GripperState> {
             [&grips.support[arm], &grips.power[arm]]
@@ -461,6 +468,17 @@ pub fn grips(
     support: &Isometry3<f64>,
     power: &[Isometry3<f64>; 2],
 ) -> Grips {
+    grips_knowing(world, support, power, [None, None])
+}
+
+/// [`grips`], taking the power grasps' closings from `known` where given (they must be the
+/// closings at `power`).
+fn grips_knowing(
+    world: &CollisionWorld,
+    support: &Isometry3<f64>,
+    power: &[Isometry3<f64>; 2],
+    known: [Option<Result<Grip, GripFailure>>; 2],
+) -> Grips {
     let object = world.object().expect("the world has the part");
     let gripper = |arm: usize| &world.arms()[arm].gripper;
     let close = |arm: usize, grasp: &Isometry3<f64>, point: Isometry3<f64>| {
@@ -470,7 +488,11 @@ pub fn grips(
     let alike = holds_support_alike(world.arms());
     // The closings are independent: run side by side (each answer is its own, so the result
     // does not depend on the threads).
-    let power_of = |arm: usize| close(arm, &power[arm], gripper(arm).power_point());
+    let power_of = |arm: usize| {
+        known[arm]
+            .clone()
+            .unwrap_or_else(|| close(arm, &power[arm], gripper(arm).power_point()))
+    };
     let ((first, second), (p0, p1)) = rayon::join(
         || {
             rayon::join(

@@ -146,9 +146,16 @@ pub fn plan(
             pregrasp_collision::ObjectGeometry::new(mesh).map_err(PlanError::Mesh)?,
         ),
     };
-    let seated = crate::seat::seated_scene(scene, &part, &crate::context::arm_models(scene)?);
+    let (seated, power_grips) =
+        crate::seat::planned_scene(scene, &part, &crate::context::arm_models(scene)?);
     let scene = seated.as_ref().map_or(scene, |(s, _)| s);
-    let mut ctx = PlanningContext::with_part(scene, mesh, options.known.as_deref(), Some(part))?;
+    let mut ctx = PlanningContext::with_part(
+        scene,
+        mesh,
+        options.known.as_deref(),
+        Some(part),
+        power_grips,
+    )?;
     let t_grips = t_ctx.elapsed();
     ctx.fixed_rot_start = options.fixed_rot_start;
     let ctx = ctx;

@@ -32,7 +32,7 @@
 use nalgebra::{Isometry3, Translation3, Vector3};
 use parry3d_f64::query::{cast_shapes, Ray, RayCast, ShapeCastOptions};
 use parry3d_f64::shape::Cuboid;
-use pregrasp_collision::{close_on_part, ArmModel, ObjectGeometry};
+use pregrasp_collision::{close_on_part, ArmModel, Grip, GripFailure, ObjectGeometry};
 use pregrasp_physics::HoldKind;
 use pregrasp_robot::{GripperState, Primitive};
 
@@ -58,10 +58,13 @@ pub const SEAT_REACH: f64 = 0.025;
 pub const MIN_SEAT_THICKNESS: f64 = 0.024;
 
 /// The power grasps after seating, and how far each moved along its approach (m; 0: kept).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct SeatedGrasps {
     pub power: [Isometry3<f64>; 2],
     pub moved: [f64; 2],
+    /// The closing at each grasp of `power`, where the seating computed it (the planning
+    /// context takes it rather than closing again).
+    pub grips: [Option<Result<Grip, GripFailure>>; 2],
 }
 
 /// How far (m) the palm of `arm`'s gripper, the flange at `flange` (object frame), may move
@@ -108,11 +111,15 @@ pub fn thickness_at(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f
     Some(exit + 1e-6)
 }
 
-/// The kind of `arm`'s closing with its flange at `flange`, if it closes on the part.
-fn closing(object: &ObjectGeometry, arm: &ArmModel, flange: &Isometry3<f64>) -> Option<HoldKind> {
-    close_on_part(object, &arm.gripper, flange)
-        .ok()
-        .map(|grip| hold_kind(&grip.kinds))
+/// `arm`'s closing with its flange at `flange`, and its kind if it closes on the part.
+fn closing(
+    object: &ObjectGeometry,
+    arm: &ArmModel,
+    flange: &Isometry3<f64>,
+) -> (Result<Grip, GripFailure>, Option<HoldKind>) {
+    let grip = close_on_part(object, &arm.gripper, flange);
+    let kind = grip.as_ref().ok().map(|g| hold_kind(&g.kinds));
+    (grip, kind)
 }
 
 /// The scene's power grasps `power` (object frame) seated on the palm where that stops the
@@ -138,23 +145,25 @@ pub fn seat_power_grasps_thicker_than(
     rest: [f64; 2],
     min_thickness: f64,
 ) -> SeatedGrasps {
-    let seat = |k: usize| -> (Isometry3<f64>, f64) {
+    type Seat = (Isometry3<f64>, f64, Option<Result<Grip, GripFailure>>);
+    let seat = |k: usize| -> Seat {
         let arm = &arms[k];
         let grasp = power[k];
         if arm.gripper.robotiq().is_none() {
-            return (grasp, 0.0);
+            return (grasp, 0.0, None);
         }
         let point = arm.gripper.power_point();
         let flange = grasp * point.inverse();
         let Some(gap) = palm_gap(object, arm, &flange) else {
-            return (grasp, 0.0);
+            return (grasp, 0.0, None);
         };
         let thick = thickness_at(object, &grasp).is_some_and(|t| t >= min_thickness);
-        if gap <= SEAT_TOLERANCE
-            || !thick
-            || closing(object, arm, &flange) != Some(HoldKind::Encompassing)
-        {
-            return (grasp, 0.0);
+        if gap <= SEAT_TOLERANCE || !thick {
+            return (grasp, 0.0, None);
+        }
+        let (here, kind) = closing(object, arm, &flange);
+        if kind != Some(HoldKind::Encompassing) {
+            return (grasp, 0.0, Some(here));
         }
         // Seated against the part as it rests, else against the part as planned.
         let deepest = gap + (rest[k] - SEAT_GAP).clamp(-SEAT_GAP, SEAT_DEPTH);
@@ -163,20 +172,18 @@ pub fn seat_power_grasps_thicker_than(
         let round = |m: f64| (m * 1e5).floor() / 1e5;
         for moved in [round(deepest), round(gap - SEAT_GAP)] {
             let seated = grasp * Translation3::new(0.0, 0.0, moved);
-            let squeezes = matches!(
-                closing(object, arm, &(seated * point.inverse())),
-                Some(HoldKind::Encompassing | HoldKind::Pinch)
-            );
-            if squeezes {
-                return (seated, moved);
+            let (grip, kind) = closing(object, arm, &(seated * point.inverse()));
+            if matches!(kind, Some(HoldKind::Encompassing | HoldKind::Pinch)) {
+                return (seated, moved, Some(grip));
             }
         }
-        (grasp, 0.0)
+        (grasp, 0.0, Some(here))
     };
     let (a, b) = rayon::join(|| seat(0), || seat(1));
     SeatedGrasps {
         power: [a.0, b.0],
         moved: [a.1, b.1],
+        grips: [a.2, b.2],
     }
 }
 
@@ -198,16 +205,47 @@ pub fn seated_scene_thicker_than(
     arms: &[ArmModel; 2],
     min_thickness: f64,
 ) -> Option<(pregrasp_io::scene::Scene, [f64; 2])> {
-    let p_init = scene.initial_object_pose();
-    let rest = scene.grasps.power.each_ref().map(|g| {
-        let approach = (p_init * g).rotation * Vector3::z();
-        scene.planner.lift * (-approach.z).max(0.0)
-    });
-    let seated =
-        seat_power_grasps_thicker_than(part, arms, &scene.grasps.power, rest, min_thickness);
+    let seated = seating(scene, part, arms, min_thickness);
     (seated.moved != [0.0; 2]).then(|| {
         let mut s = scene.clone();
         s.grasps.power = seated.power;
         (s, seated.moved)
     })
+}
+
+/// [`seat_power_grasps_thicker_than`] of `scene`'s power grasps, the part resting `lift` below
+/// P_init.
+pub fn seating(
+    scene: &pregrasp_io::scene::Scene,
+    part: &ObjectGeometry,
+    arms: &[ArmModel; 2],
+    min_thickness: f64,
+) -> SeatedGrasps {
+    let p_init = scene.initial_object_pose();
+    let rest = scene.grasps.power.each_ref().map(|g| {
+        let approach = (p_init * g).rotation * Vector3::z();
+        scene.planner.lift * (-approach.z).max(0.0)
+    });
+    seat_power_grasps_thicker_than(part, arms, &scene.grasps.power, rest, min_thickness)
+}
+
+/// What the planner plans with: `scene` with its power grasps seated ([`seated_scene`]; `None`
+/// when none moved, with how far each moved), and the closings the seating computed at the
+/// grasps it leaves (for the planning context).
+#[allow(clippy::type_complexity)]
+pub fn planned_scene(
+    scene: &pregrasp_io::scene::Scene,
+    part: &ObjectGeometry,
+    arms: &[ArmModel; 2],
+) -> (
+    Option<(pregrasp_io::scene::Scene, [f64; 2])>,
+    [Option<Result<Grip, GripFailure>>; 2],
+) {
+    let seated = seating(scene, part, arms, MIN_SEAT_THICKNESS);
+    let moved = (seated.moved != [0.0; 2]).then(|| {
+        let mut s = scene.clone();
+        s.grasps.power = seated.power;
+        (s, seated.moved)
+    });
+    (moved, seated.grips)
 }
