@@ -5,6 +5,9 @@
 //! `cargo test --release -p pregrasp-planner --test auto_grasps -- --nocapture` prints the
 //! README's numbers.
 
+mod common;
+
+use common::scenes::auto_scene;
 use pregrasp_io::plan_file::PlanStatus;
 use std::path::Path;
 use std::time::Instant;
@@ -16,19 +19,6 @@ use pregrasp_planner::auto_grasps::plan_auto;
 use pregrasp_planner::check::check_plan;
 use pregrasp_planner::pipeline::PlanOptions;
 use rand::{Rng, SeedableRng};
-
-/// The scene text with its `[grasps]` table replaced by `mode = "auto"` (+ `extra` lines).
-fn auto_scene(text: &str, extra: &str) -> String {
-    let start = text.find("[grasps]").expect("a [grasps] table");
-    let end = text[start + 1..]
-        .find("\n[")
-        .map_or(text.len(), |k| start + 1 + k);
-    format!(
-        "{}[grasps]\nmode = \"auto\"\n{extra}{}",
-        &text[..start],
-        &text[end..]
-    )
-}
 
 fn plan_text(text: &str, mesh: &pregrasp_geometry::Mesh) -> (Scene, PlanFile) {
     let scene = Scene::from_str(text, Path::new("auto.toml")).unwrap();

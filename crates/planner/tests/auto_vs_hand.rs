@@ -8,6 +8,9 @@
 //! `cargo test --release -p pregrasp-planner --test auto_vs_hand -- --nocapture` prints the
 //! table of docs/auto-grasps.md.
 
+mod common;
+
+use common::scenes::auto_scene;
 use std::path::Path;
 use std::time::Instant;
 
@@ -26,19 +29,6 @@ use pregrasp_robot::{FingerPair, FingerSolids};
 /// Seed of the first part of every family; the sweep uses this and the next four.
 const FIRST_SEED: u64 = 35;
 const PER_FAMILY: usize = 5;
-
-/// The scene text with its `[grasps]` table replaced by `mode = "auto"`.
-fn auto_scene(text: &str) -> String {
-    let start = text.find("[grasps]").expect("a [grasps] table");
-    let end = text[start + 1..]
-        .find("\n[")
-        .map_or(text.len(), |k| start + 1 + k);
-    format!(
-        "{}[grasps]\nmode = \"auto\"\n{}",
-        &text[..start],
-        &text[end..]
-    )
-}
 
 fn plan_text(text: &str, mesh: &Mesh) -> (Scene, PlanFile, f64) {
     let scene = Scene::from_str(text, Path::new("part.toml")).unwrap();
@@ -95,7 +85,7 @@ fn auto_grasps_plan_as_often_as_hand_placed_ones_and_never_on_a_bar_too_wide() {
     for part in &parts {
         let ex = generated_example(part);
         let (_, hand, _) = plan_text(&ex.scene_toml, &ex.mesh);
-        let (scene, auto, ms) = plan_text(&auto_scene(&ex.scene_toml), &ex.mesh);
+        let (scene, auto, ms) = plan_text(&auto_scene(&ex.scene_toml, ""), &ex.mesh);
         times.push(ms);
         let (h, a) = (good(&hand, &ex.mesh), good(&auto, &ex.mesh));
         hand_ok += usize::from(h);

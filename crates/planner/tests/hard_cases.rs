@@ -12,6 +12,9 @@
 //! `cargo test --release -p pregrasp-planner --test hard_cases -- --nocapture` prints the
 //! table.
 
+mod common;
+
+use common::scenes::auto_scene;
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
@@ -26,19 +29,6 @@ use pregrasp_planner::pipeline::PlanOptions;
 
 const FIRST_SEED: u64 = 1;
 const PER_FAMILY: usize = 7;
-
-/// The scene text with its `[grasps]` table replaced by `mode = "auto"`.
-fn auto_scene(text: &str) -> String {
-    let start = text.find("[grasps]").expect("a [grasps] table");
-    let end = text[start + 1..]
-        .find("\n[")
-        .map_or(text.len(), |k| start + 1 + k);
-    format!(
-        "{}[grasps]\nmode = \"auto\"\n{}",
-        &text[..start],
-        &text[end..]
-    )
-}
 
 fn plan_text(text: &str, mesh: &Mesh) -> PlanFile {
     let scene = Scene::from_str(text, Path::new("part.toml")).unwrap();
@@ -77,7 +67,7 @@ fn hard_parts_plan_with_hand_and_auto_grasps_and_every_plan_checks() {
     for part in &parts {
         let ex = generated_example(part);
         let hand = plan_text(&ex.scene_toml, &ex.mesh);
-        let auto = plan_text(&auto_scene(&ex.scene_toml), &ex.mesh);
+        let auto = plan_text(&auto_scene(&ex.scene_toml, ""), &ex.mesh);
         let row = counts.entry(part.family.name()).or_default();
         row[0] += 1;
         let mut cells = Vec::new();

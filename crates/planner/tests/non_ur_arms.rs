@@ -5,6 +5,9 @@
 //! file names the description, the held joint and the six driven joints; the same scene
 //! plans to the same bytes; μ_rot stays on one IK branch.
 
+mod common;
+
+use common::scenes::auto_scene;
 use std::path::{Path, PathBuf};
 
 use pregrasp_geometry::Mesh;
@@ -327,15 +330,7 @@ fn two_fr3_with_the_franka_hand_plan_the_examples_from_auto_grasps() {
         ("stool_side", 0.1),
     ] {
         let (path, text) = scene_text(name, &fr3_hand(), x, 0.45);
-        let start = text.find("[grasps]").unwrap();
-        let end = text[start + 1..]
-            .find("\n[")
-            .map_or(text.len(), |k| start + 1 + k);
-        let auto = format!(
-            "{}[grasps]\nmode = \"auto\"\n{}",
-            &text[..start],
-            &text[end..]
-        );
+        let auto = auto_scene(&text, "");
         let scene = Scene::from_str(&auto, &path).unwrap();
         let mesh = load_mesh(&scene.object.mesh_path, scene.object.scale)
             .unwrap()

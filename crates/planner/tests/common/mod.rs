@@ -2,3 +2,4 @@
 #![allow(dead_code)]
 
 pub mod replay_table;
+pub mod scenes;
