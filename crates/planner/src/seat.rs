@@ -53,8 +53,9 @@ pub const SEAT_REACH: f64 = 0.025;
 /// Thinnest bar (m, its material along the approach through the grasp) that is seated: under
 /// a thinner bar against the palm the curling fingertips meet each other (caged) or close on
 /// one side. Whole-plan replay of the generated parts with every wrapped bar seated
-/// (`plan_replay_generated_seat_all_2f85.csv`): bars 18–22 mm thick ended caged or one-sided
-/// (4 of 4), bars 25–44 mm thick squeezed from both sides (every one).
+/// (`plan_replay_generated_seat_all_2f85.csv`, test `seat_truth`): every plan with a seated bar
+/// 18–22 mm thick had a power closing end caged or one-sided (5 of 5), every plan whose seated
+/// bars were 25–44 mm thick squeezed with both (15 of 15).
 pub const MIN_SEAT_THICKNESS: f64 = 0.024;
 
 /// The power grasps after seating, and how far each moved along its approach (m; 0: kept).
@@ -205,12 +206,25 @@ pub fn seated_scene_thicker_than(
     arms: &[ArmModel; 2],
     min_thickness: f64,
 ) -> Option<(pregrasp_io::scene::Scene, [f64; 2])> {
-    let seated = seating(scene, part, arms, min_thickness);
-    (seated.moved != [0.0; 2]).then(|| {
+    with_seated(scene, seating(scene, part, arms, min_thickness)).0
+}
+
+/// `scene` with the seated grasps (`None` when none moved, with how far each moved), and the
+/// closings the seating computed.
+#[allow(clippy::type_complexity)]
+fn with_seated(
+    scene: &pregrasp_io::scene::Scene,
+    seated: SeatedGrasps,
+) -> (
+    Option<(pregrasp_io::scene::Scene, [f64; 2])>,
+    [Option<Result<Grip, GripFailure>>; 2],
+) {
+    let moved = (seated.moved != [0.0; 2]).then(|| {
         let mut s = scene.clone();
         s.grasps.power = seated.power;
         (s, seated.moved)
-    })
+    });
+    (moved, seated.grips)
 }
 
 /// [`seat_power_grasps_thicker_than`] of `scene`'s power grasps, the part resting `lift` below
@@ -241,11 +255,5 @@ pub fn planned_scene(
     Option<(pregrasp_io::scene::Scene, [f64; 2])>,
     [Option<Result<Grip, GripFailure>>; 2],
 ) {
-    let seated = seating(scene, part, arms, MIN_SEAT_THICKNESS);
-    let moved = (seated.moved != [0.0; 2]).then(|| {
-        let mut s = scene.clone();
-        s.grasps.power = seated.power;
-        (s, seated.moved)
-    });
-    (moved, seated.grips)
+    with_seated(scene, seating(scene, part, arms, MIN_SEAT_THICKNESS))
 }
