@@ -4,7 +4,8 @@
 # load). Usage: tools/bench/instructions.sh [BINARY] (default target/release/pregrasp).
 #
 # Per plan: `bench plan SCENE --threads 1 --runs 6` minus `--runs 1`, over 5 (loading, the
-# warm-up and start-up cancel out). Reach: one whole `bench reach` on the shipped problem set.
+# warm-up and start-up cancel out), warm runs only (`--cold-runs 0`: callgrind does not follow
+# the cold runs' processes). Reach: one whole `bench reach` on the shipped problem set.
 set -euo pipefail
 bin=${1:-target/release/pregrasp}
 count() {
@@ -15,8 +16,8 @@ count() {
     rm -f "$out" "$out.log"
 }
 for scene in examples/chair_side.toml examples/shelf_side.toml examples/stool_side.toml; do
-    one=$(count "$bin" bench plan "$scene" --threads 1 --runs 1)
-    six=$(count "$bin" bench plan "$scene" --threads 1 --runs 6)
+    one=$(count "$bin" bench plan "$scene" --threads 1 --runs 1 --cold-runs 0)
+    six=$(count "$bin" bench plan "$scene" --threads 1 --runs 6 --cold-runs 0)
     awk -v s="$scene" -v a="$one" -v b="$six" \
         'BEGIN { printf "%-28s %8.1f M instructions per plan\n", s, (b - a) / 5 / 1e6 }'
 done

@@ -6,13 +6,18 @@
 //! in-process planning time.
 //!
 //! `pregrasp bench plan SCENE.toml… [--runs N]` runs the whole pipeline (Algorithms 1–3, the
-//! plan check and the grip check) N times in-process on each scene and prints the median / p95
-//! time per stage, Algorithm 3 split into its parts (`pregrasp_planner::clock`).
+//! plan check and the grip check) on each scene and prints the median / p95 time per stage,
+//! Algorithm 3 split into its parts (`pregrasp_planner::clock`), cold and warm side by side:
+//! cold, N fresh `pregrasp plan` processes (a part seen for the first time, [`cold`];
+//! also the whole process's time); warm, N runs in this process after a warm-up (what the
+//! process keeps between plans is known).
 //!
 //! `pregrasp bench replan SCENE.toml… [--samples N]` plans each scene once, then replans it
 //! in-process at N placements drawn uniformly within ±5 mm along world x and y and ±2° of yaw
 //! about the part's centre (seeded; what `pregrasp replan` does in a cell after measuring the
 //! part): median / p95 time per replan and how many kept the plan's axis.
+
+mod cold;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -61,9 +66,13 @@ pub struct PlanArgs {
     /// The scene files (e.g. `examples/*.toml`).
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
-    /// How many times to plan (after one warm-up run).
+    /// How many times to plan in this process after one warm-up (warm).
     #[arg(long, default_value_t = 20)]
     pub runs: usize,
+    /// How many fresh `pregrasp plan` processes to time (cold; default: as many as `--runs`,
+    /// 0: none, the warm runs alone).
+    #[arg(long)]
+    pub cold_runs: Option<usize>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -106,7 +115,7 @@ pub fn run(command: BenchCommand) -> anyhow::Result<ExitCode> {
 
 /// The stages `bench plan` reports: Algorithms 1 and 2, Algorithm 3 with the checks after it
 /// (`paths`) and its parts, the whole.
-const PLAN_STAGES: [&str; 10] = [
+pub(crate) const PLAN_STAGES: [&str; 10] = [
     "axes", "grips", "poses", "paths", "rot", "lines", "transit", "recheck", "hold", "total",
 ];
 
@@ -119,23 +128,48 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
     let runs = args.runs.max(1);
     let mut reports = Vec::new();
     for scene in &args.scenes {
+        let cold_runs = args.cold_runs.unwrap_or(runs);
+        let cold = (cold_runs > 0)
+            .then(|| cold::cold_runs(scene, cold_runs, args.threads))
+            .transpose()?;
         let (status, summary) = plan_one(scene, runs, &pool)?;
         if args.json {
+            let stat = |(m, p): (f64, f64)| json!({ "median_ms": m, "p95_ms": p });
             let stages: serde_json::Map<String, serde_json::Value> = summary
                 .iter()
-                .map(|(n, m, p)| (n.to_string(), json!({ "median_ms": m, "p95_ms": p })))
+                .map(|(n, m, p)| (n.to_string(), stat((*m, *p))))
                 .collect();
-            reports.push(json!({ "scene": scene.display().to_string(), "runs": runs,
-                                 "threads": pool.current_num_threads(), "status": status,
-                                 "stages": stages }));
+            let mut report = json!({ "scene": scene.display().to_string(), "runs": runs,
+                                     "threads": pool.current_num_threads(), "status": status,
+                                     "stages": stages });
+            if let Some(cold) = &cold {
+                let cold_stages: serde_json::Map<String, serde_json::Value> = PLAN_STAGES
+                    .iter()
+                    .enumerate()
+                    .map(|(k, n)| (n.to_string(), stat(cold.stage(k))))
+                    .collect();
+                report["cold"] = json!({ "runs": cold_runs, "process": stat(cold.process()),
+                                         "stages": cold_stages });
+            }
+            reports.push(report);
         } else {
             println!(
-                "{}: {} runs on {} thread(s), status {}",
+                "{}: {} runs on {} thread(s), status {}; cold: a fresh process per run, warm: \
+                 runs in one process after a warm-up",
                 scene.display(),
                 runs,
                 pool.current_num_threads(),
                 status
             );
+            println!(
+                "  {:<9} {:>21} | {:>21}",
+                "", "cold median / p95", "warm median / p95"
+            );
+            let blank = format!("{:>21}", "");
+            if let Some(cold) = &cold {
+                let (m, p) = cold.process();
+                println!("  {:<9} {m:8.2} / {p:8.2} ms | {blank}", "process");
+            }
             for (name, median, p95) in &summary {
                 let indent = if ["rot", "lines", "transit", "recheck", "hold"].contains(name) {
                     "  "
@@ -143,7 +177,15 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
                     ""
                 };
                 let label = format!("{indent}{name}");
-                println!("  {label:<9} median {median:8.2} ms   p95 {p95:8.2} ms");
+                let k = PLAN_STAGES.iter().position(|s| s == name);
+                let cold_cell = match (&cold, k) {
+                    (Some(cold), Some(k)) => {
+                        let (m, p) = cold.stage(k);
+                        format!("{m:8.2} / {p:8.2} ms")
+                    }
+                    _ => blank.clone(),
+                };
+                println!("  {label:<9} {cold_cell} | {median:8.2} / {p95:8.2} ms");
             }
         }
     }
@@ -295,7 +337,7 @@ fn replan(args: ReplanArgs) -> anyhow::Result<ExitCode> {
 }
 
 /// The `q` quantile of sorted, non-empty `values`: the nearest rank.
-fn quantile(values: &[f64], q: f64) -> f64 {
+pub(crate) fn quantile(values: &[f64], q: f64) -> f64 {
     values[((values.len() - 1) as f64 * q).round() as usize]
 }
 
