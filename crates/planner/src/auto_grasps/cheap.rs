@@ -23,7 +23,7 @@ use nalgebra::{Isometry3, Point2, Point3, Translation3, Vector3};
 use parry3d_f64::shape::TriMesh;
 use pregrasp_collision::distance::segment_segment_sq;
 use pregrasp_collision::{
-    open_approach_inside, ArmModel, CollisionWorld, ObjectGeometry, ObjectPlacement, WorldState,
+    open_approach_inside, ArmModel, CollisionWorld, ObjectPlacement, WorldState,
 };
 use pregrasp_geometry::Mesh;
 use pregrasp_io::scene::Scene;
@@ -43,8 +43,6 @@ pub const FINGER_RISE: f64 = 0.045;
 pub struct GraspTests<'a> {
     scene: &'a Scene,
     part: &'a TriMesh,
-    /// The part for the open-hand rule (how deep a link lies in it).
-    object: Option<ObjectGeometry>,
     arms: &'a [ArmModel; 2],
     /// The arms, the support and the part: collision-free IK.
     cell: CollisionWorld,
@@ -94,7 +92,6 @@ impl<'a> GraspTests<'a> {
         GraspTests {
             scene,
             part,
-            object: ObjectGeometry::new(mesh).ok(),
             arms,
             cell,
             p_init,
@@ -117,7 +114,8 @@ impl<'a> GraspTests<'a> {
         if open.touch(self.part, &flange).is_some() {
             return (false, false);
         }
-        if let Some(object) = &self.object {
+        // The cell's part (its geometry for the open-hand rule, built once with the cell).
+        if let Some(object) = self.cell.object() {
             if open_approach_inside(object, gripper, &flange).is_some() {
                 return (false, false);
             }
