@@ -94,6 +94,12 @@ pub struct PartKnowledge {
     /// Per arm: precision and power point distance from the flange.
     points: [(f64, f64); 2],
     grips: Grips,
+    /// The seating ([`crate::seat`]) it was built with: the scene's power grasps before it,
+    /// the part's rest offsets along their approaches, how far each moved (`power` holds the
+    /// seated grasps).
+    seated_from: [Isometry3<f64>; 2],
+    rest: [f64; 2],
+    moved: [f64; 2],
 }
 
 impl std::fmt::Debug for PartKnowledge {
@@ -113,10 +119,30 @@ impl PartKnowledge {
         let part =
             Arc::new(pregrasp_collision::ObjectGeometry::new(mesh).map_err(PlanError::Mesh)?);
         let (seated, power_grips) = crate::seat::planned_scene(scene, &part, &arm_models(scene)?);
-        let scene = seated.as_ref().map_or(scene, |(s, _)| s);
-        let ctx = PlanningContext::with_part(scene, mesh, None, Some(part), power_grips)?;
+        let moved = seated.as_ref().map_or([0.0; 2], |(_, m)| *m);
+        let planned = seated.as_ref().map_or(scene, |(s, _)| s);
+        let ctx = PlanningContext::with_part(planned, mesh, None, Some(part), power_grips)?;
         let hull = ConvexHull::of_mesh(mesh).ok().map(Arc::new);
-        Ok(PartKnowledge::of(&ctx, hull))
+        Ok(PartKnowledge::of(&ctx, hull, scene, moved))
+    }
+
+    /// The seating of `scene`'s power grasps ([`crate::seat::planned_scene`]'s scene) when
+    /// this knowledge was built for the same mesh, grasps, tool points and rest offsets (a part
+    /// measured at another pose on the same face): `None` when it was not.
+    #[allow(clippy::type_complexity, clippy::option_option)]
+    pub(crate) fn seating(&self, scene: &Scene, mesh: &Mesh) -> Option<Option<(Scene, [f64; 2])>> {
+        let same = self.fits_mesh(mesh)
+            && self.seated_from == scene.grasps.power
+            && self.support == scene.grasps.support
+            && self.points == tool_points(scene)
+            && self.rest == crate::seat::rest_offsets(scene);
+        same.then(|| {
+            (self.moved != [0.0; 2]).then(|| {
+                let mut s = scene.clone();
+                s.grasps.power = self.power;
+                (s, self.moved)
+            })
+        })
     }
 
     /// The part's collision geometry (object frame).
@@ -124,8 +150,14 @@ impl PartKnowledge {
         self.part.clone()
     }
 
-    /// What `ctx` built, and `hull`, the convex hull of its mesh.
-    fn of(ctx: &PlanningContext, hull: Option<Arc<ConvexHull>>) -> PartKnowledge {
+    /// What `ctx` built for `scene` with its power grasps seated (`moved` each), and `hull`,
+    /// the convex hull of its mesh.
+    fn of(
+        ctx: &PlanningContext,
+        hull: Option<Arc<ConvexHull>>,
+        scene: &Scene,
+        moved: [f64; 2],
+    ) -> PartKnowledge {
         PartKnowledge {
             mesh: mesh_fingerprint(ctx.mesh),
             part: ctx.world.part().expect("a planning world has the part"),
@@ -134,6 +166,9 @@ impl PartKnowledge {
             power: ctx.scene.grasps.power,
             points: tool_points(ctx.scene),
             grips: ctx.grips.clone(),
+            seated_from: scene.grasps.power,
+            rest: crate::seat::rest_offsets(scene),
+            moved,
         }
     }
 

@@ -146,8 +146,15 @@ pub fn plan(
             pregrasp_collision::ObjectGeometry::new(mesh).map_err(PlanError::Mesh)?,
         ),
     };
-    let (seated, power_grips) =
-        crate::seat::planned_scene(scene, &part, &crate::context::arm_models(scene)?);
+    // A part known from an earlier plan (a replan loop) keeps its seating.
+    let (seated, power_grips) = match options
+        .known
+        .as_deref()
+        .and_then(|k| k.seating(scene, mesh))
+    {
+        Some(seated) => (seated, [None, None]),
+        None => crate::seat::planned_scene(scene, &part, &crate::context::arm_models(scene)?),
+    };
     let scene = seated.as_ref().map_or(scene, |(s, _)| s);
     let mut ctx = PlanningContext::with_part(
         scene,

@@ -235,12 +235,20 @@ pub fn seating(
     arms: &[ArmModel; 2],
     min_thickness: f64,
 ) -> SeatedGrasps {
-    let p_init = scene.initial_object_pose();
-    let rest = scene.grasps.power.each_ref().map(|g| {
-        let approach = (p_init * g).rotation * Vector3::z();
-        scene.planner.lift * (-approach.z).max(0.0)
-    });
+    let rest = rest_offsets(scene);
     seat_power_grasps_thicker_than(part, arms, &scene.grasps.power, rest, min_thickness)
+}
+
+/// How far (m) the part as it rests lies from the planned part (P_init, `lift` higher) along
+/// each of `scene`'s power grasps' approaches: `lift` times the cosine between the approach at
+/// P_init and the world's down, to the nanometre (the part measured again, turned about the
+/// vertical, gives the same offsets: the pipeline then reuses a known part's seating).
+pub fn rest_offsets(scene: &pregrasp_io::scene::Scene) -> [f64; 2] {
+    let p_init = scene.initial_object_pose();
+    scene.grasps.power.each_ref().map(|g| {
+        let approach = (p_init * g).rotation * Vector3::z();
+        (scene.planner.lift * (-approach.z).max(0.0) * 1e9).round() / 1e9
+    })
 }
 
 /// What the planner plans with: `scene` with its power grasps seated ([`seated_scene`]; `None`
