@@ -18,10 +18,8 @@
 
 mod common;
 
-use std::path::Path;
-
 use common::replay_table::{planned_scene, rows, scene_of};
-use pregrasp_io::mesh_io::load_mesh;
+use common::scenes::example_files;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::axes::rotation_axis_candidates;
 use pregrasp_planner::context::PlanningContext;
@@ -118,13 +116,7 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
 #[test]
 fn uncarried_plans_are_flagged_or_refused() {
     use pregrasp_planner::pipeline::{plan, PlanOptions};
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let scene_path = "examples/shelf_side.toml";
-    let text = std::fs::read_to_string(root.join(scene_path)).unwrap();
-    let mut scene = Scene::from_str(&text, Path::new(scene_path)).unwrap();
-    let mesh = load_mesh(&root.join(&scene.object.mesh_path), scene.object.scale)
-        .unwrap()
-        .mesh;
+    let (mut scene, mesh) = example_files("shelf_side");
     let run = |scene: &Scene| {
         plan(scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
             .unwrap()
@@ -145,12 +137,7 @@ fn uncarried_plans_are_flagged_or_refused() {
     let reason = refused.reason.unwrap();
     assert!(reason.contains("caged"), "{reason}");
     // The chair side carries: the flag changes nothing there.
-    let chair = "examples/chair_side.toml";
-    let text = std::fs::read_to_string(root.join(chair)).unwrap();
-    let mut scene = Scene::from_str(&text, Path::new(chair)).unwrap();
-    let mesh = load_mesh(&root.join(&scene.object.mesh_path), scene.object.scale)
-        .unwrap()
-        .mesh;
+    let (mut scene, mesh) = example_files("chair_side");
     let before = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
         .unwrap()
         .file

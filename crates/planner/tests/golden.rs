@@ -4,10 +4,11 @@
 //! the same ones; a change that means to change them rewrites the files (`PREGRASP_BLESS=1
 //! cargo test -p pregrasp-planner --test golden`) and says why in its commit.
 
+mod common;
+
+use common::scenes::example_files;
 use std::path::{Path, PathBuf};
 
-use pregrasp_io::mesh_io::load_mesh;
-use pregrasp_io::scene::Scene;
 use pregrasp_planner::pipeline::PlanOptions;
 use pregrasp_reach::{run_reach, ReachProblemSet, ReachSettings};
 
@@ -50,14 +51,8 @@ fn the_examples_plan_as_their_golden_files() {
     };
     // The committed scene and mesh files, as `pregrasp plan examples/<name>.toml` run from the
     // repository's root reads them (paths in the plan file relative to it).
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     for name in ["chair_side", "shelf_side", "stool_side"] {
-        let scene_path = format!("examples/{name}.toml");
-        let text = std::fs::read_to_string(root.join(&scene_path)).unwrap();
-        let scene = Scene::from_str(&text, Path::new(&scene_path)).unwrap();
-        let mesh = load_mesh(&root.join(&scene.object.mesh_path), scene.object.scale)
-            .unwrap()
-            .mesh;
+        let (scene, mesh) = example_files(name);
         let report =
             pregrasp_planner::plan_scene(&scene, &mesh, &options, &|_| {}, &|| {}).unwrap();
         let mut file = report.file;

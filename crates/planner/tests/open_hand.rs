@@ -4,6 +4,9 @@
 //! finger sits deep in (rejected, naming the link and a depth this file computes on its own by
 //! dense sampling), one the palm merely touches (accepted).
 
+mod common;
+
+use common::scenes::example_files;
 use std::path::Path;
 
 use nalgebra::{Isometry3, Point3, Vector3};
@@ -294,13 +297,7 @@ fn the_planner_rejects_a_grasp_whose_open_hand_is_in_the_part_naming_link_and_de
     use pregrasp_planner::pipeline::{plan, CandidateOutcome, PlanOptions};
     use pregrasp_planner::poses::PoseRejection;
 
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let scene_path = "examples/chair_side.toml";
-    let text = std::fs::read_to_string(root.join(scene_path)).unwrap();
-    let scene = pregrasp_io::scene::Scene::from_str(&text, Path::new(scene_path)).unwrap();
-    let mesh = load_mesh(&root.join(&scene.object.mesh_path), scene.object.scale)
-        .unwrap()
-        .mesh;
+    let (scene, mesh) = example_files("chair_side");
     // The block of the check's test beside arm 0's power grasp.
     let arm = 0;
     let gripper = scene.robots[arm].gripper_model();

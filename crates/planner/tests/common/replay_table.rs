@@ -10,7 +10,6 @@ use pregrasp_examples::generated::generated_scene;
 use pregrasp_examples::parts::families::generate;
 use pregrasp_examples::Family;
 use pregrasp_geometry::Mesh;
-use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::scene::Scene;
 use pregrasp_planner::context::arm_models;
 use pregrasp_planner::seat::seated_scene;
@@ -51,17 +50,9 @@ pub fn split_csv(line: &str) -> Vec<String> {
 /// The scene and mesh of a row: an example's files, or a generated part made again from its
 /// family and seed.
 pub fn scene_of(row: &HashMap<String, String>) -> (Scene, Mesh) {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let family = row.get("family").map_or("example", String::as_str);
     if family == "example" {
-        let name = &row["example"];
-        let scene_path = format!("examples/{name}.toml");
-        let text = std::fs::read_to_string(root.join(&scene_path)).unwrap();
-        let scene = Scene::from_str(&text, Path::new(&scene_path)).unwrap();
-        let mesh = load_mesh(&root.join(&scene.object.mesh_path), scene.object.scale)
-            .unwrap()
-            .mesh;
-        return (scene, mesh);
+        return super::scenes::example_files(&row["example"]);
     }
     let seed: u64 = row["seed"].parse().unwrap();
     let part = generate(Family::from_name(family).unwrap(), seed);

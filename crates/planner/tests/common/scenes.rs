@@ -1,4 +1,23 @@
-//! Scene texts as the tests vary them.
+//! Scene texts as the tests vary them, and the committed examples as the CLI reads them.
+
+use std::path::Path;
+
+use pregrasp_geometry::Mesh;
+use pregrasp_io::mesh_io::load_mesh;
+use pregrasp_io::scene::Scene;
+
+/// The committed scene `examples/<name>.toml` and its mesh, as `pregrasp plan` run from the
+/// repository's root reads them (paths in a plan file relative to it).
+pub fn example_files(name: &str) -> (Scene, Mesh) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scene_path = format!("examples/{name}.toml");
+    let text = std::fs::read_to_string(root.join(&scene_path)).unwrap();
+    let scene = Scene::from_str(&text, Path::new(&scene_path)).unwrap();
+    let mesh = load_mesh(&root.join(&scene.object.mesh_path), scene.object.scale)
+        .unwrap()
+        .mesh;
+    (scene, mesh)
+}
 
 /// The scene text with its `[grasps]` table replaced by `mode = "auto"` and `extra` lines.
 pub fn auto_scene(text: &str, extra: &str) -> String {
