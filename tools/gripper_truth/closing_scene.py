@@ -115,11 +115,13 @@ def tracked(gr, d):
     return np.array(P)
 
 
-def simulate_row(scene, spec_row):
+def simulate_row(scene, spec_row, rid=None):
+    """One closing on the bar of `spec_row` = (w, t, depth past the power point (mm), tilt (deg), table);
+    `rid`: the row's id (default `row_id(*spec_row)`)."""
     w_mm, t_mm, dep_mm, tilt, table = spec_row
     w, t, dep = w_mm / 1000, t_mm / 1000, dep_mm / 1000
     bg = bar_geometry(w, t, dep, tilt)
-    row = {"id": row_id(*spec_row),
+    row = {"id": rid or row_id(*spec_row),
            "bar": {"width": w, "thickness": t, "depth_past_power_point": dep, "tilt_deg": float(tilt),
                    "z_top": bg["z_top"], "z_center": bg["z_center"], "z_bottom": bg["z_bottom"],
                    "half_extent_x": bg["half_extent_x"]},
@@ -201,15 +203,23 @@ def simulate_row(scene, spec_row):
     # final state
     G, D = contacts(d)
     touching = {s: set() for s in SIDES}
+    # normal force of the bar on each finger's distal (follower + pad) and proximal links, and on the palm (N)
+    force = {s: {"distal": 0.0, "proximal": 0.0} for s in SIDES}
+    force_palm = 0.0
+    f6 = np.zeros(6)
     palm_bar = False
     fingers_touch = False
     table_end = False
-    for (g1, g2), dist in zip(G, D):
+    for i, ((g1, g2), dist) in enumerate(zip(G, D)):
         for a, b in ((g1, g2), (g2, g1)):
             if b == gr.bar and a in gr.geom_side:
                 touching[gr.geom_side[a]].add(gr.geom_link[a])
+                mujoco.mj_contactForce(m, d, i, f6)
+                force[gr.geom_side[a]]["distal" if gr.geom_link[a] in DISTAL else "proximal"] += f6[0]
             if b == gr.bar and a in gr.palm_geoms:
                 palm_bar = True
+                mujoco.mj_contactForce(m, d, i, f6)
+                force_palm += f6[0]
             if b == gr.table and a in gr.geom_side:
                 table_end = True
         if g1 in gr.geom_side and g2 in gr.geom_side and gr.geom_side[g1] != gr.geom_side[g2]:
@@ -225,6 +235,7 @@ def simulate_row(scene, spec_row):
              "deepest_z_end": gr.deepest_side(d, s, set(LINKS)),
              "distal_deepest_z_end": gr.deepest_side(d, s, DISTAL),
              "touching_bar_end": sorted(touching[s]),
+             "bar_force_end": force[s],
              "first_touch_link": first[s][1] if first[s] else None,
              "first_touch_t": first[s][0] if first[s] else None}
         f["distal_curled"] = f["distal_pitch"] > CURL_RAD
@@ -258,6 +269,7 @@ def simulate_row(scene, spec_row):
     row["caged"] = all(fingers[s]["tip_under_bar"] for s in SIDES)
     row["fingers_touch_each_other_end"] = fingers_touch
     row["palm_touches_bar_end"] = palm_bar
+    row["palm_force_end"] = force_palm
     if table:
         row["table_touched"] = table_contact
         row["table_touched_end"] = table_end
