@@ -18,6 +18,7 @@ mod ik;
 mod linkage;
 mod links;
 mod model;
+mod pieces_blob;
 mod sweep_radii;
 
 pub use angle::{atan2, sin_cos, wrap_angle};

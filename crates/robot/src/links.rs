@@ -261,36 +261,25 @@ pub fn arm_geometry(model: UrModel) -> ArmGeometry {
     with_self_collision_pairs(links)
 }
 
-#[derive(serde::Deserialize)]
-struct PiecesJson {
-    pieces: Vec<Vec<[f64; 3]>>,
-    slack: f64,
-}
-
-#[derive(serde::Deserialize)]
-struct PiecesFileJson {
-    shapes: std::collections::BTreeMap<String, PiecesJson>,
-}
-
-/// The exact pieces of `model`'s link shapes by shape name (`data/ur_pieces_<model>.json`),
-/// parsed the first time the model is used: a scene with UR5e arms never parses the others.
+/// The exact pieces of `model`'s link shapes by shape name (`data/ur_pieces_<model>.json`, as
+/// `build.rs` converted it: [`crate::pieces_blob`]), read the first time the model is used: a
+/// scene with UR5e arms never reads the others.
 fn model_pieces(model: UrModel) -> &'static std::collections::BTreeMap<&'static str, ConvexPieces> {
     type Pieces = std::collections::BTreeMap<&'static str, ConvexPieces>;
     static MODELS: [std::sync::OnceLock<Pieces>; 5] = [const { std::sync::OnceLock::new() }; 5];
-    let (slot, text) = match model {
-        UrModel::Ur3e => (0, include_str!("../data/ur_pieces_ur3e.json")),
-        UrModel::Ur5e => (1, include_str!("../data/ur_pieces_ur5e.json")),
-        UrModel::Ur10e => (2, include_str!("../data/ur_pieces_ur10e.json")),
-        UrModel::Ur16e => (3, include_str!("../data/ur_pieces_ur16e.json")),
-        UrModel::Ur5 => (4, include_str!("../data/ur_pieces_ur5.json")),
+    let slot = match model {
+        UrModel::Ur3e => 0,
+        UrModel::Ur5e => 1,
+        UrModel::Ur10e => 2,
+        UrModel::Ur16e => 3,
+        UrModel::Ur5 => 4,
     };
     MODELS[slot].get_or_init(|| {
-        let file: PiecesFileJson = serde_json::from_str(text)
-            .unwrap_or_else(|e| panic!("built-in ur_pieces_{model}.json: {e}"));
         let names = fitted_links(model).expect("every model has shapes");
-        file.shapes
+        crate::pieces_blob::shapes(model)
             .into_iter()
-            .map(|(name, p)| {
+            .map(|p| {
+                let name = &p.name;
                 let shape = names
                     .iter()
                     .find(|l| l.name == name)
@@ -300,15 +289,10 @@ fn model_pieces(model: UrModel) -> &'static std::collections::BTreeMap<&'static 
                     "ur_pieces_{model}.json: {name}: slack {} outside [0, 5 mm) or a piece of < 4 vertices",
                     p.slack
                 );
-                let pieces = p
-                    .pieces
-                    .iter()
-                    .map(|v| v.iter().map(|&x| Point3::from(x)).collect())
-                    .collect();
                 (
                     shape.name,
                     ConvexPieces {
-                        pieces,
+                        pieces: p.pieces,
                         slack: p.slack,
                     },
                 )
