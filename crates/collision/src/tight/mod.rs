@@ -221,9 +221,13 @@ impl Tight {
                 .flat_map(|p| p.poly.points.iter())
                 .copied()
                 .collect();
-            let hull = Polytope::new(hull_points(&all));
-            hull.prepare();
-            hull
+            // The vertex graph from the faces of this one hull (as `Tight::hull` builds it):
+            // `prepare` on the hull's vertices would hull them a second time, about as dear as
+            // the first. The climb's answer is the scan's with either graph.
+            match parry3d_f64::transformation::try_convex_hull(&all) {
+                Ok((verts, faces)) => Polytope::with_faces(verts, &faces),
+                Err(_) => Polytope::new(all),
+            }
         });
         // `(−row)·v` is `−(row·v)` to the bit: the farthest vertex along `−row` is the first
         // lowest one.
@@ -243,15 +247,6 @@ pub(crate) struct Warm {
 /// The axis-aligned box of a triangle.
 fn tri_box(tri: &Triangle) -> (P, P) {
     (tri.a.inf(&tri.b).inf(&tri.c), tri.a.sup(&tri.b).sup(&tri.c))
-}
-
-/// The points of `all` that are vertices of its convex hull, exactly as given (parry returns
-/// the input points it keeps); every point where no hull can be computed.
-pub(crate) fn hull_points(all: &[P]) -> Vec<P> {
-    match parry3d_f64::transformation::try_convex_hull(all) {
-        Ok((verts, _)) => verts,
-        Err(_) => all.to_vec(),
-    }
 }
 
 /// A link's pieces placed by its DH frame (link → world).
