@@ -25,7 +25,7 @@
 //! A caged hand squeezes with its spring links only ([`CAGED_SQUEEZE`]); a one-sided closing
 //! gives nothing. Held to the whole-plan replay (`crates/planner/tests/carry_truth.rs`): of the
 //! variants "caged: no enclosure", "forces only" and "forces and moments", forces only departs
-//! from the replay least (3 of 46 rows).
+//! from the replay least (3 of 46 rows when chosen; 2 of 46 since the closing model of b6ce5a2).
 //!
 //! A pinch (the pads alone bear on the bar) has the squeeze only. Equations: the hands' forces
 //! sum to `W·(g + a)/g · ẑ`, their moments about the centre of mass to zero. Forces are solved
