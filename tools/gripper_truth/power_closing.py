@@ -38,7 +38,7 @@ REPO_ROOT = Path(__file__).resolve().parents[2]
 OUT_DIR = REPO_ROOT / "crates/robot/data/gripper_truth"
 SCRIPT = "tools/gripper_truth/power_closing.py"
 
-GAPS_MM = [0.5, 2, 4, 6, 9]  # bar top below the palm
+GAPS_MM = [0.5, 2, 4, 6, 9, 12, 16]  # bar top below the palm (16: 1.8 mm past the power point)
 WIDTHS_MM = [15, 20, 25, 30, 35, 40]  # along x (closing axis)
 THICKS_MM = [18, 22, 26, 30, 34, 38, 42]  # along z (approach)
 

@@ -22,8 +22,8 @@
 //!
 //! Held to MuJoCo's closing of the Menagerie model on 471 bars (`tests/closing_truth.rs`): the
 //! same table verdict in every row that is not a graze, 92 % of the pads and tips within 2 mm;
-//! and on 210 bars held as power grasps, their top 0.5–9 mm below the palm: ours squeezes where
-//! MuJoCo's pads press the bar from both sides in 131 of 135 rows and is caged in the other 75,
+//! and on 294 bars held as power grasps, their top 0.5–16 mm below the palm: ours squeezes where
+//! MuJoCo's pads press the bar from both sides in 212 of 217 rows and is caged in the other 77,
 //! as MuJoCo is (the pads' positions there differ by 4.6 mm at the median: the force balance
 //! that pushes MuJoCo's spring link open is not in a kinematic model).
 //! Where it departs — MuJoCo's spring link, pushed open by force balance, lets the follower wrap
