@@ -13,7 +13,6 @@ Writes crates/robot/data/gripper_truth/closing_2f85.{json,csv} (atomically, dete
 inputs, MuJoCo version and machine). See tools/gripper_truth/README.md for the frame, the grid and
 every column.
 """
-import argparse
 import json
 import sys
 import tempfile
@@ -51,7 +50,7 @@ from closing_scene import (  # noqa: E402
     grid,
     simulate_row,
 )
-from source import MODEL_DIR, MODEL_XML, load_source  # noqa: E402
+from source import MODEL_DIR, MODEL_XML, load_source, menagerie_args  # noqa: E402
 from tables import csv_text, dump_json, write_atomic  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
@@ -145,12 +144,7 @@ def compare_ours(sweep):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("menagerie", help="mujoco_menagerie checkout or (bare) git directory")
-    ap.add_argument("--rev", default="HEAD", help="revision to read from a git directory (default HEAD)")
-    ap.add_argument("--out", default=str(OUT_DIR), help="output directory")
-    ap.add_argument("--limit", type=int, default=0, help="simulate only the first N grid rows (testing)")
-    a = ap.parse_args()
+    a = menagerie_args(__doc__, OUT_DIR)
     t_start = time.time()
     with tempfile.TemporaryDirectory(prefix="gripper_truth_") as tmp:
         src, prov = load_source(a.menagerie, a.rev, tmp)

@@ -19,7 +19,6 @@ settle rule as closing.py (closing_scene.py), plus per finger the bar's normal f
 Writes crates/robot/data/gripper_truth/closing_2f85_power.{json,csv} (atomically; deterministic for
 the same inputs, MuJoCo version and machine).
 """
-import argparse
 import sys
 import tempfile
 import time
@@ -31,7 +30,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from transforms import mat_of_quat  # noqa: E402
 from closing_scene import BAR_LEN, CTRL_CLOSED, POWER_Z, T_CAP, T_MIN, T_RAMP, Scene, simulate_row  # noqa: E402
-from source import MODEL_DIR, MODEL_XML, load_source  # noqa: E402
+from source import MODEL_DIR, MODEL_XML, load_source, menagerie_args  # noqa: E402
 from tables import csv_text, dump_json, write_atomic  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
@@ -63,12 +62,7 @@ def palm_z(m, d, gr):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("menagerie", help="mujoco_menagerie checkout or (bare) git directory")
-    ap.add_argument("--rev", default="HEAD", help="revision to read from a git directory (default HEAD)")
-    ap.add_argument("--out", default=str(OUT_DIR), help="output directory")
-    ap.add_argument("--limit", type=int, default=0, help="simulate only the first N grid rows (testing)")
-    a = ap.parse_args()
+    a = menagerie_args(__doc__, OUT_DIR)
     t_start = time.time()
     with tempfile.TemporaryDirectory(prefix="gripper_truth_") as tmp:
         src, prov = load_source(a.menagerie, a.rev, tmp)

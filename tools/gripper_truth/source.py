@@ -1,5 +1,6 @@
 """The Menagerie `robotiq_2f85/` files the simulations load (`load_source`: from a checkout, or from a
 git directory into a temporary directory) and their provenance. Used by closing.py and replay.py."""
+import argparse
 import hashlib
 import subprocess
 import sys
@@ -63,3 +64,14 @@ def load_source(path, rev, tmp):
     files = sorted(str(f.relative_to(src)) for f in src.rglob("*") if f.is_file() and f.suffix in (".xml", ".stl", ".obj"))
     prov["sha256"] = {f: sha256(src / f) for f in files if f == MODEL_XML or f.startswith("assets/")}
     return src, prov
+
+
+def menagerie_args(description, out_dir):
+    """The command line of the closing grids (closing.py, power_closing.py): the Menagerie checkout or git
+    directory, `--rev`, `--out` (default `out_dir`) and `--limit`."""
+    ap = argparse.ArgumentParser(description=description, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("menagerie", help="mujoco_menagerie checkout or (bare) git directory")
+    ap.add_argument("--rev", default="HEAD", help="revision to read from a git directory (default HEAD)")
+    ap.add_argument("--out", default=str(out_dir), help="output directory")
+    ap.add_argument("--limit", type=int, default=0, help="simulate only the first N grid rows (testing)")
+    return ap.parse_args()
