@@ -51,7 +51,7 @@ from closing_scene import (  # noqa: E402
     simulate_row,
 )
 from source import MODEL_DIR, MODEL_XML, load_source, menagerie_args  # noqa: E402
-from tables import csv_text, dump_json, write_atomic  # noqa: E402
+from tables import write_tables  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 OUT_DIR = REPO_ROOT / "crates/robot/data/gripper_truth"
@@ -241,10 +241,7 @@ def main():
                      f"max |qvel| < {SWEEP_VTOL} rad/s (t > 0.2 s) or {SWEEP_T_CAP} s", "rows": sweep,
                      "compare_crates_robot_data_robotiq_2f85_json": cmp},
     }
-    out = Path(a.out)
-    write_atomic(out / "closing_2f85.json", dump_json(header, rows))
-    write_atomic(out / "closing_2f85.csv", csv_text(rows))
-    print(f"wrote {out/'closing_2f85.json'} and .csv: {len(rows)} rows in {time.time()-t_start:.1f} s")
+    write_tables(a.out, "closing_2f85", header, rows, t_start)
 
 
 if __name__ == "__main__":

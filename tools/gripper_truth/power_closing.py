@@ -31,7 +31,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from transforms import mat_of_quat  # noqa: E402
 from closing_scene import BAR_LEN, CTRL_CLOSED, POWER_Z, T_CAP, T_MIN, T_RAMP, Scene, simulate_row  # noqa: E402
 from source import MODEL_DIR, MODEL_XML, load_source, menagerie_args  # noqa: E402
-from tables import csv_text, dump_json, write_atomic  # noqa: E402
+from tables import write_tables  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 OUT_DIR = REPO_ROOT / "crates/robot/data/gripper_truth"
@@ -113,10 +113,7 @@ def main():
                                   "distal (follower, pad, silicone pad) and proximal (driver, coupler, spring link) "
                                   "geoms at the end (mj_contactForce); palm_force_end: on the base and base_mount")},
     }
-    out = Path(a.out)
-    write_atomic(out / "closing_2f85_power.json", dump_json(header, rows))
-    write_atomic(out / "closing_2f85_power.csv", csv_text(rows))
-    print(f"wrote {out / 'closing_2f85_power.json'} and .csv: {len(rows)} rows in {time.time() - t_start:.1f} s")
+    write_tables(a.out, "closing_2f85_power", header, rows, t_start)
 
 
 if __name__ == "__main__":

@@ -1,10 +1,13 @@
 """The output of the simulations: values rounded to 6 decimals (`rnd`), the JSON file (`dump_json`: header
-keys sorted, one row per line), the flat CSV (`csv_text`), atomic writes. Used by closing.py and replay.py."""
+keys sorted, one row per line), the flat CSV (`csv_text`), atomic writes (`write_tables`: both files of a
+table). Used by closing.py, power_closing.py and the replays."""
 import csv
 import io
 import json
 import os
 import tempfile
+import time
+from pathlib import Path
 
 import numpy as np
 
@@ -79,3 +82,11 @@ def csv_text(rows):
                 line.append(str(v))
         wr.writerow(line)
     return buf.getvalue()
+
+
+def write_tables(out_dir, stem, header, rows, t_start):
+    """`stem`.json (header + rows) and `stem`.csv (the rows) in `out_dir`, atomically; says so."""
+    out = Path(out_dir)
+    write_atomic(out / f"{stem}.json", dump_json(header, rows))
+    write_atomic(out / f"{stem}.csv", csv_text(rows))
+    print(f"wrote {out / stem}.json and .csv: {len(rows)} rows in {time.time() - t_start:.1f} s")
