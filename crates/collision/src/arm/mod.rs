@@ -96,7 +96,9 @@ impl GripperPose {
 mod pieces;
 mod posed;
 
-use pieces::{frame_spheres, gripper_sphere, gripper_tight, tight_pieces, TightSet};
+use pieces::{
+    frame_spheres, gripper_sphere, gripper_tight, robotiq_finger_hull, tight_pieces, TightSet,
+};
 use posed::place;
 pub(crate) use posed::{Local, PosedArm};
 
@@ -449,6 +451,7 @@ impl ArmModel {
         // The finger links by their pieces' lowest vertex, asked only of the links whose box
         // (which holds the pieces) reaches below the best so far, lowest box first.
         let tight = &self.shapes.gripper_tight;
+        let robotiq = self.gripper.robotiq().is_some();
         let mut boxes = [(f64::INFINITY, 0usize); MAX_GRIPPER_SHAPES];
         let n = prims.len() - statics;
         for (slot, k) in boxes.iter_mut().zip(statics..prims.len()) {
@@ -460,8 +463,11 @@ impl ArmModel {
             if box_low >= best {
                 break;
             }
+            let frame = flange * shape_frames[k];
             let exact = match &tight[k] {
-                Some(t) => t.lowest(&(flange * shape_frames[k])),
+                // The 2F-85's finger links: their hulls shared with the closing.
+                Some(t) if robotiq => t.lowest_on(&frame, || robotiq_finger_hull(k - statics)),
+                Some(t) => t.lowest(&frame),
                 None => box_low,
             };
             best = best.min(exact);

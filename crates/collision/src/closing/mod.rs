@@ -21,8 +21,10 @@ use pregrasp_robot::{ClosingWorld, ConvexPieces, PlanarPose, Touch, FINGER_LINKS
 use crate::object::ObjectGeometry;
 use crate::tight::Tight;
 
+mod link_hulls;
 mod near;
 
+pub(crate) use link_hulls::{hull_of, robotiq_link_hull, HullFaces};
 use near::{Clearance, Link, Near, Solid};
 
 /// One convex piece of a finger link: its vertices (for the support test and the boxes).
@@ -30,9 +32,6 @@ use near::{Clearance, Link, Near, Solid};
 struct Piece {
     vertices: Vec<Point3<f64>>,
 }
-
-/// A hull: its vertices and its faces (indices into them), as parry gives it.
-type HullFaces = (Vec<Point3<f64>>, Vec<[u32; 3]>);
 
 /// The finger links' convex pieces in their link frames, for the `+x` finger and its mirror.
 #[derive(Clone, Debug)]
@@ -60,7 +59,21 @@ impl FingerShapes {
     /// `+x` finger; the other finger's are their mirror images `x → −x`. `None` if a link is
     /// missing or a piece has no volume.
     pub fn new(links: &[Vec<Vec<Point3<f64>>>]) -> Option<FingerShapes> {
-        if links.len() != FINGER_LINKS.len() {
+        let hulls = links
+            .iter()
+            .map(|link| hull_of(link.iter().flatten().copied().collect()))
+            .collect();
+        FingerShapes::with_hulls(links, hulls)
+    }
+
+    /// [`FingerShapes::new`] with each link's hull given (`hull_faces`: as [`hull_of`] gives it
+    /// for the link's piece vertices in order; the built-in 2F-85's are shared,
+    /// [`robotiq_link_hull`]).
+    pub(crate) fn with_hulls(
+        links: &[Vec<Vec<Point3<f64>>>],
+        hull_faces: Vec<HullFaces>,
+    ) -> Option<FingerShapes> {
+        if links.len() != FINGER_LINKS.len() || hull_faces.len() != links.len() {
             return None;
         }
         let side = |sign: f64| -> Option<Vec<Vec<Piece>>> {
@@ -118,18 +131,8 @@ impl FingerShapes {
                 })
                 .collect()
         };
-        // Each link's hull once, for the `+x` finger (its vertices and faces); the other
-        // finger's is its mirror image, with the same faces.
-        let hull_faces: Vec<HullFaces> = pieces[0]
-            .iter()
-            .map(|link| {
-                let all: Vec<Point3<f64>> = link
-                    .iter()
-                    .flat_map(|p| p.vertices.iter().copied())
-                    .collect();
-                parry3d_f64::transformation::try_convex_hull(&all).unwrap_or((all, Vec::new()))
-            })
-            .collect();
+        // Each link's hull once, for the `+x` finger (its vertices and faces, given); the
+        // other finger's is its mirror image, with the same faces.
         let right: Vec<Tight> = hull_faces
             .iter()
             .map(|(pts, faces)| Tight::hull(pts.clone(), faces))

@@ -18,7 +18,7 @@ use pregrasp_robot::{
     GripperState, COUPLER, DRIVER, FINGER_LINKS, FOLLOWER, LINKS_PER_FINGER, PAD, SPRING_LINK,
 };
 
-use crate::closing::{FingerShapes, PartClosing};
+use crate::closing::{robotiq_link_hull, FingerShapes, PartClosing};
 use crate::object::ObjectGeometry;
 use sweep::{Frame, Heights, LinkPoints, Swept};
 
@@ -176,7 +176,10 @@ fn finger_shapes() -> &'static FingerShapes {
         let right = &solids.links[LINKS_PER_FINGER..];
         let links: Vec<Vec<Vec<Point3<f64>>>> =
             right.iter().map(|s| s.pieces.pieces.clone()).collect();
-        FingerShapes::new(&links).expect("the built-in finger pieces are solids")
+        let hulls = (0..LINKS_PER_FINGER)
+            .map(|link| robotiq_link_hull(link).clone())
+            .collect();
+        FingerShapes::with_hulls(&links, hulls).expect("the built-in finger pieces are solids")
     })
 }
 

@@ -213,8 +213,7 @@ impl Tight {
     /// support point along the world's `−z` (in the pieces' frame), by a climb over its vertex
     /// graph — the vertex a scan would find, so the same number as the least height over all.
     pub fn lowest(&self, frame: &Isometry3<f64>) -> f64 {
-        let row = crate::distance::world_up_in(frame);
-        let hull = self.hull.get_or_init(|| {
+        self.lowest_on(frame, || {
             let all: Vec<P> = self
                 .pieces
                 .iter()
@@ -228,7 +227,15 @@ impl Tight {
                 Ok((verts, faces)) => Polytope::with_faces(verts, &faces),
                 Err(_) => Polytope::new(all),
             }
-        });
+        })
+    }
+
+    /// [`Tight::lowest`] with the hull of all pieces built by `hull` where it is not yet built:
+    /// a hull of the same points from elsewhere (its vertices the pieces' extreme points, bit
+    /// for bit), so the least height is the same number.
+    pub(crate) fn lowest_on(&self, frame: &Isometry3<f64>, hull: impl FnOnce() -> Polytope) -> f64 {
+        let row = crate::distance::world_up_in(frame);
+        let hull = self.hull.get_or_init(hull);
         // `(−row)·v` is `−(row·v)` to the bit: the farthest vertex along `−row` is the first
         // lowest one.
         let v = Climb::new(hull).local_support_point(&-row);
