@@ -9,6 +9,7 @@ use pregrasp_robot::{
     GripperState, Joints, LinkShape, Primitive, UrModel, SHAPE_GROUPS,
 };
 
+use crate::closing::robotiq_finger_hull;
 use crate::error::CollisionError;
 use crate::shape::{Bounded, Placed};
 use crate::tight::Tight;
@@ -96,9 +97,7 @@ impl GripperPose {
 mod pieces;
 mod posed;
 
-use pieces::{
-    frame_spheres, gripper_sphere, gripper_tight, robotiq_finger_hull, tight_pieces, TightSet,
-};
+use pieces::{frame_spheres, gripper_sphere, gripper_tight, tight_pieces, TightSet};
 use posed::place;
 pub(crate) use posed::{Local, PosedArm};
 

@@ -4,11 +4,11 @@
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use nalgebra::{Isometry3, Point3};
-use pregrasp_robot::{Gripper, LinkShape, LINKS_PER_FINGER, SIDES};
+use nalgebra::Isometry3;
+use pregrasp_robot::{Gripper, LinkShape};
 
 use crate::shape::Bounded;
-use crate::tight::{Polytope, Tight};
+use crate::tight::Tight;
 
 use super::posed::place;
 
@@ -34,25 +34,6 @@ pub(super) fn gripper_tight(gripper: &Gripper) -> Arc<Vec<Option<Tight>>> {
         .entry(key.to_string())
         .or_insert(tight)
         .clone()
-}
-
-/// The hull of the 2F-85's finger shape `j` (`0..FINGER_SHAPES`, in shape order: the `−x`
-/// finger's links, then the `+x` finger's), in its link frame, from the link hulls the closing
-/// computes too ([`crate::closing::robotiq_link_hull`]; the `−x` links mirrored `x → −x`, as
-/// `FingerSolids` mirrors their pieces): the hull `Tight::lowest` would build of the same
-/// points, with the same extreme vertices, so the same least heights.
-pub(super) fn robotiq_finger_hull(j: usize) -> Polytope {
-    let (verts, faces) = crate::closing::robotiq_link_hull(j % LINKS_PER_FINGER);
-    let side = SIDES[j / LINKS_PER_FINGER];
-    let verts: Vec<Point3<f64>> = verts
-        .iter()
-        .map(|p| Point3::new(side * p.x, p.y, p.z))
-        .collect();
-    if faces.is_empty() {
-        Polytope::new(verts)
-    } else {
-        Polytope::with_faces(verts, faces)
-    }
 }
 
 /// A sphere around the gripper at every opening: centre on the flange axis, radius covering
@@ -144,56 +125,4 @@ pub(super) fn tight_pieces(key: &str, links: &[LinkShape]) -> TightSet {
             )
         })
         .clone()
-}
-
-#[cfg(test)]
-mod tests {
-    use nalgebra::{Translation3, UnitQuaternion};
-    use rand::{Rng, SeedableRng};
-    use rand_chacha::ChaCha8Rng;
-
-    use super::*;
-
-    /// The lowest point of a 2F-85 finger shape climbed on the shared link hull
-    /// ([`robotiq_finger_hull`]) is the same number, to the bit, as the least world `z` over
-    /// every vertex of its pieces — and so as `Tight::lowest` on the hull of its own pieces —
-    /// for both fingers' links, in random frames and in axis-aligned ones (where vertices tie).
-    #[test]
-    fn the_shared_finger_hulls_give_the_least_height_of_every_vertex() {
-        let mut rng = ChaCha8Rng::seed_from_u64(7);
-        let solids = pregrasp_robot::FingerSolids::robotiq_2f85();
-        for (j, link) in solids.links.iter().enumerate() {
-            let shared = Tight::new(&link.pieces).expect("finger pieces are solids");
-            let own = Tight::new(&link.pieces).expect("finger pieces are solids");
-            let aligned = [
-                UnitQuaternion::identity(),
-                UnitQuaternion::from_euler_angles(std::f64::consts::PI, 0.0, 0.0),
-                UnitQuaternion::from_euler_angles(0.0, std::f64::consts::FRAC_PI_2, 0.0),
-            ];
-            let random: Vec<_> = (0..200)
-                .map(|_| {
-                    UnitQuaternion::from_euler_angles(
-                        rng.random_range(-3.2..3.2),
-                        rng.random_range(-1.6..1.6),
-                        rng.random_range(-3.2..3.2),
-                    )
-                })
-                .collect();
-            for rotation in aligned.into_iter().chain(random) {
-                let frame = Isometry3::from_parts(Translation3::new(0.1, -0.2, 0.3), rotation);
-                let row = crate::distance::world_up_in(&frame);
-                let least = link
-                    .pieces
-                    .pieces
-                    .iter()
-                    .flatten()
-                    .map(|v| row.dot(&v.coords))
-                    .fold(f64::INFINITY, f64::min)
-                    + frame.translation.vector.z;
-                let climbed = shared.lowest_on(&frame, || robotiq_finger_hull(j));
-                assert_eq!(climbed, least, "shape {j} ({}) at {rotation:?}", link.name);
-                assert_eq!(own.lowest(&frame), climbed, "shape {j}");
-            }
-        }
-    }
 }

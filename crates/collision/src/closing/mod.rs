@@ -24,7 +24,7 @@ use crate::tight::Tight;
 mod link_hulls;
 mod near;
 
-pub(crate) use link_hulls::{hull_of, robotiq_link_hull, HullFaces};
+pub(crate) use link_hulls::{hull_of, robotiq_finger_hull, robotiq_link_hull, HullFaces};
 use near::{Clearance, Link, Near, Solid};
 
 /// One convex piece of a finger link: its vertices (for the support test and the boxes).
