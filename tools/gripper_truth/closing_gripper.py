@@ -14,6 +14,23 @@ SIDES = {"pos": "right", "neg": "left"}  # our side name (+x / -x finger in G) -
 SIGN = {"pos": 1.0, "neg": -1.0}
 
 
+def geom_points(m, g):
+    """Geom `g`'s points in its body's frame: a mesh's convex-hull vertices (all its vertices where it has no
+    hull), a box's corners; None for any other type."""
+    if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH:
+        mid = m.geom_dataid[g]
+        V = m.mesh_vert[m.mesh_vertadr[mid]:m.mesh_vertadr[mid] + m.mesh_vertnum[mid]]
+        ga = m.mesh_graphadr[mid]
+        if ga >= 0:
+            nv = m.mesh_graph[ga]
+            V = V[m.mesh_graph[ga + 2 + nv:ga + 2 + 2 * nv]]
+    elif m.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX:
+        V = np.array([[a, b, c] for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)]) * m.geom_size[g]
+    else:
+        return None
+    return V @ mat_of_quat(m.geom_quat[g]).T + m.geom_pos[g]
+
+
 class Gripper:
     """Index of the compiled model: bodies, joints, finger geometry points, G frame."""
 
@@ -55,19 +72,10 @@ class Gripper:
             for g in range(m.ngeom):
                 if m.geom_bodyid[g] != bid:
                     continue
-                Rg, pg = mat_of_quat(m.geom_quat[g]), m.geom_pos[g]
-                if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH:
-                    mid = m.geom_dataid[g]
-                    V = m.mesh_vert[m.mesh_vertadr[mid]:m.mesh_vertadr[mid] + m.mesh_vertnum[mid]]
-                    ga = m.mesh_graphadr[mid]
-                    if ga >= 0:
-                        nv = m.mesh_graph[ga]
-                        V = V[m.mesh_graph[ga + 2 + nv:ga + 2 + 2 * nv]]
-                elif m.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX:
-                    V = np.array([[a, b, c] for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)]) * m.geom_size[g]
-                else:
+                V = geom_points(m, g)
+                if V is None:
                     raise ValueError(f"unexpected finger geom type {m.geom_type[g]}")
-                P.append(V @ Rg.T + pg)
+                P.append(V)
             self.pts[(s, ln)] = np.vstack(P)
         # pad contact face (pad body frame) from the two pad boxes
         boxes = [g for g in range(m.ngeom) if m.geom_bodyid[g] == self.body[("pos", "pad")]

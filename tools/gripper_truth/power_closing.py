@@ -28,7 +28,7 @@ import mujoco
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from transforms import mat_of_quat  # noqa: E402
+from closing_gripper import geom_points  # noqa: E402
 from closing_scene import BAR_LEN, CTRL_CLOSED, POWER_Z, T_CAP, T_MIN, T_RAMP, Scene, simulate_row  # noqa: E402
 from source import MODEL_DIR, MODEL_XML, load_source, menagerie_args  # noqa: E402
 from tables import write_tables  # noqa: E402
@@ -43,20 +43,15 @@ THICKS_MM = [18, 22, 26, 30, 34, 38, 42]  # along z (approach)
 
 
 def palm_z(m, d, gr):
-    """The palm's lowest point: max G z over the vertices of the base and base_mount geoms (open pose)."""
+    """The palm's lowest point: max G z over the hull vertices of the base and base_mount geoms (open pose)."""
     zrow = gr.R_w_G[:, 2]
     best = -1e9
     for g in sorted(gr.palm_geoms):
-        Rg, pg = mat_of_quat(m.geom_quat[g]), m.geom_pos[g]
-        if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH:
-            mid = m.geom_dataid[g]
-            V = m.mesh_vert[m.mesh_vertadr[mid]:m.mesh_vertadr[mid] + m.mesh_vertnum[mid]]
-        elif m.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX:
-            V = np.array([[a, b, c] for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)]) * m.geom_size[g]
-        else:
+        V = geom_points(m, g)
+        if V is None:
             continue
         b = m.geom_bodyid[g]
-        W = (V @ Rg.T + pg) @ d.xmat[b].reshape(3, 3).T + d.xpos[b]
+        W = V @ d.xmat[b].reshape(3, 3).T + d.xpos[b]
         best = max(best, float(((W - gr.o_w_G) @ zrow).max()))
     return best
 
