@@ -16,8 +16,8 @@ use pregrasp_io::scene::Scene;
 use pregrasp_planner::context::arm_models;
 use pregrasp_planner::pipeline::PlanOptions;
 use pregrasp_planner::seat::{
-    seat_power_grasps, seated_scene, thickness_at, MIN_SEAT_THICKNESS, SEAT_DEPTH, SEAT_GAP,
-    SEAT_TOLERANCE,
+    seat_power_grasps, seated_scene, thickness_at, MIN_SEAT_THICKNESS, PARTIAL_SEAT_MIN,
+    PARTIAL_SEAT_STEP, SEAT_DEPTH, SEAT_GAP, SEAT_TOLERANCE,
 };
 use pregrasp_robot::{ClosingKind, GripperState, Primitive};
 
@@ -161,4 +161,64 @@ fn thin_bars_are_not_seated_and_the_thickness_is_the_bars() {
         assert!((t - part.thickness).abs() < 1e-6, "{t} {}", part.thickness);
     }
     assert!(seated_scene(&scene, &object, &arms).is_none());
+}
+
+/// Whether a closing squeezes the bar from both sides: no finger closed on nothing or on the
+/// other's tips.
+fn squeezes(
+    part: &ObjectGeometry,
+    gripper: &pregrasp_robot::Gripper,
+    flange: &Isometry3<f64>,
+) -> bool {
+    close_on_part(part, gripper, flange).is_ok_and(|grip| {
+        grip.kinds
+            .iter()
+            .all(|k| !matches!(k, ClosingKind::Closed | ClosingKind::Caged))
+    })
+}
+
+#[test]
+fn a_bar_caged_on_the_palm_is_seated_as_deep_as_it_still_squeezes() {
+    // Generated frame #1 (29 mm stock, 39 mm bars): the closing wraps both bars 4.4 mm below
+    // the palm and cages them once seated on it; each grasp moves part of the way instead.
+    let generated = generated_scene(&generate(Family::Frame, 1));
+    let scene = Scene::from_str(&generated.scene_toml, Path::new("frame_1.toml")).unwrap();
+    let part = ObjectGeometry::new(&generated.mesh).unwrap();
+    let arms = arm_models(&scene).unwrap();
+    let seated = seat_power_grasps(&part, &arms, &scene.grasps.power, [0.0; 2]);
+    for (k, arm) in arms.iter().enumerate() {
+        let gripper = &arm.gripper;
+        let point = gripper.power_point();
+        let flange = |moved: f64| {
+            scene.grasps.power[k] * Translation3::new(0.0, 0.0, moved) * point.inverse()
+        };
+        let before = palm_distance(&part, gripper, &flange(0.0));
+        let moved = seated.moved[k];
+        // Seated on the palm, the closing cages the bar.
+        assert!(
+            !squeezes(&part, gripper, &flange(before - SEAT_GAP)),
+            "power[{k}]"
+        );
+        // Moved part of the way, by a whole number of steps back from there.
+        assert!(
+            moved >= PARTIAL_SEAT_MIN && moved < before - SEAT_GAP,
+            "power[{k}]: {moved}"
+        );
+        let steps = (before - SEAT_GAP - moved) / PARTIAL_SEAT_STEP;
+        assert!(
+            (steps - steps.round()).abs() < 0.05,
+            "power[{k}]: {steps} steps"
+        );
+        // It squeezes there, and not one step deeper.
+        assert!(squeezes(&part, gripper, &flange(moved)), "power[{k}]");
+        assert!(
+            !squeezes(&part, gripper, &flange(moved + PARTIAL_SEAT_STEP)),
+            "power[{k}]"
+        );
+        let after = palm_distance(&part, gripper, &flange(moved));
+        assert!(
+            (before - moved - after).abs() < 1e-4,
+            "{before} {moved} {after}"
+        );
+    }
 }
