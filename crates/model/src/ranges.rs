@@ -19,22 +19,24 @@ pub enum PhysicsValue {
     SafetyFactor,
     PadTorsionRadius,
     Density,
+    MaxTwistArm,
     Mass,
 }
 
 impl PhysicsValue {
     /// Every value, in the `[physics]` table's order (the mass last).
-    pub const ALL: [PhysicsValue; 6] = [
+    pub const ALL: [PhysicsValue; 7] = [
         PhysicsValue::MuPad,
         PhysicsValue::MuSupport,
         PhysicsValue::SafetyFactor,
         PhysicsValue::PadTorsionRadius,
         PhysicsValue::Density,
+        PhysicsValue::MaxTwistArm,
         PhysicsValue::Mass,
     ];
 
     /// Its key: `mu_pad`, `mu_support`, `safety_factor`, `pad_torsion_radius`, `density`,
-    /// `mass`.
+    /// `max_twist_arm`, `mass`.
     pub fn key(self) -> &'static str {
         match self {
             PhysicsValue::MuPad => "mu_pad",
@@ -42,6 +44,7 @@ impl PhysicsValue {
             PhysicsValue::SafetyFactor => "safety_factor",
             PhysicsValue::PadTorsionRadius => "pad_torsion_radius",
             PhysicsValue::Density => "density",
+            PhysicsValue::MaxTwistArm => "max_twist_arm",
             PhysicsValue::Mass => "mass",
         }
     }
@@ -59,6 +62,7 @@ impl PhysicsValue {
             PhysicsValue::SafetyFactor => (1.0, 100.0, true, ""),
             PhysicsValue::PadTorsionRadius => (0.0, 0.1, true, " m"),
             PhysicsValue::Density => (0.0, 30_000.0, false, " kg/m³"),
+            PhysicsValue::MaxTwistArm => (0.0, 1.0, true, " m"),
             PhysicsValue::Mass => (0.0, MAX_MASS, false, " kg"),
         };
         ValueRange {

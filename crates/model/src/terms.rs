@@ -151,6 +151,9 @@ vocabulary! {
         CannotHold = "cannot_hold",
         /// Some state needs more support friction than there is.
         SlidesAtSupport = "slides_at_support",
+        /// The part hangs from the pinch on the pads' twist: it turns in the pads and its edge
+        /// lifts off the support.
+        LiftsOffSupport = "lifts_off_support",
     }
 }
 
@@ -161,6 +164,7 @@ impl GripVerdict {
             GripVerdict::Holds => "holds",
             GripVerdict::CannotHold => "cannot hold",
             GripVerdict::SlidesAtSupport => "slides at the support",
+            GripVerdict::LiftsOffSupport => "lifts off the support",
         }
     }
 }

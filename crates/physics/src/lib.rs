@@ -23,6 +23,7 @@ pub mod plan_report;
 mod polish;
 pub mod settings;
 pub mod statics;
+pub mod twist;
 mod words;
 
 pub use carry::{min_carry_force, Carry, CarryOutcome, CarryProblem, HoldKind, PowerHold};

@@ -12,6 +12,7 @@ use crate::plan_report::{
 };
 use crate::settings::{PhysicsSettings, GRAVITY};
 use crate::statics::{Pads, StaticOutcome, StaticProblem};
+use crate::twist::twist_arm;
 
 /// Support contacts are the rotation axis' endpoints (at each state's pose) that lie at most
 /// this far (m) from the support plane, beyond the plan's `lift` (P_init hovers `lift` above it).
@@ -188,6 +189,13 @@ fn run(
     }
     let h = set.support_height;
     let above_max = set.lift.max(0.0) + SUPPORT_CONTACT_TOLERANCE;
+    // Where the pads bear on the part with the part at `pose` (world frame).
+    let pads_centre = |pose: &Isometry3<f64>| {
+        let tool = pose * g_s;
+        contact.map_or(Point3::from(tool.translation.vector), |c| {
+            tool * Point3::from(c.center)
+        })
+    };
 
     // Each state starts its solver from the optimum of the state before it along `rot`.
     let solve = |s: &State, warm: &mut WarmStart| -> Result<StateReport, PhysicsError> {
@@ -204,9 +212,7 @@ fn run(
             com: s.pose * part.centroid,
             weight,
             pads: Pads {
-                centre: contact.map_or(Point3::from(tool.translation.vector), |c| {
-                    tool * Point3::from(c.center)
-                }),
+                centre: pads_centre(&s.pose),
                 closing_axis: tool.rotation * Vector3::x(),
                 width_axis: tool.rotation * Vector3::y(),
                 width,
@@ -339,6 +345,23 @@ fn run(
     let mut warnings = Vec::new();
     let mut verdict = verdict;
     let mut recommended = recommended;
+    // The twist arm over every state (`crate::twist`): the part hanging from a pinch nearer
+    // the axis than its centre of mass, on the pads' twist.
+    let twist = all
+        .iter()
+        .map(|s| {
+            let axis = axis_obj.map(|a| s.pose * a);
+            let closing = (s.pose * g_s).rotation * Vector3::x();
+            twist_arm(axis, s.pose * part.centroid, pads_centre(&s.pose), closing)
+        })
+        .fold(0.0, f64::max);
+    if verdict == Verdict::Holds && twist > settings.max_twist_arm {
+        verdict = Verdict::LiftsOffSupport;
+        warnings.push(GripWarning::HangsOnTwist {
+            arm: twist,
+            max: settings.max_twist_arm,
+        });
+    }
     if let Some(slide) = edge_slide(rot, plan_index, part, h, above_max)? {
         verdict = Verdict::SlidesAtSupport;
         recommended = None;
@@ -376,6 +399,7 @@ fn run(
         required,
         recommended,
         verdict,
+        twist_arm: twist,
         warnings,
         closings: plan
             .segments

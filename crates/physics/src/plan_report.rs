@@ -82,6 +82,9 @@ pub struct PlanPhysics {
     pub recommended: Option<f64>,
     #[serde(serialize_with = "verdict_word")]
     pub verdict: Verdict,
+    /// The largest twist arm over the states (m, [`crate::twist`]): the moment per newton of
+    /// weight only a twist of the pads holds.
+    pub twist_arm: f64,
     /// Things the verdict alone does not say (axis off the support, ...).
     #[serde(serialize_with = "as_texts")]
     pub warnings: Vec<GripWarning>,
@@ -129,6 +132,10 @@ impl PlanPhysics {
         };
         match self.verdict {
             Verdict::Holds => None,
+            Verdict::LiftsOffSupport => self.warnings.iter().find_map(|w| match *w {
+                GripWarning::HangsOnTwist { arm, max } => Some(Unheld::HangsOnTwist { arm, max }),
+                _ => None,
+            }),
             Verdict::SlidesAtSupport => Some(match self.warnings.first() {
                 Some(&GripWarning::EdgeSlides { distance }) => Unheld::EdgeSlides { distance },
                 _ => Unheld::SlidesAtSupport {
@@ -167,6 +174,9 @@ pub enum GripWarning {
     OneSupportContact { states: usize, of: usize },
     /// `rot` records no grip width: both pad contacts are taken at the precision point.
     NoGripWidth,
+    /// The pads must hold the part's weight `arm` (m) off the pinch by their twist, more than
+    /// `max` ([`crate::twist::MAX_TWIST_ARM`]).
+    HangsOnTwist { arm: f64, max: f64 },
 }
 
 impl fmt::Display for GripWarning {
@@ -191,6 +201,13 @@ impl fmt::Display for GripWarning {
             ),
             GripWarning::NoGripWidth => f.write_str(
                 "rot has no grip_width: both pad contacts are taken at the precision point",
+            ),
+            GripWarning::HangsOnTwist { arm, max } => write!(
+                f,
+                "the part hangs from the pinch on the pads' twist, its weight {:.1} mm beyond \
+                 it (at most {:.1} mm): it turns in the pads and its edge lifts",
+                arm * 1e3,
+                max * 1e3
             ),
         }
     }
@@ -236,6 +253,8 @@ pub enum Unheld {
     },
     /// No grip force holds the part.
     NoForce { at: At },
+    /// The part hangs on the pads' twist ([`GripWarning::HangsOnTwist`]).
+    HangsOnTwist { arm: f64, max: f64 },
 }
 
 impl fmt::Display for Unheld {
@@ -264,6 +283,11 @@ impl fmt::Display for Unheld {
             Unheld::NoForce { at } => {
                 write!(f, "physics: cannot hold the part with any grip force {at}")
             }
+            Unheld::HangsOnTwist { arm, max } => write!(
+                f,
+                "physics: lifts off the support: {}",
+                GripWarning::HangsOnTwist { arm, max }
+            ),
         }
     }
 }

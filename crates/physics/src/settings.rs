@@ -8,6 +8,7 @@
 //! pad_torsion_radius = 0.0   # m; > 0: each pad resists a twist about its normal up to μ·N·e
 //!                            # with this e; 0: the e of the plan's pad contact patches
 //! density = 700.0            # kg/m³, used when the scene gives no object.mass
+//! max_twist_arm = 0.005      # m; the most weight moment the pads' twist may hold (crate::twist)
 //! ```
 //!
 //! The scene loader (`pregrasp_io::scene`) reads and range-checks the table (with `reject`, which
@@ -18,6 +19,7 @@
 use pregrasp_model::{OutOfRange, PhysicsValue};
 
 use crate::statics::ContactModel;
+use crate::twist::MAX_TWIST_ARM;
 
 /// Coulomb coefficient pad–part: the 2F-85's silicone pads on wood or painted metal \[C\].
 pub const DEFAULT_MU_PAD: f64 = 0.8;
@@ -57,6 +59,9 @@ pub struct PhysicsSettings {
     /// The supportive gripper's grip force range (N): a pinch needing more cannot be held,
     /// the recommended force is clamped into it (default: the 2F-85's, [`GRIP_FORCE_RANGE`]).
     pub grip_force: (f64, f64),
+    /// Largest twist arm (m) of a rotation that holds ([`crate::twist`]; default
+    /// [`MAX_TWIST_ARM`]).
+    pub max_twist_arm: f64,
 }
 
 impl Default for PhysicsSettings {
@@ -70,6 +75,7 @@ impl Default for PhysicsSettings {
             substeps: 4,
             refine_all: false,
             grip_force: GRIP_FORCE_RANGE,
+            max_twist_arm: MAX_TWIST_ARM,
         }
     }
 }
@@ -103,6 +109,7 @@ impl PhysicsSettings {
             (PhysicsValue::SafetyFactor, self.safety_factor),
             (PhysicsValue::PadTorsionRadius, self.pad_torsion_radius),
             (PhysicsValue::Density, self.density),
+            (PhysicsValue::MaxTwistArm, self.max_twist_arm),
         ] {
             key.check(value)
                 .map_err(|problem| SettingsError::Value { key, problem })?;

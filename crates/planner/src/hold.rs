@@ -120,6 +120,7 @@ pub fn physics_settings(params: &PhysicsParams) -> PhysicsSettings {
     set(&mut settings.safety_factor, params.safety_factor);
     set(&mut settings.pad_torsion_radius, params.pad_torsion_radius);
     set(&mut settings.density, params.density);
+    set(&mut settings.max_twist_arm, params.max_twist_arm);
     settings
 }
 

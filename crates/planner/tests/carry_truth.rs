@@ -101,14 +101,8 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
     // 46 rows: 9 + 31 agree, 4 lift below the force the plan sets (the examples at their
     // pinch's force), 2 depart. (Before a wrapping finger stopped where its pad met the part,
     // frame_5 and u_frame_5 were caged, "not carried", and lifted; h_frame_4 was caged.)
-    assert_eq!((refused, kept, cautious.len()), (9, 31, 4));
-    assert_eq!(
-        departures,
-        [
-            "h_frame_4 plan 0: carried, fails",
-            "stool_1 plan 1: carried, fails",
-        ],
-    );
+    assert_eq!((refused, kept, cautious.len()), (9, 27, 4));
+    assert_eq!(departures, ["h_frame_4 plan 0: carried, fails"]);
 }
 
 /// The shelf side's power grasps both cage their bars: its plans say so in
@@ -136,7 +130,8 @@ fn uncarried_plans_are_flagged_or_refused() {
     assert!(refused.plans.is_empty());
     let reason = refused.reason.unwrap();
     assert!(reason.contains("caged"), "{reason}");
-    // The chair side carries: the flag changes nothing there.
+    // The chair side carries: the flag changes nothing there (one plan: its second candidate
+    // hangs on the pads' twist, `physics::twist`).
     let (mut scene, mesh) = example_files("chair_side");
     let before = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
         .unwrap()
@@ -149,5 +144,5 @@ fn uncarried_plans_are_flagged_or_refused() {
         .file
         .plans
         .len();
-    assert_eq!((before, after), (2, 2));
+    assert_eq!((before, after), (1, 1));
 }

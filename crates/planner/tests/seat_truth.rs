@@ -60,28 +60,33 @@ fn seated_thin_bars_cage_and_seated_thick_bars_squeeze_in_the_replay() {
         }
     }
     println!("thin: {thin:#?}\nthick: {thick:#?}\ndeparts: {departs:#?}");
-    // Both sides of the threshold are in the table. 34 seated closings on bars 25–44 mm thick
-    // (16 parts) squeeze from both sides but for the supportive's on stool_3 (37.5 mm leg,
-    // 20 mm wide), which closes on one side in both plans with 120–137 N on one pad: the part,
-    // held by the master, lies off the supportive's mid-plane when `sup2` closes (so it did
-    // unseated, before b6ce5a2 seated it), and both pads hold it at the lift. Of the 10
-    // seated closings on bars 18–22 mm thick (4 parts) 6 end caged or one-sided, at least one
-    // in each of the 5 plans.
+    // Both sides of the threshold are in the table. 38 seated closings on bars 25–44 mm thick
+    // (19 parts; seated on the palm, or part of the way where our closing cages there:
+    // frame_1, frame_5, h_frame_3, h_frame_4, ladder_3) squeeze from both sides but two:
+    // - the supportive's on stool_3 (37.5 mm leg, 20 mm wide) closes on one side with 120–137 N
+    //   on one pad: the part, held by the master, lies off the supportive's mid-plane when
+    //   `sup2` closes (so it did unseated, before b6ce5a2 seated it), and both pads hold it at
+    //   the lift;
+    // - the master's on h_frame_4 (30 mm thick, 24 mm wide, moved 3.3 mm of 4.7) ends caged: the
+    //   wrap pulls the bar in the rest of the way, where MuJoCo's closing on a fixed bar cages
+    //   it too. Unseated it closed on one side; the plan failed either way.
+    // Of the 8 seated closings on bars 18–22 mm thick (4 parts) 5 end caged or one-sided, at
+    // least one in each of the 4 plans.
     let caged = thin.iter().filter(|(.., c)| *c).count();
-    assert_eq!((thin.len(), caged, thick.len()), (10, 6, 34));
+    assert_eq!((thin.len(), caged, thick.len()), (8, 5, 38));
     let plans = |only_caged: bool| -> std::collections::BTreeSet<&String> {
         thin.iter()
             .filter(|(.., c)| *c || !only_caged)
             .map(|(plan, ..)| plan)
             .collect()
     };
-    assert_eq!(plans(false).len(), 5);
+    assert_eq!(plans(false).len(), 4);
     assert_eq!(plans(true), plans(false));
     assert_eq!(
         departs,
         [
+            "h_frame_4 plan 0 mas1: seated bar 30 mm, caged_no_contact",
             "stool_3 plan 0 sup2: seated bar 37 mm, one_side",
-            "stool_3 plan 1 sup2: seated bar 37 mm, one_side",
         ]
     );
 }

@@ -18,7 +18,7 @@ use super::{EXIT_NO_PLAN, EXIT_OK};
 
 #[derive(clap::Args)]
 #[command(
-    after_help = "Friction and safety factor: the flags, else the scene file's [physics] table (mu_pad, mu_support, safety_factor, pad_torsion_radius, density; the scene the plan names, when it can be found), else mu_pad 0.8, mu_support 0.4, safety factor 2.0. Mass: --mass, else the plan's object.mass, else 700 kg/m^3 x the mesh's volume.\n\nExit status: 0 every plan holds, 2 some plan cannot be held or slides at the support, 1 unreadable or malformed plan file, mesh or scene."
+    after_help = "Friction and safety factor: the flags, else the scene file's [physics] table (mu_pad, mu_support, safety_factor, pad_torsion_radius, density, max_twist_arm; the scene the plan names, when it can be found), else mu_pad 0.8, mu_support 0.4, safety factor 2.0. Mass: --mass, else the plan's object.mass, else 700 kg/m^3 x the mesh's volume.\n\nExit status: 0 every plan holds, 2 some plan cannot be held, slides at the support or lifts off it, 1 unreadable or malformed plan file, mesh or scene."
 )]
 pub struct Args {
     /// The plan file to check.

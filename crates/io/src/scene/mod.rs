@@ -222,6 +222,9 @@ pub struct PhysicsParams {
     pub pad_torsion_radius: Option<f64>,
     /// Density (kg/m³) of a part without `object.mass`, in (0, 30000].
     pub density: Option<f64>,
+    /// Largest twist arm (m) of a rotation: the moment per newton of weight only a twist of the
+    /// pads holds, in [0, 1]; 1 turns the rule off.
+    pub max_twist_arm: Option<f64>,
     /// `reject` (default true): the planner rejects a candidate whose rotation the gripper
     /// cannot hold or that slides at the support. `false` keeps such plans and only reports.
     pub reject: bool,
@@ -240,6 +243,7 @@ impl Default for PhysicsParams {
             safety_factor: None,
             pad_torsion_radius: None,
             density: None,
+            max_twist_arm: None,
             reject: true,
             reject_uncarried: false,
         }
@@ -247,12 +251,13 @@ impl Default for PhysicsParams {
 }
 
 /// The keys of `[physics]` that hold numbers.
-pub const PHYSICS_NUMBER_KEYS: [&str; 5] = [
+pub const PHYSICS_NUMBER_KEYS: [&str; 6] = [
     "mu_pad",
     "mu_support",
     "safety_factor",
     "pad_torsion_radius",
     "density",
+    "max_twist_arm",
 ];
 
 pub use crate::ranges::{check_physics_value, MAX_MASS};

@@ -104,6 +104,7 @@ pub struct RawPhysics {
     pub safety_factor: Option<Num>,
     pub pad_torsion_radius: Option<Num>,
     pub density: Option<Num>,
+    pub max_twist_arm: Option<Num>,
     pub reject: Option<Flag>,
     pub reject_uncarried: Option<Flag>,
 }

@@ -531,6 +531,7 @@ impl Cx {
             safety_factor: value("safety_factor", raw.safety_factor)?,
             pad_torsion_radius: value("pad_torsion_radius", raw.pad_torsion_radius)?,
             density: value("density", raw.density)?,
+            max_twist_arm: value("max_twist_arm", raw.max_twist_arm)?,
             reject: raw.reject.is_none_or(|Flag(b)| b),
             reject_uncarried: raw.reject_uncarried.is_some_and(|Flag(b)| b),
         })
