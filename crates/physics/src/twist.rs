@@ -22,12 +22,12 @@ use nalgebra::{Point3, Vector3};
 /// Largest twist arm (m) of a rotation whose edge stays on the table.
 ///
 /// Whole-plan replay of the rotations planned without this rule (the examples and 30 generated
-/// parts, `plan_replay_generated_lever_off_2f85.csv`; the five generated ladders with their
+/// parts, `plan_replay_generated_twist_off_2f85.csv`; the five generated ladders with their
 /// pinch moved onto the middle rung at 0.6–0.9 of the centre of mass' distance from the axis,
-/// `plan_replay_lever_probe_2f85.csv`; test `crates/planner/tests/twist_truth.rs`): every
-/// rotation with a twist arm of 18.6–107.6 mm ended 0.58–9.90° short of the plan with its edge
-/// lifted 0.7–25.3 mm (29 of 29); every one with none ended within 0.54° (53 of 53), among them
-/// the H-frames, whose pinch lies at 0.93 of the centre of mass' distance with its pads facing
+/// `plan_replay_pinch_probe_2f85.csv`; test `crates/planner/tests/twist_truth.rs`): every
+/// rotation with a twist arm (18.7–107.6 mm, 22 of 75) ended 0.58–9.90° short of the plan with
+/// its edge lifted 0.7–25.3 mm; every one without (53) ended within 0.54°, among them the
+/// H-frames, whose pinch lies at 0.93 of the centre of mass' distance with its pads facing
 /// across the axis. The bound allows for rounding and a pinch a few millimetres off.
 pub const MAX_TWIST_ARM: f64 = 0.005;
 
