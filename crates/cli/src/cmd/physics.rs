@@ -212,6 +212,12 @@ fn print_report(r: &PlanPhysics, robot: &str) {
             "  worst θ {:.2}°: N_min {n:.2} N; set the grip force to {rec:.1} N ({} × {n:.2} = {req:.2} N, within {lo}–{hi} N): holds",
             w.theta_deg, r.settings.safety_factor
         ),
+        (Verdict::LiftsOffSupport, Some(n), Some(req), _) => println!(
+            "  worst θ {:.2}°: N_min {n:.2} N ({} × {n:.2} = {req:.2} N), but the part hangs on the pads' twist ({:.1} mm): LIFTS OFF THE SUPPORT",
+            w.theta_deg,
+            r.settings.safety_factor,
+            r.twist_arm * 1e3
+        ),
         (Verdict::CannotHold, Some(n), Some(req), _) => println!(
             "  worst θ {:.2}°: N_min {n:.2} N; {} × {n:.2} = {req:.1} N exceeds the gripper's {hi} N: CANNOT HOLD",
             w.theta_deg, r.settings.safety_factor
