@@ -159,7 +159,7 @@ fn an_open_mesh_plans_without_the_grip_check() {
     assert_eq!(file.status, PlanStatus::Planned);
     assert!(file.plans.iter().all(|p| p.physics.is_none()));
     // Nothing refused for the physics: the closed mesh's plans and the candidates its check
-    // refused (the chair's second hangs from the pinch).
+    // refused (the chair's second hangs on the pads' twist).
     let refused = closed
         .candidates
         .iter()
