@@ -22,13 +22,15 @@ use nalgebra::{Point3, Vector3};
 /// Largest twist arm (m) of a rotation whose edge stays on the table.
 ///
 /// Whole-plan replay of the rotations planned without this rule (the examples and 30 generated
-/// parts, `plan_replay_generated_twist_off_2f85.csv`; the five generated ladders with their
-/// pinch moved onto the middle rung at 0.6–0.9 of the centre of mass' distance from the axis,
-/// `plan_replay_pinch_probe_2f85.csv`; test `crates/planner/tests/twist_truth.rs`): every
-/// rotation with a twist arm (18.7–107.6 mm, 22 of 75) ended 0.58–9.90° short of the plan with
-/// its edge lifted 0.7–25.3 mm; every one without (53) ended within 0.54°, among them the
-/// H-frames, whose pinch lies at 0.93 of the centre of mass' distance with its pads facing
-/// across the axis. The bound allows for rounding and a pinch a few millimetres off.
+/// parts, seeds 1–5, `plan_replay_generated_twist_off_2f85.csv`; the five generated ladders
+/// with their pinch moved onto the middle rung at 0.6–0.9 of the centre of mass' distance from
+/// the axis, `plan_replay_pinch_probe_2f85.csv`; 30 generated parts of seeds 6–10, replayed after
+/// the bound was set, `plan_replay_generated_seeds_6_10_twist_off_2f85.csv`; test
+/// `crates/planner/tests/twist_truth.rs`): every rotation with a twist arm (18.7–107.6 mm, 27 of
+/// 110) ended 0.58–9.90° short of the plan with its edge lifted 0.7–25.3 mm; every one without
+/// (83) ended within 0.54°, among them the H-frames, whose pinch lies at 0.93 of the centre of
+/// mass' distance with its pads facing across the axis. The bound allows for rounding and a
+/// pinch a few millimetres off.
 pub const MAX_TWIST_ARM: f64 = 0.005;
 
 /// The twist arm (m) of one state: `axis` the rotation axis' two endpoints, `com` the centre of

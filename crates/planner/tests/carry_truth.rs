@@ -13,8 +13,9 @@
 //! Where the replay lifts at a force below the one the check sets, the check is cautious
 //! there: such rows are listed, not failed. The rows where the two disagree are named below
 //! and in docs/physics.md ("Carrying the part"). The rows: the examples' table (12) and the
-//! sweep of 30 generated parts (`plan_replay_generated_2f85.csv`, 34 plans at 235 N; each part
-//! made again here from its family and seed).
+//! sweeps of 30 generated parts (`plan_replay_generated_2f85.csv`, seeds 1–5, 29 plans at 235 N)
+//! and 30 more (`plan_replay_generated_seeds_6_10_2f85.csv`, seeds 6–10, 30 plans), each part
+//! made again here from its family and seed.
 
 mod common;
 
@@ -34,11 +35,16 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
     let mut all = rows("plan_replay_2f85.csv");
     assert!(all.len() >= 12, "{} rows", all.len());
     // The sweep's rows of generated parts (its example rows repeat the table's at 235 N).
-    all.extend(
-        rows("plan_replay_generated_2f85.csv")
-            .into_iter()
-            .filter(|r| r["family"] != "example" && !r["candidate"].is_empty()),
-    );
+    for table in [
+        "plan_replay_generated_2f85.csv",
+        "plan_replay_generated_seeds_6_10_2f85.csv",
+    ] {
+        all.extend(
+            rows(table)
+                .into_iter()
+                .filter(|r| r["family"] != "example" && !r["candidate"].is_empty()),
+        );
+    }
     let (mut refused, mut kept, mut cautious) = (0, 0, Vec::new());
     let mut departures = Vec::new();
     for row in &all {
@@ -98,11 +104,20 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
     println!("agree: {refused} not carried, {kept} carried; cautious: {cautious:#?}");
     // Both ways: rows of each verdict agree, and the departures are the ones named in
     // docs/physics.md — a change of the model that adds or removes one shows here.
-    // 46 rows: 9 + 31 agree, 4 lift below the force the plan sets (the examples at their
-    // pinch's force), 2 depart. (Before a wrapping finger stopped where its pad met the part,
-    // frame_5 and u_frame_5 were caged, "not carried", and lifted; h_frame_4 was caged.)
-    assert_eq!((refused, kept, cautious.len()), (9, 27, 4));
-    assert_eq!(departures, ["h_frame_4 plan 0: carried, fails"]);
+    // 71 rows: 10 + 53 agree, 4 lift below the force the plan sets (the examples at their
+    // pinch's force), 4 depart: h_frame_4 of seeds 1–5 and, of the 29 plans of seeds 6–10
+    // (30 plans, replayed after the model was set), panel_10 (carried, fails) and h_frame_6 and
+    // ladder_7 (not carried, yet they lift).
+    assert_eq!((refused, kept, cautious.len()), (10, 53, 4));
+    assert_eq!(
+        departures,
+        [
+            "h_frame_4 plan 0: carried, fails",
+            "h_frame_6 plan 0: not carried, lifts",
+            "ladder_7 plan 0: not carried, lifts",
+            "panel_10 plan 0: carried, fails",
+        ]
+    );
 }
 
 /// The shelf side's power grasps both cage their bars: its plans say so in
