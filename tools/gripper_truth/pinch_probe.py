@@ -29,6 +29,9 @@ from pathlib import Path
 
 import trimesh
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from tables import write_atomic  # noqa: E402
+
 SUPPORT_LINE = re.compile(r"^support = \{.*\}$", re.MULTILINE)
 
 
@@ -88,7 +91,7 @@ def main():
                 print(f"{part}: no bar crosses y = {fraction:.2f} y_com", file=sys.stderr)
                 continue
             out = args.out / f"pinch{round(fraction * 100):02d}_{part}.toml"
-            out.write_text(probe)
+            write_atomic(out, probe)
             print(out)
 
 
