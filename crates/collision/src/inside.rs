@@ -91,7 +91,7 @@ struct Hull {
 impl Hull {
     /// The convex hull of `points`; `None` where it has no volume.
     fn of(points: &[P]) -> Option<Hull> {
-        let (vertices, faces) = parry3d_f64::transformation::try_convex_hull(points).ok()?;
+        let (vertices, faces) = crate::baked_hulls::convex_hull(points)?;
         if faces.len() < 4 {
             return None;
         }

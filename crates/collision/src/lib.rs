@@ -20,11 +20,14 @@
 //! - [`validity`]: [`ArmValidity`] (a `StateValidator<6>`) and [`joint_space`] (limits and
 //!   sweep-radius weights; the resolution bound is stated there).
 //! - [`fixtures`]: meshes for tests and benchmarks (boxes, a frame, a tessellated plate).
+//! - [`baked_hulls`]: parry's hulls of the built-in models' fixed point sets, kept in the
+//!   repository so that a process does not hull them again.
 //!
 //! Frames: world `z` up, metres; each arm's base pose maps its controller base frame into
 //! the world. The support is the half-space `z ≤ support_height`.
 
 pub mod arm;
+pub mod baked_hulls;
 pub mod closing;
 pub mod distance;
 pub mod error;

@@ -1,7 +1,8 @@
 //! The convex hull of each link of the built-in 2F-85's `+x` finger, computed once and shared:
 //! the closing's finger shapes ([`super::FingerShapes`]) and the gripper's lowest point
 //! (`ArmModel::gripper_lowest`) hull the same points, and a hull is most of what either costs
-//! the first time (parry's `try_convex_hull` over a link's piece vertices, in the link frame).
+//! the first time (parry's `try_convex_hull` over a link's piece vertices, in the link frame;
+//! the built-in links' hulls are baked, [`crate::baked_hulls`]).
 //! The `−x` finger's links are the mirror images `x → −x` of these (`FingerSolids` builds them
 //! so, bit for bit): their hull is this one mirrored, with the same faces.
 
@@ -18,7 +19,7 @@ pub(crate) type HullFaces = (Vec<Point3<f64>>, Vec<[u32; 3]>);
 /// The hull of `points`, as parry gives it (the points themselves, with no faces, where parry
 /// finds no hull).
 pub(crate) fn hull_of(points: Vec<Point3<f64>>) -> HullFaces {
-    parry3d_f64::transformation::try_convex_hull(&points).unwrap_or((points, Vec::new()))
+    crate::baked_hulls::convex_hull(&points).unwrap_or((points, Vec::new()))
 }
 
 /// The hull of the built-in 2F-85's link `link` ([`pregrasp_robot::FINGER_LINKS`] order) of the

@@ -322,7 +322,7 @@ impl Solid {
 /// face (whose plane its corners fix poorly) or cannot be computed, one plane no point is inside
 /// of: then no depth is ever positive.
 fn planes(vertices: &[Point3<f64>]) -> Vec<(Vector3<f64>, f64)> {
-    let faces: Vec<[Point3<f64>; 3]> = parry3d_f64::transformation::try_convex_hull(vertices)
+    let faces: Vec<[Point3<f64>; 3]> = crate::baked_hulls::convex_hull(vertices)
         .map(|(pts, faces)| faces.iter().map(|f| f.map(|k| pts[k as usize])).collect())
         .unwrap_or_default();
     let sliver = |[a, b, c]: &[Point3<f64>; 3]| {

@@ -223,9 +223,9 @@ impl Tight {
             // The vertex graph from the faces of this one hull (as `Tight::hull` builds it):
             // `prepare` on the hull's vertices would hull them a second time, about as dear as
             // the first. The climb's answer is the scan's with either graph.
-            match parry3d_f64::transformation::try_convex_hull(&all) {
-                Ok((verts, faces)) => Polytope::with_faces(verts, &faces),
-                Err(_) => Polytope::new(all),
+            match crate::baked_hulls::convex_hull(&all) {
+                Some((verts, faces)) => Polytope::with_faces(verts, &faces),
+                None => Polytope::new(all),
             }
         })
     }

@@ -211,7 +211,7 @@ impl Graph {
         if n < 4 || n >= u32::MAX as usize {
             return None;
         }
-        let (verts, triangles) = parry3d_f64::transformation::try_convex_hull(points).ok()?;
+        let (verts, triangles) = crate::baked_hulls::convex_hull(points)?;
         // Hull vertex → the first point with its coordinates.
         let mut first = HashMap::with_capacity(n);
         for (k, p) in points.iter().enumerate() {
