@@ -13,11 +13,11 @@
 use std::sync::OnceLock;
 
 use nalgebra::{Isometry3, Point3};
-use serde::Deserialize;
 
 use crate::finger::BoxJson;
 use crate::linkage::{FingerConfig, FingerLinkage};
 use crate::links::ConvexPieces;
+use crate::pieces_blob::Reader;
 
 /// Finger links per finger (driver, coupler, spring link, follower, pad).
 pub const LINKS_PER_FINGER: usize = 5;
@@ -158,68 +158,108 @@ pub struct FingerSolids {
     pub links: Vec<FingerSolid>,
 }
 
-#[derive(Deserialize)]
-struct FileJson {
-    links: Vec<LinkJson>,
-}
-
-#[derive(Deserialize)]
-struct LinkJson {
-    alias: String,
-    pieces: Vec<Vec<[f64; 3]>>,
-}
-
-const DATA: &str = include_str!("../data/robotiq_2f85_fingers.json");
-
-/// The smallest box about the link frame's axes holding `points`.
-fn aabb(points: &[Point3<f64>]) -> BoxJson {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in points {
-        for i in 0..3 {
-            lo[i] = lo[i].min(p[i]);
-            hi[i] = hi[i].max(p[i]);
-        }
-    }
-    BoxJson {
-        center: [0, 1, 2].map(|i| 0.5 * (lo[i] + hi[i])),
-        half: [0, 1, 2].map(|i| 0.5 * (hi[i] - lo[i])),
-        angle: 0.0,
-    }
-}
+/// The built-in fingers as `build.rs` baked them (format there: `finger_solids`).
+const BAKED: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/robotiq_2f85_fingers.bin"));
 
 impl FingerSolids {
-    /// The built-in 2F-85 fingers (parsed once).
+    /// The built-in 2F-85 fingers: the pieces of `data/robotiq_2f85_fingers.json`, mirrored to
+    /// each side, with their tight boxes ([`crate::finger::tighter_box`]), as `build.rs` baked
+    /// them (read once; a test builds them from the JSON and compares, bit for bit).
     pub fn robotiq_2f85() -> &'static FingerSolids {
         static SOLIDS: OnceLock<FingerSolids> = OnceLock::new();
         SOLIDS.get_or_init(|| {
-            let file: FileJson =
-                serde_json::from_str(DATA).expect("built-in robotiq_2f85_fingers.json is valid");
-            assert_eq!(file.links.len(), LINKS_PER_FINGER, "five finger links");
-            let mut links = Vec::with_capacity(FINGER_SHAPES);
-            for side in SIDES {
-                for l in &file.links {
-                    let name = l.alias.split_whitespace().next().unwrap_or("finger");
-                    let name: &'static str = Box::leak(name.to_string().into_boxed_str());
-                    let pieces: Vec<Vec<Point3<f64>>> = l
-                        .pieces
-                        .iter()
-                        .map(|p| {
-                            p.iter()
-                                .map(|v| Point3::new(side * v[0], v[1], v[2]))
+            let mut r = Reader { bytes: BAKED };
+            let n = r.count();
+            assert_eq!(n, FINGER_SHAPES, "ten finger links");
+            let links = (0..n)
+                .map(|_| {
+                    let name = r.name();
+                    let mut three = || [r.number(), r.number(), r.number()];
+                    let (center, half) = (three(), three());
+                    let angle = r.number();
+                    let pieces = (0..r.count())
+                        .map(|_| {
+                            (0..r.count())
+                                .map(|_| Point3::new(r.number(), r.number(), r.number()))
                                 .collect()
                         })
                         .collect();
-                    let all: Vec<Point3<f64>> = pieces.iter().flatten().copied().collect();
-                    let coords: Vec<[f64; 3]> = all.iter().map(|p| [p.x, p.y, p.z]).collect();
-                    let bounds = crate::finger::tighter_box(aabb(&all), &coords);
-                    links.push(FingerSolid {
+                    FingerSolid {
                         name,
-                        bounds,
+                        bounds: BoxJson {
+                            center,
+                            half,
+                            angle,
+                        },
                         pieces: ConvexPieces { pieces, slack: 0.0 },
-                    });
-                }
-            }
+                    }
+                })
+                .collect();
+            assert!(
+                r.bytes.is_empty(),
+                "robotiq_2f85_fingers.bin: bytes left over"
+            );
             FingerSolids { links }
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use serde::Deserialize;
+
+    use super::*;
+
+    #[derive(Deserialize)]
+    struct FileJson {
+        links: Vec<LinkJson>,
+    }
+
+    #[derive(Deserialize)]
+    struct LinkJson {
+        alias: String,
+        pieces: Vec<Vec<[f64; 3]>>,
+    }
+
+    /// The baked fingers are those the JSON gives at run time, bit for bit: the pieces
+    /// mirrored to each side (`SIDES` order), named by the alias's first word, and the tight
+    /// box of all their points.
+    #[test]
+    fn the_baked_fingers_are_the_json_s_bit_for_bit() {
+        let file: FileJson =
+            serde_json::from_str(include_str!("../data/robotiq_2f85_fingers.json")).unwrap();
+        let baked = FingerSolids::robotiq_2f85();
+        let bits = |v: &[f64]| v.iter().map(|c| c.to_bits()).collect::<Vec<_>>();
+        let mut k = 0;
+        for side in SIDES {
+            for l in &file.links {
+                let solid = &baked.links[k];
+                k += 1;
+                assert_eq!(solid.name, l.alias.split_whitespace().next().unwrap());
+                let pieces: Vec<Vec<[f64; 3]>> = l
+                    .pieces
+                    .iter()
+                    .map(|p| p.iter().map(|v| [side * v[0], v[1], v[2]]).collect())
+                    .collect();
+                assert_eq!(solid.pieces.pieces.len(), pieces.len());
+                for (got, want) in solid.pieces.pieces.iter().zip(&pieces) {
+                    let got: Vec<f64> = got.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
+                    let want: Vec<f64> = want.iter().flatten().copied().collect();
+                    assert_eq!(bits(&got), bits(&want), "{} pieces", solid.name);
+                }
+                let all: Vec<[f64; 3]> = pieces.iter().flatten().copied().collect();
+                let want = crate::finger_box::tighter_box(crate::finger_box::aabb(&all), &all);
+                let b = &solid.bounds;
+                assert_eq!(bits(&b.center), bits(&want.0), "{} box centre", solid.name);
+                assert_eq!(bits(&b.half), bits(&want.1), "{} box half", solid.name);
+                assert_eq!(
+                    b.angle.to_bits(),
+                    want.2.to_bits(),
+                    "{} box angle",
+                    solid.name
+                );
+            }
+        }
+        assert_eq!(k, baked.links.len());
     }
 }

@@ -11,6 +11,7 @@ mod angle;
 mod arm;
 mod closing;
 mod finger;
+mod finger_box;
 mod fingers;
 mod fk;
 mod gripper;

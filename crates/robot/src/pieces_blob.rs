@@ -29,23 +29,32 @@ fn blob(model: UrModel) -> &'static [u8] {
     }
 }
 
-/// A read position in a blob; the build wrote it, so a short read is a build fault (panics).
-struct Reader<'a> {
-    bytes: &'a [u8],
+/// A read position in a blob `build.rs` wrote (the pieces here, the finger solids of
+/// `crate::fingers`); a short read is a build fault (panics).
+pub(crate) struct Reader<'a> {
+    pub bytes: &'a [u8],
 }
 
-impl Reader<'_> {
+impl<'a> Reader<'a> {
     fn take<const N: usize>(&mut self) -> [u8; N] {
         let (head, rest) = self.bytes.split_at(N);
         self.bytes = rest;
         head.try_into().expect("split_at gave N bytes")
     }
 
-    fn count(&mut self) -> usize {
+    pub fn count(&mut self) -> usize {
         u32::from_le_bytes(self.take()) as usize
     }
 
-    fn number(&mut self) -> f64 {
+    /// A `u32` length, then that many bytes of UTF-8.
+    pub fn name(&mut self) -> &'a str {
+        let len = self.count();
+        let (name, rest) = self.bytes.split_at(len);
+        self.bytes = rest;
+        std::str::from_utf8(name).expect("build.rs wrote a UTF-8 name")
+    }
+
+    pub fn number(&mut self) -> f64 {
         f64::from_bits(u64::from_le_bytes(self.take()))
     }
 }
@@ -56,12 +65,7 @@ pub(crate) fn shapes(model: UrModel) -> Vec<ShapePieces> {
     let n = r.count();
     let mut shapes = Vec::with_capacity(n);
     for _ in 0..n {
-        let len = r.count();
-        let (name, rest) = r.bytes.split_at(len);
-        r.bytes = rest;
-        let name = std::str::from_utf8(name)
-            .expect("build.rs wrote a UTF-8 name")
-            .to_string();
+        let name = r.name().to_string();
         let slack = r.number();
         let pieces = (0..r.count())
             .map(|_| {
