@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use std::sync::OnceLock;
 
 use nalgebra::Point3;
-use parry3d_f64::query::{PointQueryWithLocation, Ray};
+use parry3d_f64::query::{PointQuery, PointQueryWithLocation, Ray};
 use parry3d_f64::shape::{CompositeShapeRef, TriMesh, TriMeshFlags};
 
 type P = Point3<f64>;
@@ -50,10 +50,23 @@ impl PartSolid {
     /// `f(x)` of the module documentation (object frame): signed distance to the surface,
     /// positive inside. `None` without an inside test.
     pub(crate) fn signed_distance(&self, x: &P) -> Option<f64> {
+        self.signed_distance_near(x).map(|(f, _)| f)
+    }
+
+    /// [`signed_distance`](Self::signed_distance) and the triangle nearest `x` (an index for
+    /// [`triangle_distance`](Self::triangle_distance)).
+    pub(crate) fn signed_distance_near(&self, x: &P) -> Option<(f64, u32)> {
         let mesh = self.mesh.as_ref()?;
-        let (proj, _) = mesh.project_local_point_and_get_location(x, false);
+        let (proj, (triangle, _)) = mesh.project_local_point_and_get_location(x, false);
         let d = (x - proj.point).norm();
-        Some(if proj.is_inside { d } else { -d })
+        Some((if proj.is_inside { d } else { -d }, triangle))
+    }
+
+    /// Distance (m) from `x` to triangle `triangle` of the solid's mesh (0 without a mesh).
+    pub(crate) fn triangle_distance(&self, x: &P, triangle: u32) -> f64 {
+        self.mesh.as_ref().map_or(0.0, |mesh| {
+            mesh.triangle(triangle).distance_to_local_point(x, true)
+        })
     }
 }
 
