@@ -274,7 +274,21 @@ pub fn depth_in_part(
     pose: &Isometry3<f64>,
     floor: f64,
 ) -> f64 {
-    let (outside, free) = box_outside(object, solid, pose, None);
+    depth_in_part_along(object, solid, pose, floor, &mut None)
+}
+
+/// [`depth_in_part`] at one state of a motion: `known` is the piece's last box found free of
+/// the part's surface ([`box_outside`]), carried from the motion's earlier states and updated
+/// here (the answers are those without it).
+pub fn depth_in_part_along(
+    object: &ObjectGeometry,
+    solid: &ConvexSolid,
+    pose: &Isometry3<f64>,
+    floor: f64,
+    known: &mut Option<FreeBox>,
+) -> f64 {
+    let (outside, free) = box_outside(object, solid, pose, *known);
+    *known = free.or(*known);
     if outside {
         return 0.0;
     }

@@ -19,7 +19,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use nalgebra::{Isometry3, Point3, Translation3};
 use pregrasp_robot::{Gripper, GripperState, Primitive};
 
-use crate::inside::{box_outside, depth_in_part, ConvexSolid, FreeBox};
+use crate::inside::{box_outside, depth_in_part_along, ConvexSolid, FreeBox};
 use crate::object::ObjectGeometry;
 
 /// How deep (m) an open gripper link may lie in the part it grasps: touching, not inside.
@@ -143,17 +143,20 @@ impl OpenHand {
         memo: &mut OpenMemo,
     ) -> Option<OpenInside> {
         memo.free.resize(self.shapes.len(), None);
+        memo.pieces.resize_with(self.shapes.len(), Vec::new);
         let mut deepest: Option<OpenInside> = None;
-        for (shape, known) in self.shapes.iter().zip(memo.free.iter_mut()) {
+        let shapes = self.shapes.iter().zip(&mut memo.free).zip(&mut memo.pieces);
+        for ((shape, known), pieces) in shapes {
             let pose = flange_in_object * shape.frame;
             let (outside, free) = box_outside(object, &shape.outline, &pose, *known);
             *known = free.or(*known);
             if outside {
                 continue;
             }
-            for piece in &shape.pieces {
+            pieces.resize(shape.pieces.len(), None);
+            for (piece, free) in shape.pieces.iter().zip(pieces.iter_mut()) {
                 let known = deepest.map_or(0.0, |d| d.depth);
-                let depth = depth_in_part(object, piece, &pose, floor.max(known));
+                let depth = depth_in_part_along(object, piece, &pose, floor.max(known), free);
                 if depth > known {
                     deepest = Some(OpenInside {
                         link: shape.name,
@@ -167,10 +170,11 @@ impl OpenHand {
 }
 
 /// What [`OpenHand::deepest_along`] carries from one state of a motion to the next: per shape,
-/// the last box of it found free of the part's surface.
+/// the last box of it found free of the part's surface, and the same of each of its pieces.
 #[derive(Clone, Debug, Default)]
 pub struct OpenMemo {
     free: Vec<Option<FreeBox>>,
+    pieces: Vec<Vec<Option<FreeBox>>>,
 }
 
 /// The open hand's deepest link in the part with the flange at `flange_in_object`, when it is
