@@ -163,7 +163,7 @@ const BAKED: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/robotiq_2f85_fing
 
 impl FingerSolids {
     /// The built-in 2F-85 fingers: the pieces of `data/robotiq_2f85_fingers.json`, mirrored to
-    /// each side, with their tight boxes ([`crate::finger::tighter_box`]), as `build.rs` baked
+    /// each side, with their tight boxes (`finger_box::tighter_box`), as `build.rs` baked
     /// them (read once; a test builds them from the JSON and compares, bit for bit).
     pub fn robotiq_2f85() -> &'static FingerSolids {
         static SOLIDS: OnceLock<FingerSolids> = OnceLock::new();
