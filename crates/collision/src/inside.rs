@@ -181,6 +181,16 @@ impl ConvexSolid {
         (frame * self.center).coords.norm() + self.radius
     }
 
+    /// The centre of its points' box (own frame).
+    pub fn center(&self) -> P {
+        self.center
+    }
+
+    /// The half extents of its points' box.
+    pub fn half(&self) -> V {
+        self.half
+    }
+
     /// A point of the piece (own frame).
     pub fn point(&self) -> P {
         self.points[0]
@@ -231,17 +241,29 @@ pub fn box_outside(
     pose: &Isometry3<f64>,
     known: Option<FreeBox>,
 ) -> (bool, Option<FreeBox>) {
-    let center = pose * solid.center;
     let box_pose = pose * Translation3::from(solid.center.coords);
+    box_at_outside(object, &box_pose, &solid.half, solid.radius, known)
+}
+
+/// [`box_outside`] of the box `half` at `box_pose` (box → object frame) holding points within
+/// `radius` of its centre (the ball the first test takes).
+pub fn box_at_outside(
+    object: &ObjectGeometry,
+    box_pose: &Isometry3<f64>,
+    half: &V,
+    radius: f64,
+    known: Option<FreeBox>,
+) -> (bool, Option<FreeBox>) {
+    let center = P::from(box_pose.translation.vector);
     let free = |inside| FreeBox {
-        pose: box_pose,
-        half: solid.half,
+        pose: *box_pose,
+        half: *half,
         inside,
     };
-    if sphere_clear(object, &center, solid.radius) {
+    if sphere_clear(object, &center, radius) {
         return (true, Some(free(false)));
     }
-    if object.box_touches(&box_pose, &solid.half) {
+    if object.box_touches(box_pose, half) {
         return (false, None);
     }
     let inside = match known {
