@@ -145,22 +145,22 @@ impl OpenHand {
         self.deepest_but(object, flange_in_object, floor, memo, &[])
     }
 
-    /// [`deepest_along`](Self::deepest_along) with the shapes `outside` marks (`true`) known
-    /// to lie outside the part (missing entries: not known).
+    /// [`deepest_along`](Self::deepest_along) with the shapes `known_outside` marks (`true`)
+    /// known to lie outside the part (missing entries: not known).
     fn deepest_but(
         &self,
         object: &ObjectGeometry,
         flange_in_object: &Isometry3<f64>,
         floor: f64,
         memo: &mut OpenMemo,
-        outside: &[bool],
+        known_outside: &[bool],
     ) -> Option<OpenInside> {
         memo.free.resize(self.shapes.len(), None);
         memo.pieces.resize_with(self.shapes.len(), Vec::new);
         let mut deepest: Option<OpenInside> = None;
         let shapes = self.shapes.iter().zip(&mut memo.free).zip(&mut memo.pieces);
         for (k, ((shape, known), pieces)) in shapes.enumerate() {
-            if outside.get(k).copied().unwrap_or(false) {
+            if known_outside.get(k).copied().unwrap_or(false) {
                 continue;
             }
             let pose = flange_in_object * shape.frame;
@@ -218,12 +218,12 @@ pub fn open_approach_inside(
     let hand = OpenHand::of(gripper);
     let steps = (OPEN_APPROACH_ZONE / OPEN_APPROACH_STEP).round() as usize;
     let reach = steps as f64 * OPEN_APPROACH_STEP;
-    let outside = hand.outside_along(object, flange_in_object, reach);
+    let known_outside = hand.outside_along(object, flange_in_object, reach);
     let mut memo = OpenMemo::default();
     (0..=steps).find_map(|k| {
         let back = k as f64 * OPEN_APPROACH_STEP;
         let at = flange_in_object * Translation3::new(0.0, 0.0, -back);
-        hand.deepest_but(object, &at, OPEN_CONTACT_DEPTH, &mut memo, &outside)
+        hand.deepest_but(object, &at, OPEN_CONTACT_DEPTH, &mut memo, &known_outside)
             .filter(|d| d.depth > OPEN_CONTACT_DEPTH)
             .map(|d| (d, back))
     })
@@ -242,12 +242,12 @@ impl OpenHand {
         flange_in_object: &Isometry3<f64>,
         reach: f64,
     ) -> Vec<bool> {
+        let back = flange_in_object.rotation * -nalgebra::Vector3::z();
         self.shapes
             .iter()
             .map(|shape| {
                 let pose = flange_in_object * shape.frame;
                 let box_pose = pose * Translation3::from(shape.outline.center().coords);
-                let back = flange_in_object.rotation * -nalgebra::Vector3::z();
                 let d = box_pose.rotation.inverse() * back;
                 let half = shape.outline.half() + d.abs() * (0.5 * reach);
                 let swept = Isometry3::from_parts(
