@@ -81,37 +81,49 @@ impl PartSolid {
 /// Distance (m) within which two vertices are one.
 const WELD: f64 = 1e-9;
 
-/// `vertices` with those within [`WELD`] of a kept one merged into it (a grid of cells
-/// [`WELD`] wide, the 27 cells about a vertex's searched), and `indices` renumbered to them.
+/// Side (m) of the coarse cells [`welded`] files kept vertices under: a vertex's neighbours
+/// within [`WELD`] nearly always share its coarse cell, so one look-up finds them.
+const COARSE: f64 = 1024.0 * WELD;
+
+/// `vertices` with those within [`WELD`] of a kept one merged into it, and `indices`
+/// renumbered to them. The kept vertex a vertex merges into is the first within [`WELD`] in
+/// the order of the cells [`WELD`] wide about it (offsets `(dx, dy, dz)` in `−1..=1`,
+/// lexicographic), then of keeping. Kept vertices are filed by cells [`COARSE`] wide: a
+/// vertex looks in its own and, on each axis where it lies within [`WELD`] of a coarse cell's
+/// border, the neighbour across it (one to eight cells).
 fn welded(vertices: &[P], indices: &[[u32; 3]]) -> (Vec<P>, Vec<[u32; 3]>) {
     let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
     let mut kept: Vec<P> = Vec::with_capacity(vertices.len());
-    let cell = |v: &P| [v.x, v.y, v.z].map(|c| (c / WELD).floor() as i64);
+    let fine = |v: &P| [v.x, v.y, v.z].map(|c| (c / WELD).floor() as i64);
+    let coarse = |c: f64| (c / COARSE).floor() as i64;
     let map: Vec<u32> = vertices
         .iter()
         .map(|v| {
-            let c = cell(v);
-            let mut near = None;
-            'search: for dx in -1..=1 {
-                for dy in -1..=1 {
-                    for dz in -1..=1 {
-                        let key = [c[0] + dx, c[1] + dy, c[2] + dz];
-                        let found = cells.get(&key).and_then(|ks| {
-                            ks.iter()
-                                .copied()
-                                .find(|&k| (kept[k as usize] - v).norm() <= WELD)
-                        });
-                        if found.is_some() {
-                            near = found;
-                            break 'search;
+            let c = fine(v);
+            let span = [v.x, v.y, v.z].map(|x| coarse(x - WELD)..=coarse(x + WELD));
+            let mut near: Option<([i64; 3], u32)> = None;
+            for i in span[0].clone() {
+                for j in span[1].clone() {
+                    for l in span[2].clone() {
+                        for &k in cells.get(&[i, j, l]).into_iter().flatten() {
+                            let w = &kept[k as usize];
+                            if (w - v).norm() > WELD {
+                                continue;
+                            }
+                            let d = fine(w);
+                            let order = [d[0] - c[0], d[1] - c[1], d[2] - c[2]];
+                            if near.is_none_or(|best| (order, k) < best) {
+                                near = Some((order, k));
+                            }
                         }
                     }
                 }
             }
-            near.unwrap_or_else(|| {
+            near.map(|(_, k)| k).unwrap_or_else(|| {
                 kept.push(*v);
                 let k = (kept.len() - 1) as u32;
-                cells.entry(c).or_default().push(k);
+                let x = [v.x, v.y, v.z].map(coarse);
+                cells.entry(x).or_default().push(k);
                 k
             })
         })
@@ -161,6 +173,72 @@ mod tests {
     use rand::{Rng, SeedableRng};
 
     use super::*;
+
+    /// [`welded`] as it searched before the coarse cells: the 27 cells [`WELD`] wide about a
+    /// vertex, in order.
+    fn welded_by_fine_cells(vertices: &[P]) -> Vec<u32> {
+        let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+        let mut kept: Vec<P> = Vec::new();
+        let cell = |v: &P| [v.x, v.y, v.z].map(|c| (c / WELD).floor() as i64);
+        vertices
+            .iter()
+            .map(|v| {
+                let c = cell(v);
+                for dx in -1..=1 {
+                    for dy in -1..=1 {
+                        for dz in -1..=1 {
+                            let key = [c[0] + dx, c[1] + dy, c[2] + dz];
+                            let found = cells.get(&key).and_then(|ks| {
+                                ks.iter()
+                                    .copied()
+                                    .find(|&k| (kept[k as usize] - v).norm() <= WELD)
+                            });
+                            if let Some(k) = found {
+                                return k;
+                            }
+                        }
+                    }
+                }
+                kept.push(*v);
+                let k = (kept.len() - 1) as u32;
+                cells.entry(c).or_default().push(k);
+                k
+            })
+            .collect()
+    }
+
+    /// The coarse cells merge every vertex into the kept one the fine cells' search chose:
+    /// clusters of points within a few `WELD` of each other, strewn across coarse cells'
+    /// borders (near a multiple of `COARSE`), so that several kept vertices lie within
+    /// `WELD` of one point.
+    #[test]
+    fn welding_by_coarse_cells_merges_as_the_fine_search_did() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(61);
+        for _ in 0..50 {
+            let mut pts = Vec::new();
+            for _ in 0..40 {
+                let base = [0; 3].map(|_| {
+                    rng.random_range(-3i64..3) as f64 * COARSE + rng.random_range(-3.0..3.0) * WELD
+                });
+                for _ in 0..rng.random_range(1..6) {
+                    let jitter = [0; 3].map(|_| rng.random_range(-1.5..1.5) * WELD);
+                    pts.push(P::new(
+                        base[0] + jitter[0],
+                        base[1] + jitter[1],
+                        base[2] + jitter[2],
+                    ));
+                }
+            }
+            let tris: Vec<[u32; 3]> = (0..pts.len() as u32 / 3)
+                .map(|k| [3 * k, 3 * k + 1, 3 * k + 2])
+                .collect();
+            let want = welded_by_fine_cells(&pts);
+            let (kept, got) = welded(&pts, &tris);
+            let got: Vec<u32> = got.iter().flatten().copied().collect();
+            assert_eq!(got, want[..got.len()].to_vec());
+            assert!(kept.len() < pts.len(), "some points merged");
+        }
+    }
 
     /// A part whose mesh needs no welding and faces outward takes its own mesh (BVH and all)
     /// with the inside test added: it answers as the mesh built again from its vertices and
