@@ -89,6 +89,19 @@ def hull_meshes(pieces):
     return out
 
 
+def part_pieces(plan_path, doc, mesh_root):
+    """The part of plan file `doc` (read from `plan_path`): its triangles (scaled), its convex pieces as trimesh's
+    hulls (the exact decomposition of an extrusion, else CoACD's) and the decomposition's info."""
+    tri = sim_part.read_stl(resolve_mesh(plan_path, doc["object"]["mesh"], mesh_root))
+    tri = tri * doc["object"].get("scale", 1.0)
+    try:
+        pieces, dinfo = sim_part.decompose_extrusion(tri)
+    except ValueError:
+        meshes, dinfo = sim_part.decompose_coacd(tri)
+        pieces = [V for V, _ in meshes]
+    return tri, hull_meshes(pieces), dinfo
+
+
 def replay_file(plan_path, plan_indices, power_forces, src, a, log):
     """Rows of plan_path's plans `plan_indices` (those present), each once per power force: `power_forces(pinch)`
     gives the forces for a plan whose pinch force is `pinch` (N). `a`: pregrasp, mesh_root, slow, dt, noslip."""
@@ -98,14 +111,7 @@ def replay_file(plan_path, plan_indices, power_forces, src, a, log):
         log(f"{plan_path}: status {doc.get('status')}, skipped")
         return rows
     example = Path(doc["scene"]["file"]).stem
-    tri = sim_part.read_stl(resolve_mesh(plan_path, doc["object"]["mesh"], a.mesh_root))
-    tri = tri * doc["object"].get("scale", 1.0)
-    try:
-        pieces, dinfo = sim_part.decompose_extrusion(tri)
-    except ValueError:
-        meshes, dinfo = sim_part.decompose_coacd(tri)
-        pieces = [V for V, _ in meshes]
-    meshes = hull_meshes(pieces)
+    tri, meshes, dinfo = part_pieces(plan_path, doc, a.mesh_root)
     for k in plan_indices:
         if k >= len(doc["plans"]):
             continue

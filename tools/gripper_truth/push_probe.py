@@ -38,17 +38,11 @@ PROBE_Z = 0.16  # m: the point of G where the part is followed (between palm and
 
 def probe(plan_path, src, mesh_root):
     doc = json.load(open(plan_path))
-    tri = sim_part.read_stl(pr.resolve_mesh(plan_path, doc["object"]["mesh"], mesh_root))
-    tri = tri * doc["object"].get("scale", 1.0)
-    try:
-        pieces, _ = sim_part.decompose_extrusion(tri)
-    except ValueError:
-        meshes, _ = sim_part.decompose_coacd(tri)
-        pieces = [V for V, _ in meshes]
+    tri, meshes, _ = pr.part_pieces(plan_path, doc, mesh_root)
     plan = doc["plans"][0]
     ph = plan.get("physics") or {}
     mp = sim_part.mass_properties(tri, doc["object"].get("mass") or ph.get("mass"))
-    sc = PlanScene(src / pr.MODEL_XML, doc, pr.hull_meshes(pieces), mp, ph.get("mu_pad", 0.8),
+    sc = PlanScene(src / pr.MODEL_XML, doc, meshes, mp, ph.get("mu_pad", 0.8),
                    ph.get("mu_support", 0.4), 0.001, 10)
     m = sc.m
     body = lambda n: mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, n)
