@@ -9,6 +9,8 @@
 //! - [`hold`]: will the pinch hold the part during `μ_rot` (quasi-static grip force check);
 //! - [`carry`]: will the power grasps carry the part once it is lifted off the table;
 //! - [`seat`]: power grasps moved onto the palm, so the closing does not pull the part;
+//! - [`slide`]: power grasps slid along their bars towards the centre of mass, where the
+//!   scene's cannot carry the part;
 //! - [`pipeline`]: all of it, candidates in parallel, deterministic for any thread count;
 //! - [`replan`]: the same plan for a part measured at another pose (issue 16);
 //! - [`settle`]: a measured pose brought onto the support (the part lies on the table);
@@ -43,6 +45,7 @@ pub mod robustness;
 pub mod rotate;
 pub mod seat;
 pub mod settle;
+pub mod slide;
 pub mod timing;
 
 pub mod auto_grasps;

@@ -125,7 +125,75 @@ pub struct PlanReport {
 /// Every plan is re-verified by a [`crate::check::PlanChecker`] (the rules of `check`) before it
 /// is kept; a plan that fails (which would be a bug) is dropped and its candidate says which
 /// rule failed. An error is a scene or mesh the planner cannot work on ([`PlanError`]).
+///
+/// Where no plan carries the part because the carry check finds the power grasps cannot, the
+/// scene is planned again with them slid along their bars towards the centre of mass
+/// ([`crate::slide`]); that plan is kept when it carries (`grasps.slid` says how far).
 pub fn plan(
+    scene: &Scene,
+    mesh: &Mesh,
+    options: &PlanOptions,
+    on_candidates: &(dyn Fn(usize) + Sync),
+    progress: &(dyn Fn() + Sync),
+) -> Result<PlanReport, PlanError> {
+    let t0 = Instant::now();
+    let report = plan_grasps_as_given(scene, mesh, options, on_candidates, progress)?;
+    if !uncarried(&report.outcomes) {
+        return Ok(report);
+    }
+    // The centre of mass the carry check uses (uniform density: the mass does not move it).
+    let Ok(com) = pregrasp_physics::MassProperties::from_mesh(mesh).map(|p| p.centroid) else {
+        return Ok(report);
+    };
+    let Some(full) = crate::slide::shifts_worth_trying(scene, &com) else {
+        return Ok(report);
+    };
+    let part = match options.known.as_deref().filter(|k| k.fits_mesh(mesh)) {
+        Some(k) => k.part(),
+        None => std::sync::Arc::new(
+            pregrasp_collision::ObjectGeometry::new(mesh).map_err(PlanError::Mesh)?,
+        ),
+    };
+    let arms = crate::context::arm_models(scene)?;
+    let Some((slid_scene, shifts)) = crate::slide::slid_scene(scene, &part, &arms, full) else {
+        return Ok(report);
+    };
+    let mut slid = plan_grasps_as_given(&slid_scene, mesh, options, &|_| {}, &|| {})?;
+    if slid.file.plans.is_empty() || uncarried(&slid.outcomes) {
+        return Ok(report);
+    }
+    slid.file.grasps.slid = Some(shifts);
+    let total = t0.elapsed().as_secs_f64() * 1e3;
+    slid.file.timing_ms.insert("total".into(), total);
+    Ok(slid)
+}
+
+/// Whether no candidate's plan carries the part, and the carry check is why: some candidate
+/// is refused by it (`[physics] reject_uncarried`) or planned with power grasps it finds
+/// cannot carry the part.
+fn uncarried(outcomes: &[CandidateOutcome]) -> bool {
+    let planned_carried = outcomes.iter().any(|o| {
+        matches!(
+            o,
+            CandidateOutcome::Planned {
+                carry: Some(Ok(_)),
+                check: None,
+                ..
+            }
+        )
+    });
+    let refused = outcomes.iter().any(|o| match o {
+        CandidateOutcome::Uncarried { .. } => true,
+        CandidateOutcome::Planned { carry, check, .. } => {
+            check.is_none() && matches!(carry, Some(Err(_)))
+        }
+        _ => false,
+    });
+    refused && !planned_carried
+}
+
+/// [`plan`] with the scene's power grasps (seated on the palm, [`crate::seat`]), not slid.
+fn plan_grasps_as_given(
     scene: &Scene,
     mesh: &Mesh,
     options: &PlanOptions,

@@ -238,6 +238,14 @@ pub fn print_summary(report: &PlanReport, file: &PlanFile) {
             a.widths[2] * 1e3
         );
     }
+    if let Some(s) = file.grasps.slid {
+        println!(
+            "grasps: the scene's power grasps cannot carry the part; slid along their bars by \
+             {:.1} and {:.1} mm towards its centre of mass (grasps.slid)",
+            s[0] * 1e3,
+            s[1] * 1e3
+        );
+    }
     let t = &file.timing_ms;
     let get = |k: &str| t.get(k).copied().unwrap_or(0.0);
     println!(

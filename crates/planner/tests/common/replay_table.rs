@@ -64,8 +64,19 @@ pub fn scene_of(row: &HashMap<String, String>) -> (Scene, Mesh) {
     )
 }
 
-/// `scene` with the power grasps the planner plans with ([`seated_scene`]).
+/// `scene` with the power grasps the planner plans with: seated on the palm
+/// ([`seated_scene`]), or, where the planner slid them towards the centre of mass
+/// (`pregrasp_planner::slide`, known by planning the scene), the plan file's.
 pub fn planned_scene(scene: &Scene, mesh: &Mesh) -> Scene {
+    use pregrasp_planner::pipeline::{plan, PlanOptions};
+    let file = plan(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file;
+    if file.grasps.slid.is_some() {
+        let mut slid = scene.clone();
+        slid.grasps.power = file.grasps.power.each_ref().map(|p| p.to_isometry());
+        return slid;
+    }
     let part = ObjectGeometry::new(mesh).unwrap();
     seated_scene(scene, &part, &arm_models(scene).unwrap())
         .map_or_else(|| scene.clone(), |(s, _)| s)

@@ -1,0 +1,164 @@
+//! Power grasps slid along their bars towards the centre of mass (issue 48, carrying the part).
+//!
+//! The two power grasps lift the part together. Its weight's moment about the line through
+//! them is held only by the grips around the bars: on a thin bar, or a closing that cages it,
+//! the part turns in both hands as it rises (the whole-plan replay: ladder_4, 55.8 mm from the
+//! line, rose 42.9 of 50 mm tilted 7.0°; with its grasps moved along their end rungs until the
+//! line passed the centre of mass it rose 49.6 mm). Where the carry check finds that the scene's
+//! power grasps cannot carry the part, the planner tries them slid along their bars so that the
+//! line through them passes the centre of mass, and keeps the slid plan if it carries.
+//!
+//! The bar runs along each grasp's `y` axis (across the closing direction `x` and the approach
+//! `z`). With `pᵢ` the grasp origins, `uᵢ` their `y` axes (object frame), `c` the centre of mass
+//! and `t` where `c` projects on the line `p₀p₁`, the shifts `s` are the least-norm solution of
+//! `(1 − t) s₀ u₀ + t s₁ u₁ = c − (p₀ + t (p₁ − p₀))` (the point of the line at `t` moved onto
+//! `c`), solved again on the moved grasps until the shifts settle (at most 8 times). A share
+//! of them ([`SLIDE_SHARES`], largest first) is kept where both slid grasps still hold their
+//! bar: the line along the approach still crosses material, and the closing still squeezes
+//! where the scene's did (a bar's junction with another, where an open finger would meet it,
+//! stops the slide short of it).
+//!
+//! Frames: grasps and the centre of mass in the object frame; the slide is
+//! `grasp · Translation(0, s, 0)`.
+
+use nalgebra::{Isometry3, Matrix3x2, Point3, Translation3, Vector3};
+use pregrasp_collision::{close_on_part, ArmModel, ObjectGeometry};
+use pregrasp_io::scene::Scene;
+use pregrasp_physics::HoldKind;
+
+use crate::hold_kind::hold_kind;
+use crate::seat::thickness_at;
+
+/// Shares of the shifts tried, largest first.
+pub const SLIDE_SHARES: [f64; 4] = [1.0, 0.75, 0.5, 0.25];
+/// Longest slide (m) of one grasp: farther, the grasp is on another part of the part.
+pub const MAX_SLIDE: f64 = 0.25;
+/// Shortest slide (m) worth a second plan.
+pub const MIN_SLIDE: f64 = 0.005;
+
+/// The shifts (m) of `power[0]` and `power[1]` along their `y` axes that put `com` on the line
+/// through them (see the module documentation); `None` when the grasps coincide or the bars
+/// run along that line.
+pub fn shifts_to_centre(power: &[Isometry3<f64>; 2], com: &Point3<f64>) -> Option<[f64; 2]> {
+    let mut s = [0.0; 2];
+    for _ in 0..8 {
+        let slid = slid(power, s);
+        let (p0, p1) = (slid[0].translation.vector, slid[1].translation.vector);
+        let l = p1 - p0;
+        if l.norm_squared() < 1e-12 {
+            return None;
+        }
+        let t = (com.coords - p0).dot(&l) / l.norm_squared();
+        let r = com.coords - (p0 + l * t);
+        let u = slid.map(|g| g.rotation * Vector3::y());
+        let a = Matrix3x2::from_columns(&[u[0] * (1.0 - t), u[1] * t]);
+        let ds = a.pseudo_inverse(1e-9).ok()? * r;
+        s = [s[0] + ds[0], s[1] + ds[1]];
+        if ds.norm() < 1e-9 {
+            break;
+        }
+    }
+    s.iter().all(|x| x.is_finite()).then_some(s)
+}
+
+/// `power` slid by `s` along each grasp's `y` axis.
+pub fn slid(power: &[Isometry3<f64>; 2], s: [f64; 2]) -> [Isometry3<f64>; 2] {
+    [0, 1].map(|k| power[k] * Translation3::new(0.0, s[k], 0.0))
+}
+
+/// Whether `arm`'s power grasp `grasp` (object frame) still holds its bar slid to `to`: the
+/// approach line crosses material there, and the closing squeezes there where it squeezed at
+/// `grasp` (else it closes on the part at all).
+fn still_holds(
+    part: &ObjectGeometry,
+    arm: &ArmModel,
+    grasp: &Isometry3<f64>,
+    to: &Isometry3<f64>,
+) -> bool {
+    if thickness_at(part, to).is_none() {
+        return false;
+    }
+    let point = arm.gripper.power_point();
+    let kind = |g: &Isometry3<f64>| {
+        close_on_part(part, &arm.gripper, &(g * point.inverse()))
+            .ok()
+            .map(|grip| hold_kind(&grip.kinds))
+    };
+    let squeezes =
+        |k: Option<HoldKind>| matches!(k, Some(HoldKind::Encompassing | HoldKind::Pinch));
+    let after = kind(to);
+    after.is_some() && (!squeezes(kind(grasp)) || squeezes(after))
+}
+
+/// [`shifts_to_centre`] of `scene`'s power grasps when they are worth a second plan: the
+/// longer at least [`MIN_SLIDE`] and at most [`MAX_SLIDE`].
+pub fn shifts_worth_trying(scene: &Scene, com: &Point3<f64>) -> Option<[f64; 2]> {
+    let full = shifts_to_centre(&scene.grasps.power, com)?;
+    let longest = full[0].abs().max(full[1].abs());
+    (MIN_SLIDE..=MAX_SLIDE).contains(&longest).then_some(full)
+}
+
+/// `scene` with its power grasps slid by the largest share of `full` (m, from
+/// [`shifts_worth_trying`]) at which both still hold their bars, and the shifts made; `None`
+/// when a gripper is not a 2F-85 or no share keeps both grasps on their bars.
+pub fn slid_scene(
+    scene: &Scene,
+    part: &ObjectGeometry,
+    arms: &[ArmModel; 2],
+    full: [f64; 2],
+) -> Option<(Scene, [f64; 2])> {
+    if arms.iter().any(|a| a.gripper.robotiq().is_none()) {
+        return None;
+    }
+    let power = &scene.grasps.power;
+    SLIDE_SHARES.iter().find_map(|share| {
+        // Rounded to 0.1 mm: the plan file says how far each grasp moved.
+        let s = full.map(|x| (x * share * 1e4).round() / 1e4);
+        let to = slid(power, s);
+        let holds = (0..2).all(|k| still_holds(part, &arms[k], &power[k], &to[k]));
+        holds.then(|| {
+            let mut slid_scene = scene.clone();
+            slid_scene.grasps.power = to;
+            (slid_scene, s)
+        })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::UnitQuaternion;
+
+    /// Two grasps on parallel bars along y, 0.8 m apart along x, the centre of mass 0.05 m
+    /// off their line: both slide by about 0.05 m and the line then passes it.
+    #[test]
+    fn parallel_bars_slide_alike_onto_the_centre() {
+        let down = UnitQuaternion::from_euler_angles(std::f64::consts::PI, 0.0, 0.0);
+        let power = [
+            Isometry3::from_parts(Translation3::new(0.02, 0.22, 0.01), down),
+            Isometry3::from_parts(Translation3::new(0.82, 0.26, 0.01), down),
+        ];
+        let com = Point3::new(0.42, 0.19, 0.01);
+        let s = shifts_to_centre(&power, &com).unwrap();
+        let moved = slid(&power, s);
+        let (p0, p1) = (moved[0].translation.vector, moved[1].translation.vector);
+        let l = (p1 - p0).normalize();
+        let w = com.coords - p0;
+        assert!((w - l * w.dot(&l)).norm() < 1e-7, "{s:?}");
+        // Least norm: about equal shifts (the centre of mass lies half way along the line),
+        // 0.05 m towards it (the grasps' y axes point along the object's −y); the line's slope
+        // moves where the centre of mass projects on it.
+        assert!(s.iter().all(|x| (x - 0.05).abs() < 1e-3), "{s:?}");
+    }
+
+    /// Bars along the line through the grasps cannot move it: no shifts.
+    #[test]
+    fn bars_along_the_line_give_nothing() {
+        let power = [
+            Isometry3::translation(0.0, 0.0, 0.0),
+            Isometry3::translation(0.0, 0.5, 0.0),
+        ];
+        let s = shifts_to_centre(&power, &Point3::new(0.1, 0.2, 0.0)).unwrap();
+        assert!(s.iter().all(|x| x.abs() < 1e-12), "{s:?}");
+    }
+}
