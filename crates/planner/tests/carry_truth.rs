@@ -13,9 +13,10 @@
 //! Where the replay lifts at a force below the one the check sets, the check is cautious
 //! there: such rows are listed, not failed. The rows where the two disagree are named below
 //! and in docs/physics.md ("Carrying the part"). The rows: the examples' table (12) and the
-//! sweeps of 30 generated parts (`plan_replay_generated_2f85.csv`, seeds 1–5, 29 plans at 235 N)
-//! and 30 more (`plan_replay_generated_seeds_6_10_2f85.csv`, seeds 6–10, 30 plans), each part
-//! made again here from its family and seed.
+//! sweeps of 30 generated parts (`plan_replay_generated_2f85.csv`, seeds 1–5, 29 plans at 235 N),
+//! 30 more (`plan_replay_generated_seeds_6_10_2f85.csv`, seeds 6–10, 30 plans) and 60 more
+//! (`plan_replay_generated_seeds_11_15_2f85.csv`, `…_16_20_…`, 57 plans), each part made again
+//! here from its family and seed.
 
 mod common;
 
@@ -38,6 +39,8 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
     for table in [
         "plan_replay_generated_2f85.csv",
         "plan_replay_generated_seeds_6_10_2f85.csv",
+        "plan_replay_generated_seeds_11_15_2f85.csv",
+        "plan_replay_generated_seeds_16_20_2f85.csv",
     ] {
         all.extend(
             rows(table)
@@ -104,20 +107,27 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
     println!("agree: {refused} not carried, {kept} carried; cautious: {cautious:#?}");
     // Both ways: rows of each verdict agree, and the departures are the ones named in
     // docs/physics.md — a change of the model that adds or removes one shows here.
-    // 71 rows: 5 + 59 agree, 4 lift below the force the plan sets (the examples at their
-    // pinch's force), 3 depart: h_frame_4 of seeds 1–5 and, of seeds 6–10 (replayed after the
-    // model was set), panel_10 (carried, fails) and h_frame_6 (not carried, yet it lifts).
-    // Six of the agreeing rows are plans whose grasps the planner slid towards the centre of
-    // mass because the scene's could not carry the part (frame_3, ladder_1/2/4, frame_6,
-    // ladder_7: carried, and they lift; before the slide five of them failed, refused, and
-    // ladder_7 departed the cautious way).
-    assert_eq!((refused, kept, cautious.len()), (5, 59, 4));
+    // 128 rows: 9 + 108 agree, 4 lift below the force the plan sets (the examples at their
+    // pinch's force), 7 depart: h_frame_4 of seeds 1–5; of seeds 6–10 (replayed after the
+    // model was set), panel_10 (carried, fails) and h_frame_6 (not carried, yet it lifts); of
+    // seeds 11–20 (57 plans of parts never planned before the sweep), three more panels that
+    // tilt in both hands like panel_10 (panel_13, panel_18, panel_19: carried, fail) and
+    // stool_13 (not carried: both closings caged; it lifts).
+    // Fourteen of the agreeing rows are plans whose grasps the planner slid towards the
+    // centre of mass because the scene's could not carry the part (frame_3, ladder_1/2/4,
+    // frame_6, ladder_7, and of seeds 11–20 frame_11/14/18, ladder_12/19, stool_15,
+    // u_frame_16/20): carried, and all lift.
+    assert_eq!((refused, kept, cautious.len()), (9, 108, 4));
     assert_eq!(
         departures,
         [
             "h_frame_4 plan 0: carried, fails",
             "h_frame_6 plan 0: not carried, lifts",
             "panel_10 plan 0: carried, fails",
+            "panel_13 plan 0: carried, fails",
+            "stool_13 plan 0: not carried, lifts",
+            "panel_18 plan 0: carried, fails",
+            "panel_19 plan 0: carried, fails",
         ]
     );
 }
