@@ -137,7 +137,7 @@ pub fn plan(
     progress: &(dyn Fn() + Sync),
 ) -> Result<PlanReport, PlanError> {
     let t0 = Instant::now();
-    let report = plan_grasps_as_given(scene, mesh, options, on_candidates, progress)?;
+    let (report, part) = plan_grasps_as_given(scene, mesh, options, None, on_candidates, progress)?;
     if !uncarried(&report.outcomes) {
         return Ok(report);
     }
@@ -148,17 +148,12 @@ pub fn plan(
     let Some(full) = crate::slide::shifts_worth_trying(scene, &com) else {
         return Ok(report);
     };
-    let part = match options.known.as_deref().filter(|k| k.fits_mesh(mesh)) {
-        Some(k) => k.part(),
-        None => std::sync::Arc::new(
-            pregrasp_collision::ObjectGeometry::new(mesh).map_err(PlanError::Mesh)?,
-        ),
-    };
     let arms = crate::context::arm_models(scene)?;
     let Some((slid_scene, shifts)) = crate::slide::slid_scene(scene, &part, &arms, full) else {
         return Ok(report);
     };
-    let mut slid = plan_grasps_as_given(&slid_scene, mesh, options, &|_| {}, &|| {})?;
+    let (mut slid, _) =
+        plan_grasps_as_given(&slid_scene, mesh, options, Some(part), &|_| {}, &|| {})?;
     if slid.file.plans.is_empty() || uncarried(&slid.outcomes) {
         return Ok(report);
     }
@@ -192,14 +187,23 @@ fn uncarried(outcomes: &[CandidateOutcome]) -> bool {
     refused && !planned_carried
 }
 
-/// [`plan`] with the scene's power grasps (seated on the palm, [`crate::seat`]), not slid.
+/// [`plan`] with the scene's power grasps (seated on the palm, [`crate::seat`]), not slid; and
+/// the part's collision geometry it planned with (`part` when given, else the known part's,
+/// else built here), for a second plan of the same mesh.
 fn plan_grasps_as_given(
     scene: &Scene,
     mesh: &Mesh,
     options: &PlanOptions,
+    part: Option<std::sync::Arc<pregrasp_collision::ObjectGeometry>>,
     on_candidates: &(dyn Fn(usize) + Sync),
     progress: &(dyn Fn() + Sync),
-) -> Result<PlanReport, PlanError> {
+) -> Result<
+    (
+        PlanReport,
+        std::sync::Arc<pregrasp_collision::ObjectGeometry>,
+    ),
+    PlanError,
+> {
     check_mesh(mesh)?;
     let t0 = Instant::now();
     let axes = axes_of(scene, mesh, options.known.as_deref());
@@ -208,9 +212,10 @@ fn plan_grasps_as_given(
     let t_ctx = Instant::now();
     // The power grasps seated on the palm (`seat`): the plan is made with them.
     let known = options.known.as_deref().filter(|k| k.fits_mesh(mesh));
-    let part = match known {
-        Some(k) => k.part(),
-        None => std::sync::Arc::new(
+    let part = match (part, known) {
+        (Some(part), _) => part,
+        (None, Some(k)) => k.part(),
+        (None, None) => std::sync::Arc::new(
             pregrasp_collision::ObjectGeometry::new(mesh).map_err(PlanError::Mesh)?,
         ),
     };
@@ -224,6 +229,7 @@ fn plan_grasps_as_given(
         None => crate::seat::planned_scene(scene, &part, &crate::context::arm_models(scene)?),
     };
     let scene = seated.as_ref().map_or(scene, |(s, _)| s);
+    let geometry = part.clone();
     let mut ctx = PlanningContext::with_part(
         scene,
         mesh,
@@ -479,13 +485,14 @@ fn plan_grasps_as_given(
         file.timing_ms.insert(key.into(), spent);
     }
     file.timing_ms.insert("total".into(), ms(t0.elapsed()));
-    Ok(PlanReport {
+    let report = PlanReport {
         file,
         physics_note: hold_check.into_unchecked(),
         candidates,
         outcomes,
         hull: (!axes.hull.vertices.is_empty()).then_some(axes.hull),
-    })
+    };
+    Ok((report, geometry))
 }
 
 /// Algorithm 1 for `scene` on `mesh`, on the hull `known` has of this mesh when it has one.

@@ -66,28 +66,28 @@ pub fn slid(power: &[Isometry3<f64>; 2], s: [f64; 2]) -> [Isometry3<f64>; 2] {
     [0, 1].map(|k| power[k] * Translation3::new(0.0, s[k], 0.0))
 }
 
-/// Whether `arm`'s power grasp `grasp` (object frame) still holds its bar slid to `to`: the
-/// approach line crosses material there, and the closing squeezes there where it squeezed at
-/// `grasp` (else it closes on the part at all).
-fn still_holds(
-    part: &ObjectGeometry,
-    arm: &ArmModel,
-    grasp: &Isometry3<f64>,
-    to: &Isometry3<f64>,
-) -> bool {
+/// How `arm`'s closing ends at the power grasp `grasp` (object frame), if it closes on the part.
+fn closing_kind(part: &ObjectGeometry, arm: &ArmModel, grasp: &Isometry3<f64>) -> Option<HoldKind> {
+    let point = arm.gripper.power_point();
+    close_on_part(part, &arm.gripper, &(grasp * point.inverse()))
+        .ok()
+        .map(|grip| hold_kind(&grip.kinds))
+}
+
+/// Whether a closing of this kind squeezes the bar from both sides.
+fn squeezes(kind: Option<HoldKind>) -> bool {
+    matches!(kind, Some(HoldKind::Encompassing | HoldKind::Pinch))
+}
+
+/// Whether `arm`'s power grasp still holds its bar slid to `to` (object frame): the approach
+/// line crosses material there, and the closing squeezes there where it squeezed before
+/// (`squeezed`), else it closes on the part at all.
+fn still_holds(part: &ObjectGeometry, arm: &ArmModel, squeezed: bool, to: &Isometry3<f64>) -> bool {
     if thickness_at(part, to).is_none() {
         return false;
     }
-    let point = arm.gripper.power_point();
-    let kind = |g: &Isometry3<f64>| {
-        close_on_part(part, &arm.gripper, &(g * point.inverse()))
-            .ok()
-            .map(|grip| hold_kind(&grip.kinds))
-    };
-    let squeezes =
-        |k: Option<HoldKind>| matches!(k, Some(HoldKind::Encompassing | HoldKind::Pinch));
-    let after = kind(to);
-    after.is_some() && (!squeezes(kind(grasp)) || squeezes(after))
+    let after = closing_kind(part, arm, to);
+    after.is_some() && (!squeezed || squeezes(after))
 }
 
 /// [`shifts_to_centre`] of `scene`'s power grasps when they are worth a second plan: the
@@ -111,11 +111,13 @@ pub fn slid_scene(
         return None;
     }
     let power = &scene.grasps.power;
+    // The scene's closings, once for every share.
+    let squeezed = [0, 1].map(|k| squeezes(closing_kind(part, &arms[k], &power[k])));
     SLIDE_SHARES.iter().find_map(|share| {
         // Rounded to 0.1 mm: the plan file says how far each grasp moved.
         let s = full.map(|x| (x * share * 1e4).round() / 1e4);
         let to = slid(power, s);
-        let holds = (0..2).all(|k| still_holds(part, &arms[k], &power[k], &to[k]));
+        let holds = (0..2).all(|k| still_holds(part, &arms[k], squeezed[k], &to[k]));
         holds.then(|| {
             let mut slid_scene = scene.clone();
             slid_scene.grasps.power = to;
