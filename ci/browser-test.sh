@@ -25,8 +25,9 @@ fi
 (cd ci/browser && npm ci --no-audit --no-fund --loglevel=error)
 
 target="${CARGO_TARGET_DIR:-$root/target}"
-cargo build --quiet -p pregrasp --bin pregrasp
-cargo build --quiet -p pregrasp-viewer --example fixture_plan
+# The workspace's binaries and examples: the features `cargo test --workspace` resolves, so after
+# the tests nothing is compiled again (`-p pregrasp` alone built every dependency a second time).
+cargo build --quiet --workspace --bins --examples
 pregrasp="$target/debug/pregrasp"
 
 work=$(mktemp -d)
