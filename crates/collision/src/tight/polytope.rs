@@ -106,6 +106,45 @@ impl Polytope {
     }
 }
 
+/// Compressed rows of the pairs `edges` over `n` vertices: `offsets[a]..offsets[a + 1]` in
+/// `adjacent` holds the `b` of every pair `(a, b)`, ascending and each once — the rows of
+/// `edges` sorted and deduplicated (`adjacency_is_the_sorted_pairs` compares).
+pub(super) fn adjacency(n: usize, edges: &[(u32, u32)]) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; n + 1];
+    for &(a, _) in edges {
+        start[a as usize + 1] += 1;
+    }
+    for k in 0..n {
+        start[k + 1] += start[k];
+    }
+    let mut fill = start.clone();
+    let mut slots = vec![0u32; edges.len()];
+    for &(a, b) in edges {
+        let at = &mut fill[a as usize];
+        slots[*at as usize] = b;
+        *at += 1;
+    }
+    // Each row sorted, its repeats dropped, and moved down to where the rows before it end.
+    let mut offsets = vec![0u32; n + 1];
+    let mut len = 0usize;
+    for a in 0..n {
+        let (lo, hi) = (start[a] as usize, start[a + 1] as usize);
+        slots[lo..hi].sort_unstable();
+        let mut last = None;
+        for k in lo..hi {
+            let b = slots[k];
+            if last != Some(b) {
+                slots[len] = b;
+                len += 1;
+                last = Some(b);
+            }
+        }
+        offsets[a + 1] = len as u32;
+    }
+    slots.truncate(len);
+    (offsets, slots)
+}
+
 impl super::Tight {
     /// This hull ([`Tight::hull`](super::Tight::hull)) mirrored `x → −x`: what `Tight::hull`
     /// builds from the mirrored vertices and the same faces, bit for bit, its vertex graph
@@ -232,7 +271,7 @@ impl Graph {
         if index.len() != first.len() {
             join_left_out(points, &verts, &triangles, &index, &first, &mut edges)?;
         }
-        Graph::from_edges(points, edges, &index)
+        Graph::from_edges(points, &edges, &index)
     }
 
     /// The graph of a hull whose vertices are all of `points`, its faces `triangles`.
@@ -249,22 +288,18 @@ impl Graph {
             }
         }
         let all: Vec<u32> = (0..n as u32).collect();
-        Graph::from_edges(points, edges, &all)
+        Graph::from_edges(points, &edges, &all)
     }
 
     /// The graph of the edges `edges` (both ways) over `points`; `None` unless each of the hull
     /// vertices `hull` has at least three neighbours.
-    fn from_edges(points: &[P], mut edges: Vec<(u32, u32)>, hull: &[u32]) -> Option<Graph> {
-        let n = points.len();
-        edges.sort_unstable();
-        edges.dedup();
-        let mut offsets = vec![0u32; n + 1];
-        for &(a, _) in &edges {
-            offsets[a as usize + 1] += 1;
-        }
-        for k in 0..n {
-            offsets[k + 1] += offsets[k];
-        }
+    ///
+    /// Each vertex's neighbours ascending and without repeats — what sorting the pairs and
+    /// removing repeats gives — by buckets per vertex (counted, filled, each short list sorted
+    /// and deduplicated in place, then closed up): linear in the edges, where the sort of all
+    /// pairs cost 0.4 M instructions a hull, 3.8 M a process.
+    fn from_edges(points: &[P], edges: &[(u32, u32)], hull: &[u32]) -> Option<Graph> {
+        let (offsets, adjacent) = adjacency(points.len(), edges);
         if hull
             .iter()
             .any(|&k| offsets[k as usize + 1] - offsets[k as usize] < 3)
@@ -283,7 +318,7 @@ impl Graph {
         .map(|k| k as u32);
         Some(Graph {
             offsets,
-            adjacent: edges.iter().map(|&(_, b)| b).collect(),
+            adjacent,
             extremes,
         })
     }

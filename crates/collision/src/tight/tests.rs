@@ -307,3 +307,32 @@ fn lowest_is_the_least_height_of_every_vertex() {
         }
     }
 }
+
+/// The vertex graph's rows are the pairs sorted with their repeats removed: random pair lists
+/// (repeats, vertices without pairs, pairs of a vertex with itself) against `sort` + `dedup`.
+#[test]
+fn adjacency_is_the_sorted_pairs() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    for case in 0..300 {
+        let n = rng.random_range(1..60usize);
+        let m = rng.random_range(0..400usize);
+        let edges: Vec<(u32, u32)> = (0..m)
+            .map(|_| (rng.random_range(0..n as u32), rng.random_range(0..n as u32)))
+            .collect();
+        let (offsets, adjacent) = super::polytope::adjacency(n, &edges);
+        let mut sorted = edges.clone();
+        sorted.sort_unstable();
+        sorted.dedup();
+        assert_eq!(adjacent.len(), sorted.len(), "case {case}");
+        assert_eq!(offsets.len(), n + 1, "case {case}");
+        for a in 0..n {
+            let row: Vec<u32> = sorted
+                .iter()
+                .filter(|e| e.0 as usize == a)
+                .map(|e| e.1)
+                .collect();
+            let (lo, hi) = (offsets[a] as usize, offsets[a + 1] as usize);
+            assert_eq!(adjacent[lo..hi], row[..], "case {case}, vertex {a}");
+        }
+    }
+}
