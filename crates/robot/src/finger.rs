@@ -75,6 +75,23 @@ struct FileJson {
 }
 
 /// One rigid finger link: its bounding box in its own frame and its mesh hull (for tests).
+/// The static boxes as [`FingerKinematics::statics`] holds them (not turned).
+fn statics_of(statics: Vec<StaticJson>) -> Vec<(String, BoxJson)> {
+    statics
+        .into_iter()
+        .map(|s| {
+            (
+                s.name,
+                BoxJson {
+                    center: s.center,
+                    half: s.half,
+                    angle: 0.0,
+                },
+            )
+        })
+        .collect()
+}
+
 #[derive(Clone, Debug)]
 pub struct FingerLink {
     /// Link name from the data, e.g. `"pad"`, `"finger_tip"`, `"outer_knuckle"`.
@@ -145,6 +162,25 @@ impl FingerKinematics {
         })
     }
 
+    /// The built-in 2F-85's static boxes (its body and palm) alone, as
+    /// [`robotiq_2f85`](Self::robotiq_2f85)`().statics` holds them: what posing the gripper's
+    /// shapes needs. Read without the finger links' hulls and the opening table, which the whole
+    /// model parses and tightens: 2.1 M instructions a process, for a table the planner never
+    /// reads (the test `statics_alone_are_the_models` compares).
+    pub fn robotiq_2f85_statics() -> &'static [(String, BoxJson)] {
+        #[derive(Deserialize)]
+        struct StaticsOnly {
+            #[serde(rename = "static")]
+            statics: Vec<StaticJson>,
+        }
+        static STATICS: OnceLock<Vec<(String, BoxJson)>> = OnceLock::new();
+        STATICS.get_or_init(|| {
+            let file: StaticsOnly =
+                serde_json::from_str(DATA).expect("built-in robotiq_2f85.json is valid");
+            statics_of(file.statics)
+        })
+    }
+
     fn from_json(text: &str) -> Result<FingerKinematics, String> {
         let file: FileJson = serde_json::from_str(text).map_err(|e| e.to_string())?;
         let links: Vec<FingerLink> = file
@@ -189,20 +225,7 @@ impl FingerKinematics {
             return Err("the opening table needs at least two rows".into());
         }
         Ok(FingerKinematics {
-            statics: file
-                .statics
-                .into_iter()
-                .map(|s| {
-                    (
-                        s.name,
-                        BoxJson {
-                            center: s.center,
-                            half: s.half,
-                            angle: 0.0,
-                        },
-                    )
-                })
-                .collect(),
+            statics: statics_of(file.statics),
             links,
             rows,
         })
@@ -306,5 +329,19 @@ mod tighter_box_tests {
             };
             prop_assert_eq!(tighter_box(aabb, &points), by_all_points(aabb, &points));
         }
+    }
+}
+
+#[cfg(test)]
+mod statics_tests {
+    use super::*;
+
+    /// The static boxes read alone are the whole model's, bit for bit and in order.
+    #[test]
+    fn statics_alone_are_the_models() {
+        let alone = FingerKinematics::robotiq_2f85_statics();
+        let whole = &FingerKinematics::robotiq_2f85().statics;
+        assert!(!alone.is_empty());
+        assert_eq!(alone, &whole[..]);
     }
 }

@@ -49,9 +49,7 @@ fn on_z(z: f64) -> Isometry3<f64> {
 fn shape_names() -> &'static [&'static str] {
     static NAMES: std::sync::OnceLock<Vec<&'static str>> = std::sync::OnceLock::new();
     NAMES.get_or_init(|| {
-        let fk = FingerKinematics::robotiq_2f85();
-        let mut names: Vec<&'static str> = fk
-            .statics
+        let mut names: Vec<&'static str> = FingerKinematics::robotiq_2f85_statics()
             .iter()
             .map(|(n, _)| {
                 let name = if n.starts_with("gripper_") {
@@ -131,10 +129,9 @@ impl Gripper2F85 {
         state: GripperState,
         mut f: impl FnMut(usize, &'static str, Primitive),
     ) {
-        let fk = FingerKinematics::robotiq_2f85();
         let names = shape_names();
         let mut k = 0;
-        for (_, b) in &fk.statics {
+        for (_, b) in FingerKinematics::robotiq_2f85_statics() {
             f(k, names[k], cuboid(Isometry3::identity(), b));
             k += 1;
         }
