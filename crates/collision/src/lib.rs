@@ -47,8 +47,8 @@ pub use arm::{ArmModel, MAX_ARM_SHAPES};
 pub use closing::{FingerShapes, PartClosing};
 pub use error::CollisionError;
 pub use grip::{
-    close_on_part, open_approach_inside, open_inside, pad_patches, Grip, GripFailure, OpenHand,
-    OpenInside, OpenMemo, PadPatch, OPEN_CONTACT_DEPTH,
+    close_on_part, open_approach_inside, open_inside, pad_patches, prepare_closing, Grip,
+    GripFailure, OpenHand, OpenInside, OpenMemo, PadPatch, OPEN_CONTACT_DEPTH,
 };
 pub use object::{check_mesh, ObjectGeometry};
 pub use shape::Placed;

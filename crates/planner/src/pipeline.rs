@@ -212,13 +212,25 @@ fn plan_grasps_as_given(
     let t_ctx = Instant::now();
     // The power grasps seated on the palm (`seat`): the plan is made with them.
     let known = options.known.as_deref().filter(|k| k.fits_mesh(mesh));
-    let part = match (part, known) {
-        (Some(part), _) => part,
-        (None, Some(k)) => k.part(),
-        (None, None) => std::sync::Arc::new(
-            pregrasp_collision::ObjectGeometry::new(mesh).map_err(PlanError::Mesh)?,
-        ),
-    };
+    // The part's geometry and what the grippers' closings need beside the arm models: the
+    // first plan of a process builds both (once per process for the closings), and each
+    // arm's closing in the seating would otherwise wait for the other's to build them.
+    let (part, arms) = rayon::join(
+        || {
+            for robot in &scene.robots {
+                pregrasp_collision::prepare_closing(&robot.gripper_model());
+            }
+            match (part, known) {
+                (Some(part), _) => Ok(part),
+                (None, Some(k)) => Ok(k.part()),
+                (None, None) => pregrasp_collision::ObjectGeometry::new(mesh)
+                    .map(std::sync::Arc::new)
+                    .map_err(PlanError::Mesh),
+            }
+        },
+        || crate::context::arm_models(scene),
+    );
+    let part = part?;
     // A part known from an earlier plan (a replan loop) keeps its seating.
     let (seated, power_grips) = match options
         .known
@@ -226,7 +238,7 @@ fn plan_grasps_as_given(
         .and_then(|k| k.seating(scene, mesh))
     {
         Some(seated) => (seated, [None, None]),
-        None => crate::seat::planned_scene(scene, &part, &crate::context::arm_models(scene)?),
+        None => crate::seat::planned_scene(scene, &part, &arms?),
     };
     let scene = seated.as_ref().map_or(scene, |(s, _)| s);
     let geometry = part.clone();

@@ -269,6 +269,18 @@ fn link_name(link: usize) -> &'static str {
         .map_or(FINGER_LINKS[link.min(4)], |s| s.name)
 }
 
+/// Builds, once per process, what closing `gripper` on any part needs and does not depend on
+/// the part — the finger links' pieces, hulls and sweep points, the open hand — so that the
+/// caller can have it built beside other work: otherwise the first closing builds it while a
+/// closing on another thread waits for it. [`close_on_part`] needs no call of this.
+pub fn prepare_closing(gripper: &Gripper) {
+    OpenHand::of(gripper);
+    if let Gripper::Robotiq2F85(_) = gripper {
+        finger_shapes();
+        finger_links();
+    }
+}
+
 /// Closes `gripper` on the part with its flange at `flange_in_object` (flange → object
 /// frame): the [`Grip`], or why it cannot hold the part there. The closing starts from a free,
 /// fully open hand: the open gripper at the grasp and on the last [`OPEN_APPROACH_ZONE`] of its
