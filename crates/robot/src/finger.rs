@@ -74,7 +74,6 @@ struct FileJson {
     table: Vec<RowJson>,
 }
 
-/// One rigid finger link: its bounding box in its own frame and its mesh hull (for tests).
 /// The static boxes as [`FingerKinematics::statics`] holds them (not turned).
 fn statics_of(statics: Vec<StaticJson>) -> Vec<(String, BoxJson)> {
     statics
@@ -92,6 +91,7 @@ fn statics_of(statics: Vec<StaticJson>) -> Vec<(String, BoxJson)> {
         .collect()
 }
 
+/// One rigid finger link: its bounding box in its own frame and its mesh hull (for tests).
 #[derive(Clone, Debug)]
 pub struct FingerLink {
     /// Link name from the data, e.g. `"pad"`, `"finger_tip"`, `"outer_knuckle"`.
