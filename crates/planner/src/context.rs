@@ -5,10 +5,7 @@
 use std::sync::{Arc, OnceLock};
 
 use nalgebra::Isometry3;
-use pregrasp_collision::{
-    close_on_part, pad_patches, ArmModel, CollisionWorld, Contact, Grip, GripFailure,
-    ObjectPlacement, WorldState,
-};
+use pregrasp_collision::{ArmModel, CollisionWorld, Contact, Grip, ObjectPlacement, WorldState};
 use pregrasp_geometry::{ConvexHull, Mesh};
 use pregrasp_io::scene::Scene;
 use pregrasp_model::PadContact;
@@ -16,6 +13,8 @@ use pregrasp_motion::{JointSpace, MotionValidator};
 use pregrasp_robot::{wrap_angle, ArmKinematics, GripperState, Joints};
 
 use crate::clock::StageClock;
+pub use crate::closings::{grips, pad_contact, support_closings, Grips, KnownClosings};
+use crate::closings::{grips_knowing, holds_support_alike};
 use crate::error::PlanError;
 use pregrasp_model::timeline::Moment;
 
@@ -38,16 +37,6 @@ pub const PLANNING_MARGIN: f64 = 0.003;
 /// [`PLANNING_MARGIN`]'s counterpart for the grasping gripper vs the support, whose motions
 /// are validated at [`FINE_RESOLUTION`].
 pub const FINE_PLANNING_MARGIN: f64 = 0.0006;
-
-/// How the grippers close on the part, from its mesh: per arm, at the support grasp G_s (by
-/// its precision point) and at its own power grasp.
-#[derive(Clone, Debug)]
-pub struct Grips {
-    /// Closing at G_s of each arm, should it support.
-    pub support: [Result<Grip, GripFailure>; 2],
-    /// Closing of each arm at its power grasp.
-    pub power: [Result<Grip, GripFailure>; 2],
-}
 
 /// Read-only models of one planning problem.
 pub struct PlanningContext<'a> {
@@ -121,7 +110,11 @@ impl PartKnowledge {
         let (seated, power_grips) = crate::seat::planned_scene(scene, &part, &arm_models(scene)?);
         let moved = seated.as_ref().map_or([0.0; 2], |(_, m)| *m);
         let planned = seated.as_ref().map_or(scene, |(s, _)| s);
-        let ctx = PlanningContext::with_part(planned, mesh, None, Some(part), power_grips)?;
+        let closed = KnownClosings {
+            power: power_grips,
+            ..KnownClosings::default()
+        };
+        let ctx = PlanningContext::with_part(planned, mesh, None, Some(part), closed)?;
         let hull = ConvexHull::of_mesh(mesh).ok().map(Arc::new);
         Ok(PartKnowledge::of(&ctx, hull, scene, moved))
     }
@@ -235,18 +228,18 @@ impl<'a> PlanningContext<'a> {
         mesh: &'a Mesh,
         known: Option<&PartKnowledge>,
     ) -> Result<Self, PlanError> {
-        PlanningContext::with_part(scene, mesh, known, None, [None, None])
+        PlanningContext::with_part(scene, mesh, known, None, KnownClosings::default())
     }
 
     /// [`PlanningContext::with_knowledge`], with the part's collision geometry `part` (built
-    /// from `mesh`) when `known` does not fit, and the closings at the power grasps where
-    /// they are known already (`power_grips`, from the seating: [`crate::seat`]).
+    /// from `mesh`) when `known` does not fit, and the closings computed already (`closed`:
+    /// the seating's at the power grasps, [`crate::seat`]; those at G_s, beside it).
     pub fn with_part(
         scene: &'a Scene,
         mesh: &'a Mesh,
         known: Option<&PartKnowledge>,
         part: Option<Arc<pregrasp_collision::ObjectGeometry>>,
-        power_grips: [Option<Result<Grip, GripFailure>>; 2],
+        closed: KnownClosings,
     ) -> Result<Self, PlanError> {
         let arms = arm_models(scene)?;
         let spaces = [
@@ -269,12 +262,7 @@ impl<'a> PlanningContext<'a> {
         .with_grasp_support_margin(params.finger_support_clearance + FINE_PLANNING_MARGIN);
         let grips = match known {
             Some(k) => k.grips.clone(),
-            None => grips_knowing(
-                &world,
-                &scene.grasps.support,
-                &scene.grasps.power,
-                power_grips,
-            ),
+            None => grips_knowing(&world, &scene.grasps.support, &scene.grasps.power, closed),
         };
         let held = |arm: usize| -> Vec<GripperState> {
             [&grips.support[arm], &grips.power[arm]]
@@ -488,81 +476,6 @@ pub fn arm_models(scene: &Scene) -> Result<[ArmModel; 2], PlanError> {
             .map_err(PlanError::Arm)
     };
     Ok([model(0)?, model(1)?])
-}
-
-/// Whether both arms hold G_s alike: they hold it by their precision points, so with the same
-/// precision point the closing on the part there, and its pad patches, are one.
-fn holds_support_alike(arms: &[ArmModel; 2]) -> bool {
-    arms[0].gripper.precision_point() == arms[1].gripper.precision_point()
-}
-
-/// How both grippers close on the part at G_s (`support`, by the precision point) and at their
-/// power grasps (`power`, by the power point), from the part's mesh in `world`.
-pub fn grips(
-    world: &CollisionWorld,
-    support: &Isometry3<f64>,
-    power: &[Isometry3<f64>; 2],
-) -> Grips {
-    grips_knowing(world, support, power, [None, None])
-}
-
-/// [`grips`], taking the power grasps' closings from `known` where given (they must be the
-/// closings at `power`).
-fn grips_knowing(
-    world: &CollisionWorld,
-    support: &Isometry3<f64>,
-    power: &[Isometry3<f64>; 2],
-    known: [Option<Result<Grip, GripFailure>>; 2],
-) -> Grips {
-    let object = world.object().expect("the world has the part");
-    let gripper = |arm: usize| &world.arms()[arm].gripper;
-    let close = |arm: usize, grasp: &Isometry3<f64>, point: Isometry3<f64>| {
-        close_on_part(object, gripper(arm), &(grasp * point.inverse()))
-    };
-    let support_at = |arm: usize| gripper(arm).precision_point();
-    let alike = holds_support_alike(world.arms());
-    // The closings are independent: run side by side (each answer is its own, so the result
-    // does not depend on the threads).
-    let power_of = |arm: usize| {
-        known[arm]
-            .clone()
-            .unwrap_or_else(|| close(arm, &power[arm], gripper(arm).power_point()))
-    };
-    let ((first, second), (p0, p1)) = rayon::join(
-        || {
-            rayon::join(
-                || close(0, support, support_at(0)),
-                || (!alike).then(|| close(1, support, support_at(1))),
-            )
-        },
-        || rayon::join(|| power_of(0), || power_of(1)),
-    );
-    let second = second.unwrap_or_else(|| first.clone());
-    Grips {
-        support: [first, second],
-        power: [p0, p1],
-    }
-}
-
-/// Where the pads of `grip` bear on the part at `grasp` (object frame) held by `point` (the
-/// tool point in the flange frame): both patches' midpoint in the grasp frame, the smaller
-/// torsion radius, both areas. `None` unless both pads bear on it.
-pub fn pad_contact(
-    object: &pregrasp_collision::ObjectGeometry,
-    gripper: &pregrasp_robot::Gripper,
-    grasp: &Isometry3<f64>,
-    point: &Isometry3<f64>,
-    grip: &Grip,
-) -> Option<PadContact> {
-    let flange_in_object = grasp * point.inverse();
-    let [a, b] = pad_patches(object, gripper, &flange_in_object, grip);
-    let (a, b) = (a?, b?);
-    let mid = point.inverse() * nalgebra::center(&a.center, &b.center);
-    Some(PadContact {
-        center: [mid.x, mid.y, mid.z],
-        torsion_radius: a.torsion_radius.min(b.torsion_radius),
-        area: [a.area, b.area],
-    })
 }
 
 /// The collision world's view of a [`Moment`].

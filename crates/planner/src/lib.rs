@@ -8,10 +8,12 @@
 //! - [`check`]: the plan-file validity rules, re-verified with our own models;
 //! - [`hold`]: will the pinch hold the part during `μ_rot` (quasi-static grip force check);
 //! - [`carry`]: will the power grasps carry the part once it is lifted off the table;
+//! - [`closings`]: how the grippers close on the part at G_s and at the power grasps;
 //! - [`seat`]: power grasps moved onto the palm, so the closing does not pull the part;
 //! - [`slide`]: power grasps slid along their bars towards the centre of mass, where the
 //!   scene's cannot carry the part;
-//! - [`pipeline`]: all of it, candidates in parallel, deterministic for any thread count;
+//! - [`pipeline`]: all of it, candidates in parallel, deterministic for any thread count,
+//!   ranked by score (`ranking`);
 //! - [`replan`]: the same plan for a part measured at another pose (issue 16);
 //! - [`settle`]: a measured pose brought onto the support (the part lies on the table);
 //! - [`robustness`]: Monte-Carlo over placement errors, re-planning each sample;
@@ -24,6 +26,7 @@
 pub mod carry;
 pub mod check;
 pub mod clock;
+pub mod closings;
 pub mod context;
 pub mod dummies;
 pub mod error;
@@ -37,6 +40,7 @@ pub mod pipeline;
 /// Moved to the I/O crate, so every reader of a plan file validates it; kept here by name.
 pub use pregrasp_io::plan_format;
 pub mod poses;
+mod ranking;
 pub mod reach;
 pub mod rejection;
 pub mod replan;

@@ -23,6 +23,7 @@ use crate::no_plan::no_plan_reason;
 use crate::output::{self, plan_file_header, plan_set, rot_only_plan};
 use crate::paths::{integrated_path, NoPath};
 use crate::poses::{object_pose_for_power_grasp, PoseRejection, PowerGraspPose};
+use crate::ranking::{rank, ranked_beyond, required_force};
 use crate::rejection::{FailedRule, Rejection, Unheld};
 use crate::rotate::RotationPath;
 use pregrasp_model::timeline::Moment;
@@ -212,9 +213,8 @@ fn plan_grasps_as_given(
     let t_ctx = Instant::now();
     // The power grasps seated on the palm (`seat`): the plan is made with them.
     let known = options.known.as_deref().filter(|k| k.fits_mesh(mesh));
-    // The part's geometry and what the grippers' closings need beside the arm models: the
-    // first plan of a process builds both (once per process for the closings), and each
-    // arm's closing in the seating would otherwise wait for the other's to build them.
+    // The part's geometry and what closings need (built once a process) beside the arm models:
+    // else each arm's first closing in the seating waits for the other's to build them.
     let (part, arms) = rayon::join(
         || {
             for robot in &scene.robots {
@@ -230,15 +230,26 @@ fn plan_grasps_as_given(
         },
         || crate::context::arm_models(scene),
     );
-    let part = part?;
-    // A part known from an earlier plan (a replan loop) keeps its seating.
-    let (seated, power_grips) = match options
+    let (part, arms) = (part?, arms?);
+    // A part known from an earlier plan (a replan loop) keeps its seating. A new part's
+    // closings at G_s do not depend on it: they run beside it.
+    let seating = || match options
         .known
         .as_deref()
         .and_then(|k| k.seating(scene, mesh))
     {
         Some(seated) => (seated, [None, None]),
-        None => crate::seat::planned_scene(scene, &part, &arms?),
+        None => crate::seat::planned_scene(scene, &part, &arms),
+    };
+    let ((seated, power), support) = match known {
+        Some(_) => (seating(), None),
+        None => rayon::join(seating, || {
+            Some(crate::context::support_closings(
+                &part,
+                &arms,
+                &scene.grasps.support,
+            ))
+        }),
     };
     let scene = seated.as_ref().map_or(scene, |(s, _)| s);
     let geometry = part.clone();
@@ -247,7 +258,7 @@ fn plan_grasps_as_given(
         mesh,
         options.known.as_deref(),
         Some(part),
-        power_grips,
+        crate::context::KnownClosings { support, power },
     )?;
     let t_grips = t_ctx.elapsed();
     ctx.fixed_rot_start = options.fixed_rot_start;
@@ -519,76 +530,9 @@ pub(crate) fn axes_of(scene: &Scene, mesh: &Mesh, known: Option<&PartKnowledge>)
     )
 }
 
-/// Whether `max_plans` plans are kept among the evaluated `outcomes` (ranked as the plan file
-/// ranks them) and the worst of them scores above `next` by more than a tie: every candidate
-/// from `next` on (sorted best first) ranks below them whatever it gives.
-fn ranked_beyond(
-    candidates: &[RotationAxisCandidate],
-    outcomes: &[CandidateOutcome],
-    max_plans: usize,
-    next: f64,
-) -> bool {
-    if max_plans == 0 {
-        return false;
-    }
-    let scores: Vec<f64> = candidates.iter().map(|c| c.score).collect();
-    let kept: Vec<usize> = rank(&scores, |i| required_force(&outcomes[i]))
-        .into_iter()
-        .filter(|&i| matches!(&outcomes[i], CandidateOutcome::Planned { check: None, .. }))
-        .take(max_plans)
-        .collect();
-    kept.len() == max_plans && kept.iter().all(|&i| scores[i] - next > SCORE_TIE)
-}
-
-/// Two scores closer than this are a tie, broken by the grip force the rotation needs.
-const SCORE_TIE: f64 = 1e-9;
-
-/// The order in which candidates are considered for the plan file: by S_rot (`scores`, sorted
-/// best first), and within a run of tied scores by the grip force the rotation requires
-/// (`force`, smaller first; infinite for a candidate without one), then by index.
-fn rank(scores: &[f64], force: impl Fn(usize) -> f64) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..scores.len()).collect();
-    let mut start = 0;
-    while start < order.len() {
-        let end = (start..scores.len())
-            .find(|&j| (scores[j] - scores[start]).abs() > SCORE_TIE)
-            .unwrap_or(scores.len());
-        order[start..end].sort_by(|&a, &b| force(a).total_cmp(&force(b)).then(a.cmp(&b)));
-        start = end;
-    }
-    order
-}
-
-/// The grip force (N) the plan of `outcome` requires, infinite when it has none.
-fn required_force(outcome: &CandidateOutcome) -> f64 {
-    match outcome {
-        CandidateOutcome::Planned { physics, .. } => physics
-            .as_ref()
-            .and_then(|p| p.grip_force_required)
-            .unwrap_or(f64::INFINITY),
-        _ => f64::INFINITY,
-    }
-}
-
 /// The first rule `plan` (checked as a plan of `header`) fails, if any, and how close a
 /// grasping gripper comes to the support along it (from the same check).
 fn verify(checker: &PlanChecker, set: &PlanSet, plan: &Plan) -> (Option<FailedRule>, Option<f64>) {
     let report = checker.check_plans(set, std::slice::from_ref(plan));
     (FailedRule::first(&report), report.closest_grasp_to_support)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::rank;
-
-    #[test]
-    fn ties_go_to_the_smaller_grip_force() {
-        let scores = [3.0, 2.0, 2.0 + 1e-12, 2.0, 1.0, 1.0];
-        let force = [50.0, 90.0, 20.0, f64::INFINITY, 5.0, 1.0];
-        assert_eq!(rank(&scores, |i| force[i]), vec![0, 2, 1, 3, 5, 4]);
-        // Distinct scores keep their order whatever the forces.
-        let scores = [3.0, 2.0, 1.0];
-        assert_eq!(rank(&scores, |i| [9.0, 5.0, 1.0][i]), vec![0, 1, 2]);
-        assert!(rank(&[], |_| 0.0).is_empty());
-    }
 }

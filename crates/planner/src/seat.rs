@@ -106,9 +106,9 @@ impl SeatRule {
 pub struct SeatedGrasps {
     pub power: [Isometry3<f64>; 2],
     pub moved: [f64; 2],
-    /// The closing at each grasp of `power`, where the seating computed it (the planning
-    /// context takes it rather than closing again).
-    pub grips: [Option<Result<Grip, GripFailure>>; 2],
+    /// The closing at each grasp of `power` (the planning context takes it rather than
+    /// closing again).
+    pub grips: [Result<Grip, GripFailure>; 2],
 }
 
 /// How far (m) the palm of `arm`'s gripper, the flange at `flange` (object frame), may move
@@ -189,21 +189,24 @@ pub fn seat_power_grasps_by(
     rest: [f64; 2],
     rule: SeatRule,
 ) -> SeatedGrasps {
-    type Seat = (Isometry3<f64>, f64, Option<Result<Grip, GripFailure>>);
+    type Seat = (Isometry3<f64>, f64, Result<Grip, GripFailure>);
     let seat = |k: usize| -> Seat {
         let arm = &arms[k];
         let grasp = power[k];
-        if arm.gripper.robotiq().is_none() {
-            return (grasp, 0.0, None);
-        }
         let point = arm.gripper.power_point();
         let flange = grasp * point.inverse();
+        // A grasp that stays is closed here too: the planning context takes the closing
+        // rather than closing it after the seating, while the other arm's seating still runs.
+        let kept = || (grasp, 0.0, closing(object, arm, &flange).0);
+        if arm.gripper.robotiq().is_none() {
+            return kept();
+        }
         let Some(gap) = palm_gap(object, arm, &flange) else {
-            return (grasp, 0.0, None);
+            return kept();
         };
         let thick = thickness_at(object, &grasp).is_some_and(|t| t >= rule.min_thickness);
         if gap <= SEAT_TOLERANCE || !thick {
-            return (grasp, 0.0, None);
+            return kept();
         }
         let (here, kind) = closing(object, arm, &flange);
         // Rounded down to 0.01 mm: the time of impact converges to within ~1e-7 m, which a
@@ -234,16 +237,16 @@ pub fn seat_power_grasps_by(
                     .chain(back_from(share))
                     .collect()
             }
-            _ => return (grasp, 0.0, Some(here)),
+            _ => return (grasp, 0.0, here),
         };
         for moved in tries {
             let seated = grasp * Translation3::new(0.0, 0.0, moved);
             let (grip, kind) = closing(object, arm, &(seated * point.inverse()));
             if matches!(kind, Some(HoldKind::Encompassing | HoldKind::Pinch)) {
-                return (seated, moved, Some(grip));
+                return (seated, moved, grip);
             }
         }
-        (grasp, 0.0, Some(here))
+        (grasp, 0.0, here)
     };
     let (a, b) = rayon::join(|| seat(0), || seat(1));
     SeatedGrasps {
@@ -288,7 +291,7 @@ fn with_seated(
         s.grasps.power = seated.power;
         (s, seated.moved)
     });
-    (moved, seated.grips)
+    (moved, seated.grips.map(Some))
 }
 
 /// [`seat_power_grasps_by`] of `scene`'s power grasps, the part resting `lift` below P_init.
@@ -315,8 +318,8 @@ pub fn rest_offsets(scene: &pregrasp_io::scene::Scene) -> [f64; 2] {
 }
 
 /// What the planner plans with: `scene` with its power grasps seated ([`seated_scene`]; `None`
-/// when none moved, with how far each moved), and the closings the seating computed at the
-/// grasps it leaves (for the planning context).
+/// when none moved, with how far each moved), and the closings the seating computed at its
+/// grasps (for the planning context).
 #[allow(clippy::type_complexity)]
 pub fn planned_scene(
     scene: &pregrasp_io::scene::Scene,
