@@ -30,6 +30,7 @@ pub mod closings;
 pub mod context;
 pub mod dummies;
 pub mod error;
+mod halves;
 pub mod hold;
 pub mod hold_kind;
 mod no_plan;

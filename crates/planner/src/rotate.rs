@@ -95,8 +95,8 @@ pub const MAX_STEP_HALVINGS: u32 = 4;
 /// branch is followed with more points instead of being refused. Every state between points
 /// is checked at [`FINE_RESOLUTION`]: the gripper holds a pinch a few millimetres above the
 /// table. The states are collected along the path (from θ_goal down) and checked in one
-/// pass ([`pregrasp_collision::CollisionWorld::first_contact_in`]): the first one in contact,
-/// if it comes before the branch is lost, is the failure.
+/// pass ([`pregrasp_collision::CollisionWorld::first_contact_in`], in halves side by side):
+/// the first one in contact, if it comes before the branch is lost, is the failure.
 pub fn rotation_path(
     ctx: &PlanningContext,
     candidate: &RotationAxisCandidate,
@@ -135,7 +135,7 @@ pub fn rotation_path(
             break;
         }
     }
-    if let Some(k) = ctx.world.first_contact_in(None, &states.world) {
+    if let Some(k) = crate::halves::first_contact(&ctx.world, &states.world) {
         let c = ctx
             .world
             .check(&states.world[k])
