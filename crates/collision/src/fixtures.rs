@@ -6,7 +6,9 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use pregrasp_geometry::Mesh;
-use pregrasp_robot::{Gripper2F85, Joints};
+use pregrasp_robot::{Gripper2F85, GripperState, Joints, UrModel};
+
+use crate::{ArmModel, CollisionWorld};
 
 /// A UR arm upright: shoulder lifted, elbow bent, the wrist's tool pointing down.
 pub const UP: Joints = [0.0, -FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, -FRAC_PI_2, 0.0];
@@ -114,6 +116,26 @@ pub fn plate_10k() -> Mesh {
         Vector3::new(0.3, 0.2, 0.01),
         29,
     )
+}
+
+/// Two UR5e side by side 0.9 m apart (bases at `y = ±0.45`, "left" and "right"), a
+/// [`frame_mesh`] part (0.5 × 0.3 m, 5 cm bars, 2 cm thick) between them on a support at
+/// `z = 0`, the planner's margins, each gripper holding its fingers 2 cm apart when it grasps.
+pub fn two_arm_cell() -> CollisionWorld {
+    let arm = |name: &str, y: f64| {
+        let base = Isometry3::translation(0.0, y, 0.0);
+        ArmModel::new(name, UrModel::Ur5e, base, Gripper2F85::default())
+    };
+    let mesh = frame_mesh(0.5, 0.3, 0.05, 0.02);
+    CollisionWorld::try_new(
+        Some(0.0),
+        Some(&mesh),
+        [arm("left", 0.45), arm("right", -0.45)],
+    )
+    .expect("a valid mesh")
+    .with_margin(0.008)
+    .with_grasp_support_margin(0.0026)
+    .with_held_fingers([&[GripperState::at_gap(0.02)], &[GripperState::at_gap(0.02)]])
 }
 
 #[cfg(test)]

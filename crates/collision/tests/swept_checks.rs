@@ -4,33 +4,12 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use nalgebra::{Isometry3, Vector3};
-use pregrasp_collision::fixtures::frame_mesh;
-use pregrasp_collision::{
-    joint_space, ArmModel, ArmValidity, CollisionWorld, ObjectPlacement, WorldState,
-};
+use pregrasp_collision::fixtures::two_arm_cell;
+use pregrasp_collision::{joint_space, ArmValidity, CollisionWorld, ObjectPlacement, WorldState};
 use pregrasp_motion::{MotionValidator, State, StateValidator};
 use pregrasp_robot::{group_sweep_radii, Gripper2F85, GripperState, Joints, UrModel};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-
-/// Two UR5e side by side 0.9 m apart, a frame-shaped part lying between them on the table,
-/// the planner's margins.
-fn cell() -> CollisionWorld {
-    let arm = |name: &str, y: f64| {
-        let base = Isometry3::translation(0.0, y, 0.0);
-        ArmModel::new(name, UrModel::Ur5e, base, Gripper2F85::default())
-    };
-    let mesh = frame_mesh(0.5, 0.3, 0.05, 0.02);
-    CollisionWorld::try_new(
-        Some(0.0),
-        Some(&mesh),
-        [arm("left", 0.45), arm("right", -0.45)],
-    )
-    .expect("a valid mesh")
-    .with_margin(0.008)
-    .with_grasp_support_margin(0.0026)
-    .with_held_fingers([&[GripperState::at_gap(0.02)], &[GripperState::at_gap(0.02)]])
-}
 
 /// The part's pose: lying 0.5 m in front of the arms, turned by `theta` about its long edge.
 fn part_pose(theta: f64) -> Isometry3<f64> {
@@ -111,7 +90,7 @@ fn random_motion(rng: &mut ChaCha8Rng, step: f64) -> Vec<WorldState> {
 
 #[test]
 fn a_motion_checked_by_ranges_finds_the_state_checking_one_by_one_finds() {
-    let world = cell();
+    let world = two_arm_cell();
     let mut rng = ChaCha8Rng::seed_from_u64(20);
     let (mut collided, mut clear, mut certified) = (0, 0, 0);
     for _ in 0..300 {
@@ -161,7 +140,7 @@ fn a_motion_checked_by_ranges_finds_the_state_checking_one_by_one_finds() {
 fn a_motion_with_wide_steps_is_checked_state_by_state_and_gives_the_same_answer() {
     // Steps far wider than any swept check would take (0.3–1 rad): every state is checked
     // on its own, and the answer is still the first state in contact.
-    let world = cell();
+    let world = two_arm_cell();
     let mut rng = ChaCha8Rng::seed_from_u64(24);
     for _ in 0..40 {
         let step = rng.random_range(0.3..1.0);
@@ -173,7 +152,7 @@ fn a_motion_with_wide_steps_is_checked_state_by_state_and_gives_the_same_answer(
 
 #[test]
 fn the_closest_grasp_to_the_support_is_the_minimum_over_the_states() {
-    let world = cell();
+    let world = two_arm_cell();
     let mut rng = ChaCha8Rng::seed_from_u64(21);
     let mut seen = 0;
     for _ in 0..200 {
@@ -194,7 +173,7 @@ fn the_closest_grasp_to_the_support_is_the_minimum_over_the_states() {
 fn a_certified_joint_box_holds_no_state_in_contact() {
     // The widest certified box along a random direction is as tight as the bounds allow: some
     // pair nearly uses up its room there. No state of it, corners included, may be in contact.
-    let world = cell();
+    let world = two_arm_cell();
     let mut rng = ChaCha8Rng::seed_from_u64(22);
     let mut certified = 0;
     for _ in 0..150 {
@@ -256,7 +235,7 @@ fn a_box_names_every_pair_that_may_fail_in_it() {
     // Where a box is not free, the pairs it names are the only ones to ask about at any of its
     // states (and the boxes within it name fewer): checking a state among them gives the full
     // check's answer.
-    let world = cell();
+    let world = two_arm_cell();
     let mut rng = ChaCha8Rng::seed_from_u64(24);
     let (mut named, mut free, mut too_many, mut failing) = (0, 0, 0, 0);
     for _ in 0..200 {
@@ -300,7 +279,7 @@ fn a_box_names_every_pair_that_may_fail_in_it() {
 
 #[test]
 fn edges_checked_by_boxes_agree_with_edges_checked_state_by_state() {
-    let world = cell();
+    let world = two_arm_cell();
     let space = joint_space(&world.arms()[0]);
     let mut rng = ChaCha8Rng::seed_from_u64(23);
     let (mut valid, mut invalid) = (0, 0);
@@ -342,7 +321,7 @@ fn a_base_joint_turn_is_not_vertical_motion() {
     // turning the base about the vertical brings nothing nearer the support, so a box in the
     // base joint whose gripper sweep exceeds that height is still certified; the same sweep
     // from the shoulder joint is not.
-    let arm = cell().arms()[0].clone();
+    let arm = two_arm_cell().arms()[0].clone();
     let world = CollisionWorld::single_arm(Some(0.0), None, arm)
         .unwrap()
         .with_margin(0.008);
