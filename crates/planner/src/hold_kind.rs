@@ -16,3 +16,9 @@ pub fn hold_kind(kinds: &[ClosingKind; 2]) -> HoldKind {
         HoldKind::Pinch
     }
 }
+
+/// Whether a closing of this kind squeezes the bar from both sides (a pinch or a wrap, not a
+/// cage or one side; `None`: it did not close on the part).
+pub fn squeezes(kind: Option<HoldKind>) -> bool {
+    matches!(kind, Some(HoldKind::Encompassing | HoldKind::Pinch))
+}

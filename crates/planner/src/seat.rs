@@ -46,7 +46,7 @@ use pregrasp_collision::{close_on_part, ArmModel, Grip, GripFailure, ObjectGeome
 use pregrasp_physics::HoldKind;
 use pregrasp_robot::{GripperState, Primitive};
 
-use crate::hold_kind::hold_kind;
+use crate::hold_kind::{hold_kind, squeezes};
 
 /// Gap (m) left between the palm and the part as it rests on the support once a grasp is
 /// seated: touching, with room for the mesh's and the arm's tolerances.
@@ -156,7 +156,7 @@ pub fn thickness_at(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f
 }
 
 /// `arm`'s closing with its flange at `flange`, and its kind if it closes on the part.
-fn closing(
+pub(crate) fn closing(
     object: &ObjectGeometry,
     arm: &ArmModel,
     flange: &Isometry3<f64>,
@@ -242,7 +242,7 @@ pub fn seat_power_grasps_by(
         for moved in tries {
             let seated = grasp * Translation3::new(0.0, 0.0, moved);
             let (grip, kind) = closing(object, arm, &(seated * point.inverse()));
-            if matches!(kind, Some(HoldKind::Encompassing | HoldKind::Pinch)) {
+            if squeezes(kind) {
                 return (seated, moved, grip);
             }
         }

@@ -22,12 +22,12 @@
 //! `grasp · Translation(0, s, 0)`.
 
 use nalgebra::{Isometry3, Matrix3x2, Point3, Translation3, Vector3};
-use pregrasp_collision::{close_on_part, ArmModel, ObjectGeometry};
+use pregrasp_collision::{ArmModel, ObjectGeometry};
 use pregrasp_io::scene::Scene;
 use pregrasp_physics::HoldKind;
 
-use crate::hold_kind::hold_kind;
-use crate::seat::thickness_at;
+use crate::hold_kind::squeezes;
+use crate::seat::{closing, thickness_at};
 
 /// Shares of the shifts tried, largest first.
 pub const SLIDE_SHARES: [f64; 4] = [1.0, 0.75, 0.5, 0.25];
@@ -68,15 +68,7 @@ pub fn slid(power: &[Isometry3<f64>; 2], s: [f64; 2]) -> [Isometry3<f64>; 2] {
 
 /// How `arm`'s closing ends at the power grasp `grasp` (object frame), if it closes on the part.
 fn closing_kind(part: &ObjectGeometry, arm: &ArmModel, grasp: &Isometry3<f64>) -> Option<HoldKind> {
-    let point = arm.gripper.power_point();
-    close_on_part(part, &arm.gripper, &(grasp * point.inverse()))
-        .ok()
-        .map(|grip| hold_kind(&grip.kinds))
-}
-
-/// Whether a closing of this kind squeezes the bar from both sides.
-fn squeezes(kind: Option<HoldKind>) -> bool {
-    matches!(kind, Some(HoldKind::Encompassing | HoldKind::Pinch))
+    closing(part, arm, &(grasp * arm.gripper.power_point().inverse())).1
 }
 
 /// Whether `arm`'s power grasp still holds its bar slid to `to` (object frame): the approach
