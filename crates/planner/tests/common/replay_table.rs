@@ -5,14 +5,11 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use pregrasp_collision::ObjectGeometry;
 use pregrasp_examples::generated::generated_scene;
 use pregrasp_examples::parts::families::generate;
 use pregrasp_examples::Family;
 use pregrasp_geometry::Mesh;
 use pregrasp_io::scene::Scene;
-use pregrasp_planner::context::arm_models;
-use pregrasp_planner::seat::seated_scene;
 
 /// The rows of `table` (a CSV file of the replay tables), each a map from column to cell.
 pub fn rows(table: &str) -> Vec<HashMap<String, String>> {
@@ -64,20 +61,15 @@ pub fn scene_of(row: &HashMap<String, String>) -> (Scene, Mesh) {
     )
 }
 
-/// `scene` with the power grasps the planner plans with: seated on the palm
-/// ([`seated_scene`]), or, where the planner slid them towards the centre of mass
-/// (`pregrasp_planner::slide`, known by planning the scene), the plan file's.
+/// `scene` with the power grasps the planner plans with, as its plan file gives them: seated on
+/// the palm ([`pregrasp_planner::seat`]) and, where the scene's could not carry the part, slid
+/// towards the centre of mass ([`pregrasp_planner::slide`]).
 pub fn planned_scene(scene: &Scene, mesh: &Mesh) -> Scene {
     use pregrasp_planner::pipeline::{plan, PlanOptions};
     let file = plan(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
         .unwrap()
         .file;
-    if file.grasps.slid.is_some() {
-        let mut slid = scene.clone();
-        slid.grasps.power = file.grasps.power.each_ref().map(|p| p.to_isometry());
-        return slid;
-    }
-    let part = ObjectGeometry::new(mesh).unwrap();
-    seated_scene(scene, &part, &arm_models(scene).unwrap())
-        .map_or_else(|| scene.clone(), |(s, _)| s)
+    let mut planned = scene.clone();
+    planned.grasps.power = file.grasps.power.each_ref().map(|p| p.to_isometry());
+    planned
 }
