@@ -39,7 +39,7 @@ pub struct KnownClosings {
     /// At G_s, per arm ([`support_closings`]).
     pub support: Option<[Result<Grip, GripFailure>; 2]>,
     /// At each arm's power grasp (the seating's, [`crate::seat`]).
-    pub power: [Option<Result<Grip, GripFailure>>; 2],
+    pub power: Option<[Result<Grip, GripFailure>; 2]>,
 }
 
 /// The closings of `arms` at G_s `support` (object frame) on `object`, held by their
@@ -74,28 +74,31 @@ pub(crate) fn grips_knowing(
     let object = world.object().expect("the world has the part");
     // The closings are independent: run side by side (each answer is its own, so the result
     // does not depend on the threads).
-    let power_of = |arm: usize| {
-        known.power[arm].clone().unwrap_or_else(|| {
-            let gripper = &world.arms()[arm].gripper;
-            close_on_part(
-                object,
-                gripper,
-                &(power[arm] * gripper.power_point().inverse()),
-            )
-        })
+    let close_power = |arm: usize| {
+        let gripper = &world.arms()[arm].gripper;
+        close_on_part(
+            object,
+            gripper,
+            &(power[arm] * gripper.power_point().inverse()),
+        )
     };
-    let (at_support, (p0, p1)) = rayon::join(
+    let (at_support, at_power) = rayon::join(
         || {
             known
                 .support
                 .clone()
                 .unwrap_or_else(|| support_closings(object, world.arms(), support))
         },
-        || rayon::join(|| power_of(0), || power_of(1)),
+        || {
+            known.power.clone().unwrap_or_else(|| {
+                let (p0, p1) = rayon::join(|| close_power(0), || close_power(1));
+                [p0, p1]
+            })
+        },
     );
     Grips {
         support: at_support,
-        power: [p0, p1],
+        power: at_power,
     }
 }
 

@@ -111,7 +111,7 @@ impl PartKnowledge {
         let moved = seated.as_ref().map_or([0.0; 2], |(_, m)| *m);
         let planned = seated.as_ref().map_or(scene, |(s, _)| s);
         let closed = KnownClosings {
-            power: power_grips,
+            power: Some(power_grips),
             ..KnownClosings::default()
         };
         let ctx = PlanningContext::with_part(planned, mesh, None, Some(part), closed)?;

@@ -238,8 +238,11 @@ fn plan_grasps_as_given(
         .as_deref()
         .and_then(|k| k.seating(scene, mesh))
     {
-        Some(seated) => (seated, [None, None]),
-        None => crate::seat::planned_scene(scene, &part, &arms),
+        Some(seated) => (seated, None),
+        None => {
+            let (seated, power) = crate::seat::planned_scene(scene, &part, &arms);
+            (seated, Some(power))
+        }
     };
     let ((seated, power), support) = match known {
         Some(_) => (seating(), None),

@@ -284,14 +284,14 @@ fn with_seated(
     seated: SeatedGrasps,
 ) -> (
     Option<(pregrasp_io::scene::Scene, [f64; 2])>,
-    [Option<Result<Grip, GripFailure>>; 2],
+    [Result<Grip, GripFailure>; 2],
 ) {
     let moved = (seated.moved != [0.0; 2]).then(|| {
         let mut s = scene.clone();
         s.grasps.power = seated.power;
         (s, seated.moved)
     });
-    (moved, seated.grips.map(Some))
+    (moved, seated.grips)
 }
 
 /// [`seat_power_grasps_by`] of `scene`'s power grasps, the part resting `lift` below P_init.
@@ -327,7 +327,7 @@ pub fn planned_scene(
     arms: &[ArmModel; 2],
 ) -> (
     Option<(pregrasp_io::scene::Scene, [f64; 2])>,
-    [Option<Result<Grip, GripFailure>>; 2],
+    [Result<Grip, GripFailure>; 2],
 ) {
     with_seated(scene, seating(scene, part, arms, SeatRule::PLANNER))
 }
