@@ -107,14 +107,15 @@ impl PartKnowledge {
     pub fn new(scene: &Scene, mesh: &Mesh) -> Result<PartKnowledge, PlanError> {
         let part =
             Arc::new(pregrasp_collision::ObjectGeometry::new(mesh).map_err(PlanError::Mesh)?);
-        let (seated, power_grips) = crate::seat::planned_scene(scene, &part, &arm_models(scene)?);
+        let arms = arm_models(scene)?;
+        let (seated, power_grips) = crate::seat::planned_scene(scene, &part, &arms);
         let moved = seated.as_ref().map_or([0.0; 2], |(_, m)| *m);
         let planned = seated.as_ref().map_or(scene, |(s, _)| s);
         let closed = KnownClosings {
             power: Some(power_grips),
             ..KnownClosings::default()
         };
-        let ctx = PlanningContext::with_part(planned, mesh, None, Some(part), closed)?;
+        let ctx = PlanningContext::with_part(planned, mesh, None, Some(part), closed, Some(arms))?;
         let hull = ConvexHull::of_mesh(mesh).ok().map(Arc::new);
         Ok(PartKnowledge::of(&ctx, hull, scene, moved))
     }
@@ -228,20 +229,25 @@ impl<'a> PlanningContext<'a> {
         mesh: &'a Mesh,
         known: Option<&PartKnowledge>,
     ) -> Result<Self, PlanError> {
-        PlanningContext::with_part(scene, mesh, known, None, KnownClosings::default())
+        PlanningContext::with_part(scene, mesh, known, None, KnownClosings::default(), None)
     }
 
     /// [`PlanningContext::with_knowledge`], with the part's collision geometry `part` (built
-    /// from `mesh`) when `known` does not fit, and the closings computed already (`closed`:
-    /// the seating's at the power grasps, [`crate::seat`]; those at G_s, beside it).
+    /// from `mesh`) when `known` does not fit, the closings computed already (`closed`: the
+    /// seating's at the power grasps, [`crate::seat`]; those at G_s, beside it) and the
+    /// scene's arm models when the caller has built them ([`arm_models`]).
     pub fn with_part(
         scene: &'a Scene,
         mesh: &'a Mesh,
         known: Option<&PartKnowledge>,
         part: Option<Arc<pregrasp_collision::ObjectGeometry>>,
         closed: KnownClosings,
+        arms: Option<[ArmModel; 2]>,
     ) -> Result<Self, PlanError> {
-        let arms = arm_models(scene)?;
+        let arms = match arms {
+            Some(arms) => arms,
+            None => arm_models(scene)?,
+        };
         let spaces = [
             pregrasp_collision::joint_space(&arms[0]),
             pregrasp_collision::joint_space(&arms[1]),
@@ -454,7 +460,8 @@ pub fn distinct_ik(kin: &dyn ArmKinematics, flange: &Isometry3<f64>, seed: &Join
 /// an error naming it and the shape (`Cx::shapes_fit`), and a description's arm is merged down
 /// to fit (`pregrasp_urdf::describe_arm`). Only a [`Scene`] built in code can have it.
 pub fn arm_models(scene: &Scene) -> Result<[ArmModel; 2], PlanError> {
-    let model = |i: usize| {
+    // Each robot, its limits checked.
+    let checked = |i: usize| {
         let spec = &scene.robots[i];
         // Transits are timed under these limits (`pregrasp_motion::time_parameterize`).
         let limits = [
@@ -471,11 +478,25 @@ pub fn arm_models(scene: &Scene) -> Result<[ArmModel; 2], PlanError> {
                 });
             }
         }
-        let gripper = spec.gripper_model();
-        ArmModel::from_description(&spec.name, spec.arm.clone(), spec.base, gripper)
-            .map_err(PlanError::Arm)
+        Ok(spec)
     };
-    Ok([model(0)?, model(1)?])
+    let (first, second) = (checked(0)?, checked(1)?);
+    let arm = ArmModel::from_description(
+        &first.name,
+        first.arm.clone(),
+        first.base,
+        first.gripper_model(),
+    )
+    .map_err(PlanError::Arm)?;
+    // Two arms alike (the usual cell) share their primitives: built once, placed twice.
+    let gripper = second.gripper_model();
+    let other = if arm.is_built_from(&second.arm, &gripper) {
+        arm.placed(&second.name, second.base)
+    } else {
+        ArmModel::from_description(&second.name, second.arm.clone(), second.base, gripper)
+            .map_err(PlanError::Arm)?
+    };
+    Ok([arm, other])
 }
 
 /// The collision world's view of a [`Moment`].

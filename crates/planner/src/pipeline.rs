@@ -262,6 +262,7 @@ fn plan_grasps_as_given(
         options.known.as_deref(),
         Some(part),
         crate::context::KnownClosings { support, power },
+        Some(arms),
     )?;
     let t_grips = t_ctx.elapsed();
     ctx.fixed_rot_start = options.fixed_rot_start;
@@ -302,12 +303,10 @@ fn plan_grasps_as_given(
     // One hull for the whole plan: Algorithm 1's, for the checker's lowest points and the
     // grip check's support contacts (none when the mesh has no hull: each falls back alike).
     let hull = (!axes.hull.vertices.is_empty()).then_some(&axes.hull.vertices[..]);
-    let arms = scene.robots.each_ref().map(|r| r.arm.clone());
     let part = ctx.world.part();
-    let grippers = ctx.scene.robots.each_ref().map(|r| r.gripper_model());
     let set = plan_set(scene, &candidates);
     let checker =
-        PlanChecker::sharing_part(&set, mesh, &arms, &grippers, part, Some(&ctx.grips), hull);
+        PlanChecker::sharing_models(&set, mesh, ctx.world.arms(), part, Some(&ctx.grips), hull);
     let hold_check = HoldCheck::new(scene, mesh, hull);
     let carry_check = hold_check.carry_check(&ctx);
     let reject_uncarried = scene.physics.reject && scene.physics.reject_uncarried;

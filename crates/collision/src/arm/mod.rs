@@ -245,6 +245,33 @@ impl ArmModel {
         })
     }
 
+    /// The same arm with the same gripper named `name` at `base`: what
+    /// [`ArmModel::from_description`] would build from this arm's description and gripper, its
+    /// link and gripper primitives (which depend on neither name nor base) taken from `self`
+    /// rather than computed again.
+    pub fn placed(&self, name: &str, base: Isometry3<f64>) -> ArmModel {
+        let mut shapes = self.shapes.clone();
+        for n in &mut shapes.names {
+            // Every name is "<arm>/<link>" (`from_description`).
+            let link = &n[self.name.len() + 1..];
+            *n = format!("{name}/{link}");
+        }
+        ArmModel {
+            name: name.to_string(),
+            kin: self.kin.clone(),
+            description: self.description.clone(),
+            base,
+            gripper: self.gripper.clone(),
+            shapes,
+        }
+    }
+
+    /// Whether this arm is built from `description` with `gripper` (then
+    /// [`ArmModel::placed`] gives any other arm of that description and gripper).
+    pub fn is_built_from(&self, description: &ArmDescription, gripper: &Gripper) -> bool {
+        self.description == *description && self.gripper == *gripper
+    }
+
     /// Caches the gripper's shapes in each of the finger states `held` (the closings on the
     /// part), so that posing the arm holding the part costs no finger kinematics.
     pub fn with_held_fingers(mut self, held: &[GripperState]) -> Self {

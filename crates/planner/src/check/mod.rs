@@ -23,7 +23,7 @@ use pregrasp_collision::{
 };
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::PlanFile;
-use pregrasp_model::{GraspKind, Plan, PlanSet, PlanStatus, RobotModel};
+use pregrasp_model::{ArmSetup, GraspKind, Plan, PlanSet, PlanStatus, RobotModel};
 use pregrasp_robot::{ArmDescription, Gripper};
 
 use crate::context::{grips as close_grips, Grips};
@@ -258,6 +258,31 @@ impl PlanChecker {
         hull: Option<&[Point3<f64>]>,
     ) -> Result<PlanChecker, CheckerError> {
         let arms = arm_models(set, arms, grippers)?;
+        PlanChecker::with_arms(set, mesh, arms, part, grips, hull)
+    }
+
+    /// [`PlanChecker::sharing_part`] with the arms of `models` (the planner's, built for the
+    /// same robots): each placed under the plan's name and base rather than built again.
+    pub fn sharing_models(
+        set: &PlanSet,
+        mesh: &Mesh,
+        models: &[ArmModel; 2],
+        part: Option<Arc<ObjectGeometry>>,
+        grips: Option<&Grips>,
+        hull: Option<&[Point3<f64>]>,
+    ) -> Result<PlanChecker, CheckerError> {
+        let arms = placed_models(set, models)?;
+        PlanChecker::with_arms(set, mesh, arms, part, grips, hull)
+    }
+
+    fn with_arms(
+        set: &PlanSet,
+        mesh: &Mesh,
+        arms: [ArmModel; 2],
+        part: Option<Arc<ObjectGeometry>>,
+        grips: Option<&Grips>,
+        hull: Option<&[Point3<f64>]>,
+    ) -> Result<PlanChecker, CheckerError> {
         let link_clearance = set.settings.link_clearance;
         let finger_clearance = set.settings.finger_support_clearance;
         let world = match part {
@@ -470,31 +495,62 @@ fn collision_result(
     }
 }
 
-/// The file's arms, `arms` their models (one per robot, scene order).
+/// The file's arms as `models` (one per robot, scene order), under the file's names and bases.
+fn placed_models(set: &PlanSet, models: &[ArmModel; 2]) -> Result<[ArmModel; 2], CheckerError> {
+    robot_count(set)?;
+    let place = |i: usize| -> Result<ArmModel, CheckerError> {
+        let r = &set.arms[i];
+        same_model(r, i, models[i].description())?;
+        Ok(models[i].placed(&r.name, r.base))
+    };
+    Ok([place(0)?, place(1)?])
+}
+
+/// The file's arms, `arms` their models (one per robot, scene order); two arms alike share
+/// their primitives ([`ArmModel::placed`]).
 fn arm_models(
     set: &PlanSet,
     arms: &[ArmDescription; 2],
     grippers: &[Gripper; 2],
 ) -> Result<[ArmModel; 2], CheckerError> {
-    if set.arms.len() != 2 {
-        return Err(CheckerError::RobotCount(set.arms.len()));
+    robot_count(set)?;
+    for (i, arm) in arms.iter().enumerate() {
+        same_model(&set.arms[i], i, arm)?;
     }
     let build = |i: usize| -> Result<ArmModel, CheckerError> {
         let r = &set.arms[i];
-        if r.model.builtin() != arms[i].ur {
-            return Err(CheckerError::ModelMismatch {
-                arm: i,
-                model: r.model,
-                given: arms[i].name().to_string(),
-            });
-        }
-        let gripper = grippers[i].clone();
         Ok(ArmModel::from_description(
             &r.name,
             arms[i].clone(),
             r.base,
-            gripper,
+            grippers[i].clone(),
         )?)
     };
-    Ok([build(0)?, build(1)?])
+    let first = build(0)?;
+    let second = if first.is_built_from(&arms[1], &grippers[1]) {
+        first.placed(&set.arms[1].name, set.arms[1].base)
+    } else {
+        build(1)?
+    };
+    Ok([first, second])
+}
+
+/// Refuses a file without exactly two robots.
+fn robot_count(set: &PlanSet) -> Result<(), CheckerError> {
+    match set.arms.len() {
+        2 => Ok(()),
+        n => Err(CheckerError::RobotCount(n)),
+    }
+}
+
+/// Refuses arm `i` of the file (`robot`) when its model is not `arm`'s.
+fn same_model(robot: &ArmSetup, i: usize, arm: &ArmDescription) -> Result<(), CheckerError> {
+    if robot.model.builtin() == arm.ur {
+        return Ok(());
+    }
+    Err(CheckerError::ModelMismatch {
+        arm: i,
+        model: robot.model,
+        given: arm.name().to_string(),
+    })
 }
