@@ -93,18 +93,11 @@ fn compute_group_sweep_radii(
         let r = shape.primitive.max_origin_distance() + shape.pieces.map_or(0.0, |p| p.slack);
         reach_in_group[shape.frame] = reach_in_group[shape.frame].max(r);
     }
-    // Every finger pose (the fingers move on arcs: an intermediate one may reach farthest).
-    let states = gripper.sample_states();
-    let mut reach_gripper = gripper
+    let reach_gripper = gripper
         .precision_point_z()
         .abs()
-        .max(gripper.power_point_z().abs());
-    for state in states {
-        for shape in gripper.shapes(state) {
-            let r = shape.primitive.max_origin_distance() + shape.pieces.map_or(0.0, |p| p.slack);
-            reach_gripper = reach_gripper.max(r);
-        }
-    }
+        .max(gripper.power_point_z().abs())
+        .max(gripper_shape_reach(gripper));
     reach_in_group[7] = reach_gripper;
     std::array::from_fn(|i| {
         // Joint i (0-based) moves frames i+1..=6; its axis passes through frame i's origin.
@@ -119,6 +112,39 @@ fn compute_group_sweep_radii(
     })
 }
 
+/// The 2F-85's [`shape_reach_of`] (its bits), kept: its sampled openings cost 1.2 M
+/// instructions, most of a process's sweep radii. The test `the_2f85_reach_is_the_computed_one`
+/// computes it again.
+const ROBOTIQ_2F85_SHAPE_REACH: u64 = 0x3fc6_ae7d_76ed_aed2;
+
+/// The farthest any of `gripper`'s shapes reaches from the flange origin at any opening (m).
+fn gripper_shape_reach(gripper: &Gripper) -> f64 {
+    match gripper {
+        Gripper::Robotiq2F85(_) => f64::from_bits(ROBOTIQ_2F85_SHAPE_REACH),
+        Gripper::Jaws(_) => shape_reach_of(gripper),
+    }
+}
+
+/// [`gripper_shape_reach`], computed: every finger pose (the fingers move on arcs: an
+/// intermediate one may reach farthest), the static shapes with their pieces' slack as
+/// `Gripper::shapes` gives them, the finger links without (their pieces are in the links' own
+/// frames).
+fn shape_reach_of(gripper: &Gripper) -> f64 {
+    let (pieces, statics) = (gripper.shape_pieces(), gripper.static_count());
+    let mut reach: f64 = 0.0;
+    for state in gripper.sample_states() {
+        gripper.for_each_shape(state, |k, _, primitive| {
+            let slack = if k < statics {
+                pieces[k].map_or(0.0, |p| p.slack)
+            } else {
+                0.0
+            };
+            reach = reach.max(primitive.max_origin_distance() + slack);
+        });
+    }
+    reach
+}
+
 /// Per joint i, an upper bound on the distance from joint axis i to the flange origin (m): a
 /// part rigid with the flange within `r` of its origin moves at most `Σ_i (F[i] + r)·|Δq_i|`.
 pub fn flange_sweep_radii(model: UrModel) -> Joints {
@@ -129,4 +155,22 @@ pub fn flange_sweep_radii(model: UrModel) -> Joints {
 pub fn flange_sweep_radii_of(kin: &dyn ArmKinematics) -> Joints {
     let offsets = kin.frame_offsets();
     std::array::from_fn(|i| offsets[i..6].iter().sum::<f64>())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_2f85_reach_is_the_computed_one() {
+        let gripper: Gripper = crate::Gripper2F85::default().into();
+        let reach = shape_reach_of(&gripper);
+        assert_eq!(
+            reach.to_bits(),
+            ROBOTIQ_2F85_SHAPE_REACH,
+            "the 2F-85 changed: its shapes reach {reach} m ({:#x})",
+            reach.to_bits()
+        );
+        assert_eq!(gripper_shape_reach(&gripper), reach);
+    }
 }

@@ -150,20 +150,23 @@ impl Cx {
     /// (A description's arm is merged down to fit, `pregrasp_urdf::describe_arm`; a gripper
     /// of many parts can still be too many.)
     pub(super) fn shapes_fit(&self, robot: &RobotSpec, key: &str) -> Result<(), SceneError> {
-        let gripper = robot.gripper_model().shapes(GripperState::Open);
+        let model = robot.gripper_model();
         let links = &robot.arm.geometry.links;
-        let names: Vec<&str> = links.iter().chain(&gripper).map(|l| l.name).collect();
-        let (over, max, whose) = if gripper.len() > MAX_GRIPPER_SHAPES {
+        // Counted first: the shapes are posed only to name the one that does not fit.
+        let (grips, count) = (model.shape_count(), links.len() + model.shape_count());
+        let (over, max, whose) = if grips > MAX_GRIPPER_SHAPES {
             (
                 links.len() + MAX_GRIPPER_SHAPES,
                 MAX_GRIPPER_SHAPES,
                 "gripper",
             )
-        } else if names.len() > MAX_ARM_SHAPES {
+        } else if count > MAX_ARM_SHAPES {
             (MAX_ARM_SHAPES, MAX_ARM_SHAPES, "arm with its gripper")
         } else {
             return Ok(());
         };
+        let gripper = model.shapes(GripperState::Open);
+        let names: Vec<&str> = links.iter().chain(&gripper).map(|l| l.name).collect();
         let at = match (whose, &robot.urdf) {
             ("gripper", _) => "gripper",
             (_, Some(_)) => "urdf",
