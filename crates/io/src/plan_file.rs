@@ -170,6 +170,12 @@ pub struct GraspsJson {
     /// absent when neither moved. `power` holds the moved grasps.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seated: Option<[f64; 2]>,
+    /// (Extension) How far (m) each power grasp was moved out along its approach from the
+    /// scene's, so that the pads pinch the bar at the fingertips: the closing at the scene's
+    /// grasp caged the bar or closed on one side (0: not moved); absent when neither moved.
+    /// `power` holds the moved grasps.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fingertips: Option<[f64; 2]>,
     /// (Extension) How far (m) each power grasp was slid along its bar (its own `y` axis) from
     /// the scene's, so that the line through both passes nearer the part's centre of mass: the
     /// scene's grasps could not carry the part. Absent when they were kept. `power` holds the

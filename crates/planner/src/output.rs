@@ -131,6 +131,7 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
             support: PoseJson::from(&scene.grasps.support),
             auto: None,
             seated: None,
+            fingertips: None,
             slid: None,
         },
         candidates: Vec::new(),

@@ -293,7 +293,13 @@ fn plan_grasps_as_given(
     let t2 = Instant::now();
     let header = {
         let mut h = plan_file_header(scene, PlanStatus::Planned, None);
-        h.grasps.seated = seated.as_ref().map(|(_, moved)| *moved);
+        // Moved deeper (seated on the palm) or out (held at the fingertips): each its own key.
+        let moved = seated.as_ref().map_or([0.0; 2], |(_, moved)| *moved);
+        let split = |out: f64| {
+            let part = moved.map(|m| (out * m).max(0.0));
+            (part != [0.0; 2]).then_some(part)
+        };
+        (h.grasps.seated, h.grasps.fingertips) = (split(1.0), split(-1.0));
         h.candidates = candidates
             .iter()
             .map(RotationAxisCandidate::to_json)

@@ -241,6 +241,7 @@ pub fn replan_remaining(
     let mut header = plan_file_header(&moved, PlanStatus::Planned, None);
     header.candidates = nominal.candidates.clone();
     header.grasps.seated = nominal.grasps.seated;
+    header.grasps.fingertips = nominal.grasps.fingertips;
     let no_plan = |mut header: PlanFile, failure: ResumeFailure| {
         header.status = PlanStatus::NoPlan;
         header.reason = Some(format!("replan --from {}: {failure}", from.segment()));

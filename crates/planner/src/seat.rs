@@ -36,6 +36,16 @@
 //! the palm, where its closing still squeezes (else back in [`PARTIAL_SEAT_STEP`] steps, by
 //! at least [`PARTIAL_SEAT_MIN`]).
 //!
+//! **Held at the fingertips.** A grasp whose closing at the scene's depth cages the bar (the
+//! tips meet under it) or closes on one side cannot be seated: the wrap would pull the bar to
+//! the palm and cage it there. It moves *out* instead, so that the bar lies between the pads
+//! at the gripper's precision point (the scene's `precision_point_z`, where it holds G_s), and
+//! back towards the palm in [`FINGERTIP_STEP`] steps ([`FINGERTIP_TRIES`] depths) to the first
+//! where our closing squeezes: the pads meet the bar low on the fingers and close in parallel,
+//! without curling (the whole-plan replay squeezes there with the full force, ~221 N per pad at
+//! 235 N, and the part does not move: `docs/physics.md`, "Thin bars held at the fingertips").
+//! The move is negative; the plan file writes it as `grasps.fingertips`.
+//!
 //! Frames: grasps in the object frame; the flange at `grasp · point⁻¹` (the arm's power point);
 //! the part's mesh in the object frame. The move is `grasp · Translation(0, 0, d)`.
 
@@ -82,6 +92,13 @@ pub const PARTIAL_SEAT_MIN: f64 = 0.001;
 /// unmoved), and no other plan changes its verdict. The larger share keeps the larger margin.
 pub const PINCH_SEAT_FRACTION: f64 = 0.75;
 
+/// Step (m) back towards the palm from the precision point for a grasp held at the fingertips.
+pub const FINGERTIP_STEP: f64 = 0.002;
+/// How many depths a grasp held at the fingertips tries (the precision point and 2, 4, 6 mm
+/// nearer the palm): the replay pulled bars held 18 mm or more nearer the palm than the
+/// precision point in by 3.5–9 mm, and squeezed them 24–34 mm out without moving the part.
+pub const FINGERTIP_TRIES: usize = 4;
+
 /// Which power grasps move, and how far: the planner's is [`SeatRule::PLANNER`]; the replay
 /// sweeps that set its numbers used others.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,6 +108,9 @@ pub struct SeatRule {
     /// Share of the way to the palm a pinched bar moves ([`PINCH_SEAT_FRACTION`]; 0: pinches
     /// stay).
     pub pinch_fraction: f64,
+    /// Whether a grasp whose closing cages the bar or closes on one side moves out to the
+    /// fingertips (see the module documentation).
+    pub fingertips: bool,
 }
 
 impl SeatRule {
@@ -98,6 +118,7 @@ impl SeatRule {
     pub const PLANNER: SeatRule = SeatRule {
         min_thickness: MIN_SEAT_THICKNESS,
         pinch_fraction: PINCH_SEAT_FRACTION,
+        fingertips: true,
     };
 }
 
@@ -105,6 +126,7 @@ impl SeatRule {
 #[derive(Clone, Debug)]
 pub struct SeatedGrasps {
     pub power: [Isometry3<f64>; 2],
+    /// Deeper (> 0: seated on the palm) or out (< 0: held at the fingertips).
     pub moved: [f64; 2],
     /// The closing at each grasp of `power` (the planning context takes it rather than
     /// closing again).
@@ -190,6 +212,9 @@ pub fn seat_power_grasps_by(
     rule: SeatRule,
 ) -> SeatedGrasps {
     type Seat = (Isometry3<f64>, f64, Result<Grip, GripFailure>);
+    // Rounded down to 0.01 mm: the time of impact converges to within ~1e-7 m, which a finer
+    // tessellation of the same part moves; the plan must not (same part, same plan).
+    let round = |m: f64| (m * 1e5).floor() / 1e5;
     let seat = |k: usize| -> Seat {
         let arm = &arms[k];
         let grasp = power[k];
@@ -197,21 +222,35 @@ pub fn seat_power_grasps_by(
         let flange = grasp * point.inverse();
         // A grasp that stays is closed here too: the planning context takes the closing
         // rather than closing it after the seating, while the other arm's seating still runs.
-        let kept = || (grasp, 0.0, closing(object, arm, &flange).0);
-        if arm.gripper.robotiq().is_none() {
-            return kept();
+        let Some(robotiq) = arm.gripper.robotiq() else {
+            return (grasp, 0.0, closing(object, arm, &flange).0);
+        };
+        let (here, kind) = closing(object, arm, &flange);
+        if !squeezes(kind) {
+            // Caged or on one side: the pads at the fingertips, where they pinch in parallel.
+            if rule.fingertips {
+                let out = point.translation.z - robotiq.precision_point_z;
+                for step in 0..FINGERTIP_TRIES {
+                    let out = round(out + step as f64 * FINGERTIP_STEP);
+                    if out >= 0.0 {
+                        break;
+                    }
+                    let held = grasp * Translation3::new(0.0, 0.0, out);
+                    let (grip, kind) = closing(object, arm, &(held * point.inverse()));
+                    if squeezes(kind) {
+                        return (held, out, grip);
+                    }
+                }
+            }
+            return (grasp, 0.0, here);
         }
         let Some(gap) = palm_gap(object, arm, &flange) else {
-            return kept();
+            return (grasp, 0.0, here);
         };
         let thick = thickness_at(object, &grasp).is_some_and(|t| t >= rule.min_thickness);
         if gap <= SEAT_TOLERANCE || !thick {
-            return kept();
+            return (grasp, 0.0, here);
         }
-        let (here, kind) = closing(object, arm, &flange);
-        // Rounded down to 0.01 mm: the time of impact converges to within ~1e-7 m, which a
-        // finer tessellation of the same part moves; the plan must not (same part, same plan).
-        let round = |m: f64| (m * 1e5).floor() / 1e5;
         // As deep as the closing still squeezes, back from `from`: the pull is what is left
         // between the bar and the palm.
         let back_from = |from: f64| {

@@ -39,6 +39,7 @@ fn seated_thin_bars_cage_and_seated_thick_bars_squeeze_in_the_replay() {
         let every_wrapped_bar = SeatRule {
             min_thickness: 0.0,
             pinch_fraction: 0.0,
+            fingertips: false,
         };
         let Some((_, moved)) = seated_scene_by(&scene, &part, &arms, every_wrapped_bar) else {
             continue;
@@ -112,6 +113,7 @@ fn pinch_moved_closings(table: &str, pinch_fraction: f64) -> Vec<(String, String
     let rule = |pinch_fraction| SeatRule {
         min_thickness: MIN_SEAT_THICKNESS,
         pinch_fraction,
+        fingertips: false,
     };
     let mut out = Vec::new();
     for row in rows(table).iter().filter(|r| !r["candidate"].is_empty()) {

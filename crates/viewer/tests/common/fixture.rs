@@ -161,6 +161,7 @@ fn base_file(mesh_path: &str) -> PlanFile {
             support: PoseJson::from(&grasp(0.1)),
             auto: None,
             seated: None,
+            fingertips: None,
             slid: None,
         },
         candidates: candidates(),
