@@ -43,12 +43,6 @@ const CONSERVATIVE: &[(&str, u64, &str)] = &[
         "the pinch lies 82 mm nearer the axis than the centre of mass; N_min 83.3 N, the \
          replay holds from 37.7 N (0.45×)",
     ),
-    (
-        "shelf_side",
-        0,
-        "the worst state is the end of the rotation (21°), where N_min climbs from about 10 N \
-         to 16.4 N over the last 5°; the replay holds from 6.9 N (0.42×)",
-    ),
 ];
 
 /// The plan of the example `name` (a built-in one, or the bench end or the ladder as the
@@ -104,6 +98,7 @@ fn plan_scene(name: &str, text: &str, mesh: Mesh) -> (PlanFile, Mesh) {
     (file, mesh)
 }
 
+/// The examples' six plans (the twist rule off): all hold at 1.5× and fail at 0.5×.
 #[test]
 fn the_minimum_grip_force_holds_at_1_5x_and_not_at_0_5x_in_the_replay() {
     let table: Value =

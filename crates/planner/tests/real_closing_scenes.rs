@@ -70,12 +70,15 @@ fn a_ladder_rail_is_power_grasped_within_9_degrees_and_checks() {
 
 #[test]
 fn fingers_closing_into_the_table_at_every_allowed_angle_are_refused_for_it() {
-    // φ_obj 4°: the rail never rises far enough for the fingers to close under it.
+    // φ_obj 4°: the rail never rises far enough for the fingers to close under it. (Its
+    // closing cages the rail at the scene's depth, so the grasp is held at the fingertips,
+    // whose open fingers reach deeper still: the dummies never clear the support.)
     let file = plan_design("ladder_4deg", &ladder(), "max_angle_deg = 4.0");
     assert_eq!(file.status, PlanStatus::NoPlan);
     let reason = file.reason.expect("a reason");
     assert!(
-        reason.contains("closing fingers reach the support at every angle"),
+        reason.contains("closing fingers reach the support at every angle")
+            || reason.contains("dummies never clear the support"),
         "{reason}"
     );
 }

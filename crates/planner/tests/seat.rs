@@ -16,8 +16,8 @@ use pregrasp_io::scene::Scene;
 use pregrasp_planner::context::arm_models;
 use pregrasp_planner::pipeline::PlanOptions;
 use pregrasp_planner::seat::{
-    seat_power_grasps, seated_scene, thickness_at, MIN_SEAT_THICKNESS, PARTIAL_SEAT_MIN,
-    PARTIAL_SEAT_STEP, SEAT_DEPTH, SEAT_GAP, SEAT_TOLERANCE,
+    seat_power_grasps, seated_scene, thickness_at, FINGERTIP_STEP, FINGERTIP_TRIES,
+    MIN_SEAT_THICKNESS, PARTIAL_SEAT_MIN, PARTIAL_SEAT_STEP, SEAT_DEPTH, SEAT_GAP, SEAT_TOLERANCE,
 };
 use pregrasp_robot::{ClosingKind, GripperState, Primitive};
 
@@ -68,6 +68,10 @@ fn a_wrapped_bar_below_the_palm_is_seated_and_still_squeezed() {
                 assert_eq!(seated.power[k], scene.grasps.power[k]);
                 continue;
             }
+            if seated.moved[k] < 0.0 {
+                // Held at the fingertips (a caged closing): the next test.
+                continue;
+            }
             seated_any += 1;
             // Moved along its own approach by what the palm lacked, less the gap left.
             let expected = scene.grasps.power[k] * Translation3::new(0.0, 0.0, seated.moved[k]);
@@ -105,18 +109,41 @@ fn a_wrapped_bar_below_the_palm_is_seated_and_still_squeezed() {
 }
 
 #[test]
-fn caged_closings_keep_the_scenes_grasps_and_the_plan_file_says_what_moved() {
-    // The shelf side's power closings end caged (tips on each other): nothing is seated.
+fn caged_closings_are_held_at_the_fingertips_and_the_plan_file_says_what_moved() {
+    // The shelf side's power closings end caged (tips on each other) at the scene's depth:
+    // both grasps move out along their approach, to the precision point or at most
+    // FINGERTIP_STEP × (FINGERTIP_TRIES − 1) nearer the palm, where the pads pinch the bar.
     let (scene, mesh) = example("shelf_side");
     let part = ObjectGeometry::new(&mesh).unwrap();
-    let seated = seat_power_grasps(
-        &part,
-        &arm_models(&scene).unwrap(),
-        &scene.grasps.power,
-        [0.0; 2],
-    );
-    assert_eq!(seated.moved, [0.0, 0.0]);
-    assert_eq!(seated.power, scene.grasps.power);
+    let arms = arm_models(&scene).unwrap();
+    let seated = seat_power_grasps(&part, &arms, &scene.grasps.power, [0.0; 2]);
+    for (k, arm) in arms.iter().enumerate() {
+        let gripper = &arm.gripper;
+        let point = gripper.power_point();
+        let caged = close_on_part(&part, gripper, &(scene.grasps.power[k] * point.inverse()))
+            .unwrap()
+            .kinds;
+        assert!(caged.contains(&ClosingKind::Caged), "{caged:?}");
+        let to_tips = scene.robots[k].precision_point_z - scene.robots[k].power_point_z;
+        let out = -seated.moved[k];
+        let nearest = to_tips - FINGERTIP_STEP * (FINGERTIP_TRIES - 1) as f64;
+        assert!(
+            out <= to_tips + 1e-9 && out >= nearest - 1e-5,
+            "power[{k}] {out} m out, the precision point {to_tips} m"
+        );
+        let expected = scene.grasps.power[k] * Translation3::new(0.0, 0.0, seated.moved[k]);
+        assert!((seated.power[k].translation.vector - expected.translation.vector).norm() < 1e-12);
+        let held = close_on_part(&part, gripper, &(seated.power[k] * point.inverse()))
+            .unwrap()
+            .kinds;
+        assert_eq!(held, [ClosingKind::Pinch; 2], "power[{k}]");
+    }
+    let file =
+        pregrasp_planner::plan_scene(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
+            .unwrap()
+            .file;
+    assert_eq!(file.grasps.seated, None);
+    assert_eq!(file.grasps.fingertips, Some(seated.moved.map(|m| -m)));
     // The chair's plan is made with the seated grasps (seated against the part as it rests,
     // `lift` below the planned part) and says how far they moved.
     let (scene, mesh) = example("chair_side");
@@ -126,7 +153,10 @@ fn caged_closings_keep_the_scenes_grasps_and_the_plan_file_says_what_moved() {
         pregrasp_planner::plan_scene(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
             .unwrap()
             .file;
-    assert_eq!(file.grasps.seated, Some(moved));
+    // Deeper (seated) and out (at the fingertips), each in its own key.
+    assert_eq!(file.grasps.seated, Some(moved.map(|m| m.max(0.0))));
+    let out = moved.map(|m| (-m).max(0.0));
+    assert_eq!(file.grasps.fingertips, (out != [0.0; 2]).then_some(out));
     let model = file.to_model().unwrap();
     assert_eq!(model.grasps.power, seated.grasps.power);
     // Seated deeper than against the planned part by the lift (the approach is vertical at
@@ -148,8 +178,8 @@ fn caged_closings_keep_the_scenes_grasps_and_the_plan_file_says_what_moved() {
 
 #[test]
 fn thin_bars_are_not_seated_and_the_thickness_is_the_bars() {
-    // The generated frame of 18 mm stock wraps its bars but is not seated (its fingertips
-    // would meet under it); the chair's 25 mm rail is.
+    // The generated frame of 18 mm stock wraps its bars but is not seated deeper (its
+    // fingertips would meet under it); the chair's 25 mm rail is.
     let part = generate(Family::Frame, 2);
     assert!(part.thickness < MIN_SEAT_THICKNESS, "{}", part.thickness);
     let generated = generated_scene(&part);
@@ -160,7 +190,9 @@ fn thin_bars_are_not_seated_and_the_thickness_is_the_bars() {
         let t = thickness_at(&object, g).unwrap();
         assert!((t - part.thickness).abs() < 1e-6, "{t} {}", part.thickness);
     }
-    assert!(seated_scene(&scene, &object, &arms).is_none());
+    if let Some((_, moved)) = seated_scene(&scene, &object, &arms) {
+        assert!(moved.iter().all(|&m| m <= 0.0), "{moved:?}");
+    }
 }
 
 /// Whether a closing squeezes the bar from both sides: no finger closed on nothing or on the

@@ -29,16 +29,17 @@ fn carry_warnings(file: &pregrasp_io::plan_file::PlanFile) -> usize {
         .count()
 }
 
-/// ladder_4 (23 mm stock): its scene's grasps on the end rungs lie 56 mm from the centre of
-/// mass' line, and both cage their rungs; the carry check refuses them (the replay: the part
-/// rose 42.9 of 50 mm, tilted 7.0°). Slid along the rungs, the line through the grasps passes
-/// the centre of mass and the plan carries.
+/// ladder_12 (19 mm stock, 41 mm rungs): its scene's grasps on the end rungs lie 64 mm from
+/// the centre of mass' line, and both cage their rungs (held at the fingertips, they do not
+/// squeeze either); the carry check refuses them. Slid along the rungs, the line through the
+/// grasps passes the centre of mass and the plan carries. (Until the fingertip grasps, ladder_4
+/// was this test's part: held at the fingertips, its scene's grasps carry.)
 #[test]
 fn grasps_that_cannot_carry_slide_onto_the_centre_of_mass_line() {
-    let (scene, mesh) = generated(Family::Ladder, 4);
+    let (scene, mesh) = generated(Family::Ladder, 12);
     let planned = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}).unwrap();
     let file = &planned.file;
-    let shifts = file.grasps.slid.expect("ladder_4's grasps slide");
+    let shifts = file.grasps.slid.expect("ladder_12's grasps slide");
     assert!(!file.plans.is_empty());
     assert_eq!(carry_warnings(file), 0);
     // Each grasp moved along its own y axis by its shift (and, seated, along its z).
