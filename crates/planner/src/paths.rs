@@ -10,11 +10,12 @@ use crate::axes::RotationAxisCandidate;
 use crate::clock::Stage;
 use crate::context::{PlanningContext, FIXED_START_TOLERANCE};
 use crate::poses::PowerGraspPose;
-use crate::reach::{reach_lines, reach_transit, ReachMotion, ReachQuery};
+use crate::reach::{reach_lines, reach_transit, ReachFailure, ReachMotion, ReachQuery};
 use crate::rejection::{MotionFailure, PathFailure};
 use crate::rotate::{rotation_path, RotationPath};
 use pregrasp_io::plan_file::SegmentName;
 use pregrasp_model::timeline::Moment;
+use pregrasp_motion::CartesianError;
 
 /// At most this many alternatives of each IK set are tried (they are sorted by distance to the
 /// arm's start, so the first ones are the natural choices).
@@ -201,7 +202,14 @@ pub fn integrated_path<T: Send, E: Send>(
                 {
                     Ok(lines) => lines,
                     Err(f) => {
+                        // A retreat from μ_rot's end that the arm cannot follow (no IK, a joint
+                        // limit or a branch jump along it) fails whatever the goal and the
+                        // master's configuration: the next G_s configuration.
+                        let stuck = matches!(&f, ReachFailure::Retreat(e, _) if is_kinematic(e));
                         failure.note(SegmentName::Sup2, MotionFailure::Reach(f));
+                        if stuck {
+                            continue 'support;
+                        }
                         continue;
                     }
                 };
@@ -265,6 +273,17 @@ pub fn integrated_path<T: Send, E: Send>(
         }
     }
     Err(NoPath::Motions(failure.0))
+}
+
+/// Whether a straight line failed for the arm's kinematics alone (no IK solution, a joint limit,
+/// a branch jump), not for what it met: it fails so in any scene.
+fn is_kinematic(e: &CartesianError) -> bool {
+    matches!(
+        e,
+        CartesianError::Unreachable { .. }
+            | CartesianError::JointLimit { .. }
+            | CartesianError::BranchJump { .. }
+    )
 }
 
 /// The four computations `a`, `b`, `c`, `d` side by side, when the pool has more than one
