@@ -13,6 +13,17 @@ use crate::{ArmModel, CollisionWorld};
 /// A UR arm upright: shoulder lifted, elbow bent, the wrist's tool pointing down.
 pub const UP: Joints = [0.0, -FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, -FRAC_PI_2, 0.0];
 
+/// Joint ranges (rad, `[lo, hi)`) random configurations of a UR arm are drawn from in the
+/// tests of [`two_arm_cell`]: shoulder up, elbow bent, wrist anywhere.
+pub const SAMPLE_RANGES: [(f64, f64); 6] = [
+    (-PI, PI),
+    (-2.8, -0.3),
+    (-2.5, 2.5),
+    (-PI, PI),
+    (-PI, PI),
+    (-PI, PI),
+];
+
 /// Flange pose (arm base frame) with the tool pointing down, the 2F-85's precision point
 /// `height` above the top (z = 0.02) of [`plate_10k`] at `(x, y)`, turned by `yaw` about the
 /// vertical.

@@ -1,10 +1,10 @@
 //! Swept checks stand for every state they cover: the range-wise answers equal checking the
 //! states one by one, and a certified box holds no state in contact.
 
-use std::f64::consts::{FRAC_PI_2, PI};
+use std::f64::consts::FRAC_PI_2;
 
 use nalgebra::{Isometry3, Vector3};
-use pregrasp_collision::fixtures::two_arm_cell;
+use pregrasp_collision::fixtures::{two_arm_cell, SAMPLE_RANGES};
 use pregrasp_collision::{joint_space, ArmValidity, CollisionWorld, ObjectPlacement, WorldState};
 use pregrasp_motion::{MotionValidator, State, StateValidator};
 use pregrasp_robot::{group_sweep_radii, Gripper2F85, GripperState, Joints, UrModel};
@@ -18,14 +18,7 @@ fn part_pose(theta: f64) -> Isometry3<f64> {
 
 /// A random reachable-looking configuration: shoulder up, elbow bent, wrist anywhere.
 fn random_q(rng: &mut ChaCha8Rng) -> Joints {
-    [
-        rng.random_range(-PI..PI),
-        rng.random_range(-2.8..-0.3),
-        rng.random_range(-2.5..2.5),
-        rng.random_range(-PI..PI),
-        rng.random_range(-PI..PI),
-        rng.random_range(-PI..PI),
-    ]
+    SAMPLE_RANGES.map(|(lo, hi)| rng.random_range(lo..hi))
 }
 
 /// A random state of arm 0 holding a closed gripper, arm 1 anywhere with an open one, the part

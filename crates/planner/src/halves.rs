@@ -55,10 +55,8 @@ pub(crate) fn first_contact(world: &CollisionWorld, states: &[WorldState]) -> Op
 
 #[cfg(test)]
 mod tests {
-    use std::f64::consts::PI;
-
     use nalgebra::{Isometry3, Vector3};
-    use pregrasp_collision::fixtures::two_arm_cell;
+    use pregrasp_collision::fixtures::{two_arm_cell, SAMPLE_RANGES};
     use pregrasp_collision::{CollisionWorld, ObjectPlacement, WorldState};
     use pregrasp_robot::{GripperState, Joints};
     use rand::{Rng, SeedableRng};
@@ -71,14 +69,7 @@ mod tests {
     /// grasping on some legs, arm 1 still, the part turning slowly.
     fn motion(world: &CollisionWorld, rng: &mut ChaCha8Rng) -> Vec<WorldState> {
         let random_q = |rng: &mut ChaCha8Rng| -> Joints {
-            [
-                rng.random_range(-PI..PI),
-                rng.random_range(-2.8..-0.3),
-                rng.random_range(-2.5..2.5),
-                rng.random_range(-PI..PI),
-                rng.random_range(-PI..PI),
-                rng.random_range(-PI..PI),
-            ]
+            SAMPLE_RANGES.map(|(lo, hi)| rng.random_range(lo..hi))
         };
         let (other, mut q) = loop {
             let (other, q) = (random_q(rng), random_q(rng));
