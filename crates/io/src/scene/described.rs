@@ -153,7 +153,8 @@ impl Cx {
         let model = robot.gripper_model();
         let links = &robot.arm.geometry.links;
         // Counted first: the shapes are posed only to name the one that does not fit.
-        let (grips, count) = (model.shape_count(), links.len() + model.shape_count());
+        let grips = model.shape_count();
+        let count = links.len() + grips;
         let (over, max, whose) = if grips > MAX_GRIPPER_SHAPES {
             (
                 links.len() + MAX_GRIPPER_SHAPES,
