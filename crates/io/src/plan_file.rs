@@ -106,6 +106,9 @@ pub struct PlannerJson {
     pub robustness_pos: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub robustness_yaw_deg: Option<f64>,
+    /// (Extension) `[planner] power_hold` when it is not `"auto"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub power_hold: Option<String>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -176,6 +179,12 @@ pub struct GraspsJson {
     /// `power` holds the moved grasps.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fingertips: Option<[f64; 2]>,
+    /// (Extension) How far (m) each power grasp held at the fingertips was moved across its
+    /// bar (its own `x` axis, the closing direction) from the scene's, onto the bar's
+    /// mid-plane, so that both pads meet the bar together (0: not moved); absent when neither
+    /// moved. `power` holds the moved grasps.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub centred: Option<[f64; 2]>,
     /// (Extension) How far (m) each power grasp was slid along its bar (its own `y` axis) from
     /// the scene's, so that the line through both passes nearer the part's centre of mass: the
     /// scene's grasps could not carry the part. Absent when they were kept. `power` holds the

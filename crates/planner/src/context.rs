@@ -89,6 +89,7 @@ pub struct PartKnowledge {
     seated_from: [Isometry3<f64>; 2],
     rest: [f64; 2],
     moved: [f64; 2],
+    seated_by: crate::seat::SeatRule,
 }
 
 impl std::fmt::Debug for PartKnowledge {
@@ -108,7 +109,8 @@ impl PartKnowledge {
         let part =
             Arc::new(pregrasp_collision::ObjectGeometry::new(mesh).map_err(PlanError::Mesh)?);
         let arms = arm_models(scene)?;
-        let (seated, power_grips) = crate::seat::planned_scene(scene, &part, &arms);
+        let rule = crate::seat::SeatRule::first_for(scene.planner.power_hold);
+        let (seated, power_grips) = crate::seat::planned_scene(scene, &part, &arms, rule);
         let moved = seated.as_ref().map_or([0.0; 2], |(_, m)| *m);
         let planned = seated.as_ref().map_or(scene, |(s, _)| s);
         let closed = KnownClosings {
@@ -117,15 +119,22 @@ impl PartKnowledge {
         };
         let ctx = PlanningContext::with_part(planned, mesh, None, Some(part), closed, Some(arms))?;
         let hull = ConvexHull::of_mesh(mesh).ok().map(Arc::new);
-        Ok(PartKnowledge::of(&ctx, hull, scene, moved))
+        Ok(PartKnowledge::of(&ctx, hull, scene, (moved, rule)))
     }
 
-    /// The seating of `scene`'s power grasps ([`crate::seat::planned_scene`]'s scene) when
-    /// this knowledge was built for the same mesh, grasps, tool points and rest offsets (a part
-    /// measured at another pose on the same face): `None` when it was not.
+    /// The seating of `scene`'s power grasps by `rule` ([`crate::seat::planned_scene`]'s
+    /// scene) when this knowledge was built by the same rule for the same mesh, grasps, tool
+    /// points and rest offsets (a part measured at another pose on the same face): `None` when
+    /// it was not.
     #[allow(clippy::type_complexity, clippy::option_option)]
-    pub(crate) fn seating(&self, scene: &Scene, mesh: &Mesh) -> Option<Option<(Scene, [f64; 2])>> {
-        let same = self.fits_mesh(mesh)
+    pub(crate) fn seating(
+        &self,
+        scene: &Scene,
+        mesh: &Mesh,
+        rule: crate::seat::SeatRule,
+    ) -> Option<Option<(Scene, [f64; 2])>> {
+        let same = self.seated_by == rule
+            && self.fits_mesh(mesh)
             && self.seated_from == scene.grasps.power
             && self.support == scene.grasps.support
             && self.points == tool_points(scene)
@@ -144,13 +153,13 @@ impl PartKnowledge {
         self.part.clone()
     }
 
-    /// What `ctx` built for `scene` with its power grasps seated (`moved` each), and `hull`,
-    /// the convex hull of its mesh.
+    /// What `ctx` built for `scene` with its power grasps seated (`moved` each, by `rule`), and
+    /// `hull`, the convex hull of its mesh.
     fn of(
         ctx: &PlanningContext,
         hull: Option<Arc<ConvexHull>>,
         scene: &Scene,
-        moved: [f64; 2],
+        (moved, rule): ([f64; 2], crate::seat::SeatRule),
     ) -> PartKnowledge {
         PartKnowledge {
             mesh: mesh_fingerprint(ctx.mesh),
@@ -163,6 +172,7 @@ impl PartKnowledge {
             seated_from: scene.grasps.power,
             rest: crate::seat::rest_offsets(scene),
             moved,
+            seated_by: rule,
         }
     }
 

@@ -132,6 +132,7 @@ pub fn plan_file_header(scene: &Scene, status: PlanStatus, reason: Option<String
             auto: None,
             seated: None,
             fingertips: None,
+            centred: None,
             slid: None,
         },
         candidates: Vec::new(),

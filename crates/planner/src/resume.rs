@@ -242,6 +242,7 @@ pub fn replan_remaining(
     header.candidates = nominal.candidates.clone();
     header.grasps.seated = nominal.grasps.seated;
     header.grasps.fingertips = nominal.grasps.fingertips;
+    header.grasps.centred = nominal.grasps.centred;
     let no_plan = |mut header: PlanFile, failure: ResumeFailure| {
         header.status = PlanStatus::NoPlan;
         header.reason = Some(format!("replan --from {}: {failure}", from.segment()));

@@ -44,7 +44,21 @@
 //! where our closing squeezes: the pads meet the bar low on the fingers and close in parallel,
 //! without curling (the whole-plan replay squeezes there with the full force, ~221 N per pad at
 //! 235 N, and the part does not move: `docs/physics.md`, "Thin bars held at the fingertips").
-//! The move is negative; the plan file writes it as `grasps.fingertips`.
+//! The move is negative; the plan file writes it as `grasps.fingertips`. The held grasp lies
+//! on the bar's mid-plane ([`bar_mid_plane`], at most [`CENTRE_REACH`] across): the 2F-85's
+//! fingers close together, and the pad that meets an off-centre bar first stops both, so our
+//! closing ended on one side on 13 caged masters of the replay tables, 0.01–0.06 mm off
+//! the mid-plane (the scene files' 0.1 mm rounding), and they stayed caged. The plan file
+//! writes that move as `grasps.centred`.
+//!
+//! **Fingertips first** (the planner's rule, [`SeatRule::PLANNER`]). A wrap pulls its bar to
+//! the palm while the other gripper only pinches the part: the whole-plan replay measured the
+//! master's closing moving the part 0.5–2.6 mm on seated wraps (15 of 122 plans over the 2 mm
+//! allowed), against at most 0.1 mm for a pinch at the fingertips. So every 2F-85 grasp whose
+//! closing squeezes the bar with the pads at the fingertips is held there, whatever its closing
+//! at the scene's depth; a bar the pads cannot pinch there is seated as above. The pinch holds
+//! less than the wrap: where the carry check finds it cannot carry the part, the pipeline plans
+//! again with [`SeatRule::WRAPS`] (`docs/physics.md`, "Fingertips first").
 //!
 //! Frames: grasps in the object frame; the flange at `grasp · point⁻¹` (the arm's power point);
 //! the part's mesh in the object frame. The move is `grasp · Translation(0, 0, d)`.
@@ -94,6 +108,13 @@ pub const PINCH_SEAT_FRACTION: f64 = 0.75;
 
 /// Step (m) back towards the palm from the precision point for a grasp held at the fingertips.
 pub const FINGERTIP_STEP: f64 = 0.002;
+/// Farthest (m) a grasp held at the fingertips moves across its bar (the gripper's `x`, the
+/// closing direction) onto the bar's mid-plane ([`bar_mid_plane`]). The 2F-85's drivers turn
+/// together: the pad that meets an off-centre bar first stops both fingers, and our closing
+/// then ends on one side even 0.01–0.06 mm off the mid-plane (the scene file's 0.1 mm
+/// rounding), where the real fingers push the bar by that much until both pads squeeze.
+pub const CENTRE_REACH: f64 = 0.002;
+
 /// How many depths a grasp held at the fingertips tries (the precision point and 2, 4, 6 mm
 /// nearer the palm): on 12 caged masters the replay pulled bars held 16–22 mm nearer the palm
 /// than the precision point in by up to 7.7 mm, and squeezed 11 held 4 mm from it (6 at 10 mm)
@@ -112,14 +133,35 @@ pub struct SeatRule {
     /// Whether a grasp whose closing cages the bar or closes on one side moves out to the
     /// fingertips (see the module documentation).
     pub fingertips: bool,
+    /// Whether every grasp whose closing squeezes the bar at the fingertips is held there,
+    /// the wrap kept for bars the pads cannot pinch (see the module documentation).
+    pub fingertips_first: bool,
 }
 
 impl SeatRule {
+    /// The rule a scene's `[planner] power_hold` asks for first: the wraps for `"wraps"`, else
+    /// [`SeatRule::PLANNER`].
+    pub fn first_for(hold: pregrasp_io::scene::PowerHold) -> SeatRule {
+        match hold {
+            pregrasp_io::scene::PowerHold::Wraps => SeatRule::WRAPS,
+            _ => SeatRule::PLANNER,
+        }
+    }
+
     /// The planner's rule.
     pub const PLANNER: SeatRule = SeatRule {
         min_thickness: MIN_SEAT_THICKNESS,
         pinch_fraction: PINCH_SEAT_FRACTION,
         fingertips: true,
+        fingertips_first: true,
+    };
+
+    /// The wraps: grasps held at the fingertips only where their closing cages the bar or
+    /// closes on one side, the others seated on the palm. The pipeline plans with them where
+    /// the pads' pinch at the fingertips cannot carry the part (the carry check).
+    pub const WRAPS: SeatRule = SeatRule {
+        fingertips_first: false,
+        ..SeatRule::PLANNER
     };
 }
 
@@ -178,6 +220,22 @@ pub fn thickness_at(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f
     Some(exit + 1e-6)
 }
 
+/// How far (m) along `grasp`'s `x` (the closing direction) the mid-plane of the bar at its
+/// origin lies: halfway between the faces that rays from the open 2F-85's stroke ends
+/// (± half the stroke along `x`, through the origin) first meet. `None` if either misses.
+pub fn bar_mid_plane(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f64> {
+    let half = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke() / 2.0;
+    let face = |side: f64| {
+        let start = grasp * nalgebra::Point3::new(side * half, 0.0, 0.0);
+        let towards = grasp.rotation * Vector3::new(-side, 0.0, 0.0);
+        let hit = object
+            .trimesh()
+            .cast_local_ray(&Ray::new(start, towards), half, false)?;
+        Some(side * (half - hit))
+    };
+    Some(0.5 * (face(1.0)? + face(-1.0)?))
+}
+
 /// `arm`'s closing with its flange at `flange`, and its kind if it closes on the part.
 pub(crate) fn closing(
     object: &ObjectGeometry,
@@ -227,25 +285,40 @@ pub fn seat_power_grasps_by(
             return (grasp, 0.0, closing(object, arm, &flange).0);
         };
         let (here, kind) = closing(object, arm, &flange);
-        if !squeezes(kind) {
-            // Caged or on one side: the pads at the fingertips, where they pinch in parallel.
-            if rule.fingertips {
-                let out = point.translation.z - robotiq.precision_point_z;
-                for step in 0..FINGERTIP_TRIES {
-                    let out = round(out + step as f64 * FINGERTIP_STEP);
-                    if out >= 0.0 {
-                        break;
-                    }
-                    let held = grasp * Translation3::new(0.0, 0.0, out);
-                    let (grip, kind) = closing(object, arm, &(held * point.inverse()));
-                    if squeezes(kind) {
-                        return (held, out, grip);
-                    }
+        // The pads at the fingertips, where they pinch in parallel, on the bar's mid-plane.
+        let fingertip_hold = || -> Option<Seat> {
+            let across = bar_mid_plane(object, &grasp)
+                .filter(|x| x.abs() <= CENTRE_REACH)
+                .map_or(0.0, |x| (x * 1e6).round() / 1e6);
+            let out = point.translation.z - robotiq.precision_point_z;
+            for step in 0..FINGERTIP_TRIES {
+                let out = round(out + step as f64 * FINGERTIP_STEP);
+                if out >= 0.0 {
+                    break;
+                }
+                let held = grasp * Translation3::new(across, 0.0, out);
+                let (grip, kind) = closing(object, arm, &(held * point.inverse()));
+                if squeezes(kind) {
+                    return Some((held, out, grip));
                 }
             }
-            return (grasp, 0.0, here);
+            None
+        };
+        if !squeezes(kind) {
+            // Caged or on one side.
+            let held = rule.fingertips.then(fingertip_hold).flatten();
+            return held.unwrap_or((grasp, 0.0, here));
         }
-        let Some(gap) = palm_gap(object, arm, &flange) else {
+        let gap = palm_gap(object, arm, &flange);
+        // A pinch with the palm beyond SEAT_REACH holds the bar at the fingertips already (a
+        // grasp held there before: `replan` plans again from a plan file's grasps).
+        let held_already = kind == Some(HoldKind::Pinch) && gap.is_none();
+        if rule.fingertips_first && !held_already {
+            if let Some(held) = fingertip_hold() {
+                return held;
+            }
+        }
+        let Some(gap) = gap else {
             return (grasp, 0.0, here);
         };
         let thick = thickness_at(object, &grasp).is_some_and(|t| t >= rule.min_thickness);
@@ -357,17 +430,18 @@ pub fn rest_offsets(scene: &pregrasp_io::scene::Scene) -> [f64; 2] {
     })
 }
 
-/// What the planner plans with: `scene` with its power grasps seated ([`seated_scene`]; `None`
-/// when none moved, with how far each moved), and the closings the seating computed at its
-/// grasps (for the planning context).
+/// What the planner plans with: `scene` with its power grasps seated by `rule`
+/// ([`seated_scene_by`]; `None` when none moved, with how far each moved), and the closings
+/// the seating computed at its grasps (for the planning context).
 #[allow(clippy::type_complexity)]
 pub fn planned_scene(
     scene: &pregrasp_io::scene::Scene,
     part: &ObjectGeometry,
     arms: &[ArmModel; 2],
+    rule: SeatRule,
 ) -> (
     Option<(pregrasp_io::scene::Scene, [f64; 2])>,
     [Result<Grip, GripFailure>; 2],
 ) {
-    with_seated(scene, seating(scene, part, arms, SeatRule::PLANNER))
+    with_seated(scene, seating(scene, part, arms, rule))
 }

@@ -16,8 +16,9 @@ use pregrasp_io::scene::Scene;
 use pregrasp_planner::context::arm_models;
 use pregrasp_planner::pipeline::PlanOptions;
 use pregrasp_planner::seat::{
-    seat_power_grasps, seated_scene, thickness_at, FINGERTIP_STEP, FINGERTIP_TRIES,
-    MIN_SEAT_THICKNESS, PARTIAL_SEAT_MIN, PARTIAL_SEAT_STEP, SEAT_DEPTH, SEAT_GAP, SEAT_TOLERANCE,
+    seat_power_grasps, seat_power_grasps_by, seated_scene, seated_scene_by, thickness_at, SeatRule,
+    FINGERTIP_STEP, FINGERTIP_TRIES, MIN_SEAT_THICKNESS, PARTIAL_SEAT_MIN, PARTIAL_SEAT_STEP,
+    SEAT_DEPTH, SEAT_GAP, SEAT_TOLERANCE,
 };
 use pregrasp_robot::{ClosingKind, GripperState, Primitive};
 
@@ -53,12 +54,15 @@ fn example(name: &str) -> (Scene, pregrasp_geometry::Mesh) {
 
 #[test]
 fn a_wrapped_bar_below_the_palm_is_seated_and_still_squeezed() {
+    // The wraps (`SeatRule::WRAPS`: the planner's where the pads' pinch at the fingertips
+    // cannot carry the part, as on the chair side).
     let mut seated_any = 0;
     for name in ["chair_side", "stool_side"] {
         let (scene, mesh) = example(name);
         let part = ObjectGeometry::new(&mesh).unwrap();
         let arms = arm_models(&scene).unwrap();
-        let seated = seat_power_grasps(&part, &arms, &scene.grasps.power, [0.0; 2]);
+        let power = &scene.grasps.power;
+        let seated = seat_power_grasps_by(&part, &arms, power, [0.0; 2], SeatRule::WRAPS);
         for (k, arm) in arms.iter().enumerate() {
             let gripper = &arm.gripper;
             let point = gripper.power_point();
@@ -144,11 +148,13 @@ fn caged_closings_are_held_at_the_fingertips_and_the_plan_file_says_what_moved()
             .file;
     assert_eq!(file.grasps.seated, None);
     assert_eq!(file.grasps.fingertips, Some(seated.moved.map(|m| -m)));
-    // The chair's plan is made with the seated grasps (seated against the part as it rests,
-    // `lift` below the planned part) and says how far they moved.
+    // The chair's plan is made with the wraps (the pads' pinch at both fingertips cannot
+    // carry it: no grip force holds its weight's moment about the line through them), seated
+    // against the part as it rests, `lift` below the planned part, and says how far they moved.
     let (scene, mesh) = example("chair_side");
     let part = ObjectGeometry::new(&mesh).unwrap();
-    let (seated, moved) = seated_scene(&scene, &part, &arm_models(&scene).unwrap()).unwrap();
+    let arms = arm_models(&scene).unwrap();
+    let (seated, moved) = seated_scene_by(&scene, &part, &arms, SeatRule::WRAPS).unwrap();
     let file =
         pregrasp_planner::plan_scene(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
             .unwrap()
@@ -161,12 +167,8 @@ fn caged_closings_are_held_at_the_fingertips_and_the_plan_file_says_what_moved()
     assert_eq!(model.grasps.power, seated.grasps.power);
     // Seated deeper than against the planned part by the lift (the approach is vertical at
     // P_init), less the gap left, at most SEAT_DEPTH into the planned part.
-    let against_plan = seat_power_grasps(
-        &part,
-        &arm_models(&scene).unwrap(),
-        &scene.grasps.power,
-        [0.0; 2],
-    );
+    let against_plan =
+        seat_power_grasps_by(&part, &arms, &scene.grasps.power, [0.0; 2], SeatRule::WRAPS);
     for (moved, plain) in moved.iter().zip(against_plan.moved) {
         if *moved > 0.0 {
             let extra = moved - plain;
@@ -211,13 +213,15 @@ fn squeezes(
 
 #[test]
 fn a_bar_caged_on_the_palm_is_seated_as_deep_as_it_still_squeezes() {
-    // Generated frame #1 (29 mm stock, 39 mm bars): the closing wraps both bars 4.4 mm below
-    // the palm and cages them once seated on it; each grasp moves part of the way instead.
+    // Generated frame #1 (29 mm stock, 39 mm bars), by the wraps: the closing wraps both bars
+    // 4.4 mm below the palm and cages them once seated on it; each grasp moves part of the way
+    // instead.
     let generated = generated_scene(&generate(Family::Frame, 1));
     let scene = Scene::from_str(&generated.scene_toml, Path::new("frame_1.toml")).unwrap();
     let part = ObjectGeometry::new(&generated.mesh).unwrap();
     let arms = arm_models(&scene).unwrap();
-    let seated = seat_power_grasps(&part, &arms, &scene.grasps.power, [0.0; 2]);
+    let power = &scene.grasps.power;
+    let seated = seat_power_grasps_by(&part, &arms, power, [0.0; 2], SeatRule::WRAPS);
     for (k, arm) in arms.iter().enumerate() {
         let gripper = &arm.gripper;
         let point = gripper.power_point();

@@ -40,6 +40,7 @@ fn seated_thin_bars_cage_and_seated_thick_bars_squeeze_in_the_replay() {
             min_thickness: 0.0,
             pinch_fraction: 0.0,
             fingertips: false,
+            fingertips_first: false,
         };
         let Some((_, moved)) = seated_scene_by(&scene, &part, &arms, every_wrapped_bar) else {
             continue;
@@ -114,6 +115,7 @@ fn pinch_moved_closings(table: &str, pinch_fraction: f64) -> Vec<(String, String
         min_thickness: MIN_SEAT_THICKNESS,
         pinch_fraction,
         fingertips: false,
+        fingertips_first: false,
     };
     let mut out = Vec::new();
     for row in rows(table).iter().filter(|r| !r["candidate"].is_empty()) {
@@ -149,8 +151,8 @@ fn pinch_moved_closings(table: &str, pinch_fraction: f64) -> Vec<(String, String
 /// Pinched bars move part of the way to the palm, held to the replay both ways: moved all the
 /// way (`plan_replay_pinch_seated_full_2f85.csv`: stool_1, stool_5 and h_frame_6 planned with
 /// the share 1), a pinched bar's closing ends one-sided; moved the planner's share (the sweeps
-/// of the planner as it is), every such closing squeezes from both sides and the master's moves
-/// the part at most 2 mm / 1° (issue 48's criterion).
+/// of the wraps, `…_wraps_2f85.csv`), every such closing squeezes from both sides and the
+/// master's moves the part at most 2 mm / 1° (issue 48's criterion).
 #[test]
 fn pinched_bars_squeeze_part_of_the_way_and_not_on_the_palm() {
     let full = pinch_moved_closings("plan_replay_pinch_seated_full_2f85.csv", 1.0);
@@ -163,9 +165,12 @@ fn pinched_bars_squeeze_part_of_the_way_and_not_on_the_palm() {
     assert_eq!(one_sided, ["stool_1 plan 0 mas1", "stool_1 plan 0 sup2"]);
 
     let mut share = Vec::new();
+    // The sweeps of the planner that seated every bar its closing squeezes (before the
+    // fingertips first: the wraps, `SeatRule::WRAPS`, which the planner still uses where the
+    // pads' pinch cannot carry the part, and `[planner] power_hold = "wraps"`).
     for table in [
-        "plan_replay_generated_2f85.csv",
-        "plan_replay_generated_seeds_6_10_2f85.csv",
+        "plan_replay_generated_wraps_2f85.csv",
+        "plan_replay_generated_seeds_6_10_wraps_2f85.csv",
     ] {
         share.extend(pinch_moved_closings(table, PINCH_SEAT_FRACTION));
     }

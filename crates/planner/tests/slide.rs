@@ -29,20 +29,21 @@ fn carry_warnings(file: &pregrasp_io::plan_file::PlanFile) -> usize {
         .count()
 }
 
-/// ladder_12 (19 mm stock, 41 mm rungs): its scene's grasps on the end rungs lie 64 mm from
-/// the centre of mass' line, and both cage their rungs (held at the fingertips, they do not
-/// squeeze either); the carry check refuses them. Slid along the rungs, the line through the
-/// grasps passes the centre of mass and the plan carries. (Until the fingertip grasps, ladder_4
-/// was this test's part: held at the fingertips, its scene's grasps carry.)
+/// panel_10 (7.8 kg): held at the fingertips, its scene's grasps need 217 N of the pads'
+/// pinch, 434 N with the safety factor, more than the 2F-85's 235 N; slid along their bars, the
+/// line through the grasps passes the centre of mass and the pinch carries the part. (Until the
+/// grasps were held at the fingertips first, ladder_12 was this test's part, and ladder_4
+/// before it: held at the fingertips, their scenes' grasps carry.)
 #[test]
 fn grasps_that_cannot_carry_slide_onto_the_centre_of_mass_line() {
-    let (scene, mesh) = generated(Family::Ladder, 12);
+    let (scene, mesh) = generated(Family::Panel, 10);
     let planned = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}).unwrap();
     let file = &planned.file;
-    let shifts = file.grasps.slid.expect("ladder_12's grasps slide");
+    let shifts = file.grasps.slid.expect("panel_10's grasps slide");
     assert!(!file.plans.is_empty());
     assert_eq!(carry_warnings(file), 0);
-    // Each grasp moved along its own y axis by its shift (and, seated, along its z).
+    // Each grasp moved along its own y axis by its shift (and, held at the fingertips or
+    // seated, along its z).
     let com = MassProperties::from_mesh(&mesh).unwrap().centroid;
     let power = file.grasps.power.each_ref().map(|p| p.to_isometry());
     for k in 0..2 {
@@ -53,15 +54,22 @@ fn grasps_that_cannot_carry_slide_onto_the_centre_of_mass_line() {
             (local.y - shifts[k]).abs() < 1e-9,
             "{k}: {local:?} {shifts:?}"
         );
-        assert!(local.x.abs() < 1e-9, "{k}: {local:?}");
+        // Across only onto the bar's mid-plane, as `centred` says.
+        let across = file.grasps.centred.map_or(0.0, |c| c[k]);
+        assert!((local.x - across).abs() < 1e-9, "{k}: {local:?}");
         assert!(shifts[k].abs() > 0.04, "{shifts:?}");
     }
-    // The line through the slid grasps passes within 1 mm of the centre of mass.
-    let (p0, p1) = (power[0].translation.vector, power[1].translation.vector);
-    let l: Vector3<f64> = (p1 - p0).normalize();
-    let w = com.coords - p0;
-    let off = (w - l * w.dot(&l)).norm();
-    assert!(off < 1e-3, "{off} m");
+    // The line through the slid grasps passes nearer the centre of mass: by the shifts' share
+    // of the way there (the whole way where the bars allow).
+    let off = |power: &[nalgebra::Isometry3<f64>; 2]| {
+        let (p0, p1) = (power[0].translation.vector, power[1].translation.vector);
+        let l: Vector3<f64> = (p1 - p0).normalize();
+        let w = com.coords - p0;
+        (w - l * w.dot(&l)).norm()
+    };
+    let (before, after) = (off(&scene.grasps.power), off(&power));
+    println!("{before} m → {after} m");
+    assert!(after < before - 0.03, "{before} m → {after} m");
 }
 
 /// A scene whose grasps carry the part keeps them: the chair side, stool side and a stool.

@@ -164,6 +164,38 @@ pub struct UrdfRef {
     pub allowed: Vec<[String; 2]>,
 }
 
+/// How the power grasps of a 2F-85 hold their bars (`[planner] power_hold`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PowerHold {
+    /// The pads' pinch at the fingertips where it squeezes the bar; the wraps where the pinch
+    /// cannot carry the part at the gripper's force (the default).
+    #[default]
+    Auto,
+    /// The pads' pinch at the fingertips wherever it squeezes the bar.
+    Fingertips,
+    /// The wraps, seated on the palm; the fingertips only where the wrap cages the bar or
+    /// closes on one side.
+    Wraps,
+}
+
+impl PowerHold {
+    /// The scene file's spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            PowerHold::Auto => "auto",
+            PowerHold::Fingertips => "fingertips",
+            PowerHold::Wraps => "wraps",
+        }
+    }
+
+    /// The hold spelled `name` in a scene file.
+    pub fn from_name(name: &str) -> Option<PowerHold> {
+        [PowerHold::Auto, PowerHold::Fingertips, PowerHold::Wraps]
+            .into_iter()
+            .find(|h| h.name() == name)
+    }
+}
+
 /// `[planner]`, SI units (angles in radians). Paper symbols in code spans.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlannerParams {
@@ -206,6 +238,8 @@ pub struct PlannerParams {
     pub robustness_pos: f64,
     /// Largest yaw error for that ranking (rad).
     pub robustness_yaw: f64,
+    /// (Extension) How the power grasps hold their bars.
+    pub power_hold: PowerHold,
 }
 
 /// `[physics]`: what the quasi-static check of `μ_rot` (crate `pregrasp-physics`) needs beyond
@@ -288,6 +322,7 @@ impl Default for PlannerParams {
             robustness_samples: 0,
             robustness_pos: 0.005,
             robustness_yaw: 2.0f64.to_radians(),
+            power_hold: PowerHold::Auto,
         }
     }
 }
@@ -313,6 +348,8 @@ impl PlannerParams {
             robustness_samples: (self.robustness_samples > 0).then_some(self.robustness_samples),
             robustness_pos: (self.robustness_samples > 0).then_some(self.robustness_pos),
             robustness_yaw_deg: (self.robustness_samples > 0).then(|| deg(self.robustness_yaw)),
+            power_hold: (self.power_hold != PowerHold::Auto)
+                .then(|| self.power_hold.name().to_string()),
         }
     }
 }

@@ -94,6 +94,7 @@ pub struct RawPlanner {
     pub robustness_pos: Option<Num>,
     pub robustness_yaw: Option<Num>,
     pub robustness_yaw_deg: Option<Num>,
+    pub power_hold: Option<Str>,
 }
 
 /// The numeric keys are those of `PHYSICS_NUMBER_KEYS`.

@@ -12,6 +12,7 @@ use toml::Value;
 
 use super::raw::{self, Flag, Int, Num, Nums, PosePair, RawError, RawScene, Robots, Str, Table};
 use super::raw::{RawGrasps, RawObject, RawPhysics, RawPlanner, RawPose, RawRobot};
+use super::PowerHold;
 use super::{AutoGrasps, Grasps, ObjectSpec, PhysicsParams, PlannerParams, RobotSpec, Scene};
 use super::{SceneError, GRIPPERS, GRIPPER_POINT_RANGE, MAX_COORDINATE, ROBOT_MODELS};
 use super::{DEFAULT_POWER_POINT_Z, DEFAULT_PRECISION_POINT_Z};
@@ -512,6 +513,14 @@ impl Cx {
                     let message = format!("must be in [0°, 180°], found {}°", x.to_degrees());
                     return Err(err("robustness_yaw", message));
                 }
+            },
+            power_hold: match raw.power_hold {
+                None => d.power_hold,
+                Some(Str(name)) => PowerHold::from_name(&name).ok_or_else(|| {
+                    let message =
+                        format!("must be \"auto\", \"fingertips\" or \"wraps\", found \"{name}\"");
+                    err("power_hold", message)
+                })?,
             },
         })
     }

@@ -1,24 +1,23 @@
-//! The whole method: Algorithm 1 → 2 → 3 for every candidate, ranked into a plan file.
-//!
-//! Candidates are independent, so Algorithms 2 and 3 run over them in parallel (rayon); each
-//! candidate's random choices come from its own seed ([`crate::paths::motion_seed`]) and results
-//! are collected in candidate order, so the plan is the same for any thread count.
+//! One pass of the pipeline: the scene's power grasps seated by one rule ([`crate::seat`]),
+//! Algorithm 1 → 2 → 3 for every candidate, ranked into a plan report.
 
 use std::time::Instant;
 
-use pregrasp_geometry::{ConvexHull, Mesh};
-use pregrasp_io::plan_file::{Outcome, PlanFile, PlanStatus};
+use pregrasp_geometry::Mesh;
+use pregrasp_io::plan_file::{Outcome, PlanStatus};
 use pregrasp_io::plan_model::plan_json;
 use pregrasp_io::scene::Scene;
+use pregrasp_model::timeline::Moment;
 use pregrasp_model::{Plan, PlanSet};
 use rayon::prelude::*;
 
+use super::{CandidateOutcome, Pass, PlanOptions, PlanReport};
 use crate::axes::{rotation_axis_candidates_with_hull, AxesResult, RotationAxisCandidate};
 use crate::check::PlanChecker;
 use crate::clock::Stage;
 use crate::context::{PartKnowledge, PlanningContext};
 use crate::error::{check_mesh, PlanError};
-use crate::hold::{HoldCheck, HoldResult, Unchecked};
+use crate::hold::{HoldCheck, HoldResult};
 use crate::no_plan::no_plan_reason;
 use crate::output::{self, plan_file_header, plan_set, rot_only_plan};
 use crate::paths::{integrated_path, NoPath};
@@ -26,185 +25,24 @@ use crate::poses::{object_pose_for_power_grasp, PoseRejection, PowerGraspPose};
 use crate::ranking::{rank, ranked_beyond, required_force};
 use crate::rejection::{FailedRule, Rejection, Unheld};
 use crate::rotate::RotationPath;
-use pregrasp_model::timeline::Moment;
+use crate::seat::SeatRule;
 
-/// Settings of one `plan` run beyond the scene's `[planner]` table.
-#[derive(Clone, Debug)]
-pub struct PlanOptions {
-    /// Keep at most this many plans (best first).
-    pub max_plans: usize,
-    /// Plan only these candidates (ids of Algorithm 1's list); the others are reported as
-    /// skipped. `None`: every candidate. Re-planning uses it to keep a plan's candidate.
-    pub only: Option<Vec<usize>>,
-    /// `sup1` has already run: (supportive arm, its joints now). μ_rot must start there and
-    /// that arm must be the supportive one ([`crate::replan`] `--from rot`).
-    pub fixed_rot_start: Option<(usize, pregrasp_robot::Joints)>,
-    /// Algorithm 3 runs over the candidates with a pose in waves of this many, best S_rot
-    /// first (each wave in parallel); it stops once `max_plans` plans are kept whose scores
-    /// are above every candidate not yet run, so no later one could be kept. The waves do not
-    /// depend on the thread count: the plan file does not either.
-    pub wave: usize,
-    /// The part's geometry and gripper closings from an earlier context of the same part
-    /// (object frame, so any pose): used when they fit the scene's mesh, grasps and tool
-    /// points, built afresh otherwise. `replan` in a loop passes them.
-    pub known: Option<std::sync::Arc<crate::context::PartKnowledge>>,
-}
-
-impl Default for PlanOptions {
-    fn default() -> Self {
-        PlanOptions {
-            max_plans: 3,
-            only: None,
-            fixed_rot_start: None,
-            wave: DEFAULT_WAVE,
-            known: None,
-        }
-    }
-}
-
-/// Candidates per wave of Algorithm 3 ([`PlanOptions::wave`]): a few more than the usual
-/// `max_plans`, and a multiple of two cores.
-pub const DEFAULT_WAVE: usize = 4;
-
-pub use crate::outcome::CandidateOutcome;
-
-impl PlanReport {
-    /// Whether the carry check found that plan `k` of the file's power grasps lift the part
-    /// (`true` also where it could not run: nothing says otherwise).
-    pub fn carries(&self, k: usize) -> bool {
-        let Some(candidate) = self.file.plans.get(k).map(|p| p.candidate) else {
-            return false;
-        };
-        self.candidates
-            .iter()
-            .position(|c| c.id == candidate)
-            .and_then(|i| self.outcomes.get(i))
-            .is_none_or(|o| {
-                !matches!(
-                    o,
-                    CandidateOutcome::Planned {
-                        carry: Some(Err(_)),
-                        ..
-                    }
-                )
-            })
-    }
-
-    /// How close a grasping gripper comes to the support along plan `k` of the file (m), as
-    /// the plan check measured it before the plan was kept.
-    pub fn closest_grasp_to_support(&self, k: usize) -> Option<f64> {
-        let candidate = self.file.plans.get(k)?.candidate;
-        self.candidates
-            .iter()
-            .position(|c| c.id == candidate)
-            .and_then(|i| match self.outcomes.get(i)? {
-                CandidateOutcome::Planned {
-                    closest_grasp_to_support,
-                    ..
-                } => *closest_grasp_to_support,
-                _ => None,
-            })
-    }
-}
-
-/// The result of [`plan`]: the plan file plus per-candidate details for reports.
-pub struct PlanReport {
-    pub file: PlanFile,
-    /// Why the plans carry no `physics` object (the mesh is not a closed solid), if so.
-    pub physics_note: Option<Unchecked>,
-
-    pub candidates: Vec<RotationAxisCandidate>,
-    pub outcomes: Vec<CandidateOutcome>,
-    /// Algorithm 1's convex hull of the part (object frame), for a viewer of the plan; `None`
-    /// when the mesh has none.
-    pub hull: Option<ConvexHull>,
-}
-
-/// Runs the pipeline on a loaded scene and mesh. `on_candidates` is told how many candidates
-/// Algorithm 1 found; `progress` is called once per candidate finished (from worker threads).
-///
-/// Every plan is re-verified by a [`crate::check::PlanChecker`] (the rules of `check`) before it
-/// is kept; a plan that fails (which would be a bug) is dropped and its candidate says which
-/// rule failed. An error is a scene or mesh the planner cannot work on ([`PlanError`]).
-///
-/// Where no plan carries the part because the carry check finds the power grasps cannot, the
-/// scene is planned again with them slid along their bars towards the centre of mass
-/// ([`crate::slide`]); that plan is kept when it carries (`grasps.slid` says how far).
-pub fn plan(
-    scene: &Scene,
-    mesh: &Mesh,
-    options: &PlanOptions,
-    on_candidates: &(dyn Fn(usize) + Sync),
-    progress: &(dyn Fn() + Sync),
-) -> Result<PlanReport, PlanError> {
-    let t0 = Instant::now();
-    let (report, part) = plan_grasps_as_given(scene, mesh, options, None, on_candidates, progress)?;
-    if !uncarried(&report.outcomes) {
-        return Ok(report);
-    }
-    // The centre of mass the carry check uses (uniform density: the mass does not move it).
-    let Ok(com) = pregrasp_physics::MassProperties::from_mesh(mesh).map(|p| p.centroid) else {
-        return Ok(report);
-    };
-    let Some(full) = crate::slide::shifts_worth_trying(scene, &com) else {
-        return Ok(report);
-    };
-    let arms = crate::context::arm_models(scene)?;
-    let Some((slid_scene, shifts)) = crate::slide::slid_scene(scene, &part, &arms, full) else {
-        return Ok(report);
-    };
-    let (mut slid, _) =
-        plan_grasps_as_given(&slid_scene, mesh, options, Some(part), &|_| {}, &|| {})?;
-    if slid.file.plans.is_empty() || uncarried(&slid.outcomes) {
-        return Ok(report);
-    }
-    slid.file.grasps.slid = Some(shifts);
-    let total = t0.elapsed().as_secs_f64() * 1e3;
-    slid.file.timing_ms.insert("total".into(), total);
-    Ok(slid)
-}
-
-/// Whether no candidate's plan carries the part, and the carry check is why: some candidate
-/// is refused by it (`[physics] reject_uncarried`) or planned with power grasps it finds
-/// cannot carry the part.
-fn uncarried(outcomes: &[CandidateOutcome]) -> bool {
-    let planned_carried = outcomes.iter().any(|o| {
-        matches!(
-            o,
-            CandidateOutcome::Planned {
-                carry: Some(Ok(_)),
-                check: None,
-                ..
-            }
-        )
-    });
-    let refused = outcomes.iter().any(|o| match o {
-        CandidateOutcome::Uncarried { .. } => true,
-        CandidateOutcome::Planned { carry, check, .. } => {
-            check.is_none() && matches!(carry, Some(Err(_)))
-        }
-        _ => false,
-    });
-    refused && !planned_carried
-}
-
-/// [`plan`] with the scene's power grasps (seated on the palm, [`crate::seat`]), not slid; and
+/// [`plan`] with the scene's power grasps (seated by `rule`, [`crate::seat`]), not slid; and
 /// the part's collision geometry it planned with (`part` when given, else the known part's,
-/// else built here), for a second plan of the same mesh.
-fn plan_grasps_as_given(
+/// else built here), for a second plan of the same mesh. With `probe`, it stops where
+/// Algorithm 2 shows no candidate's power grasps carry the part ([`Pass::NoneCarries`]).
+pub(super) fn plan_grasps_as_given(
     scene: &Scene,
     mesh: &Mesh,
     options: &PlanOptions,
-    part: Option<std::sync::Arc<pregrasp_collision::ObjectGeometry>>,
+    (part, rule, probe): (
+        Option<std::sync::Arc<pregrasp_collision::ObjectGeometry>>,
+        SeatRule,
+        bool,
+    ),
     on_candidates: &(dyn Fn(usize) + Sync),
     progress: &(dyn Fn() + Sync),
-) -> Result<
-    (
-        PlanReport,
-        std::sync::Arc<pregrasp_collision::ObjectGeometry>,
-    ),
-    PlanError,
-> {
+) -> Result<(Pass, std::sync::Arc<pregrasp_collision::ObjectGeometry>), PlanError> {
     check_mesh(mesh)?;
     let t0 = Instant::now();
     let axes = axes_of(scene, mesh, options.known.as_deref());
@@ -236,11 +74,11 @@ fn plan_grasps_as_given(
     let seating = || match options
         .known
         .as_deref()
-        .and_then(|k| k.seating(scene, mesh))
+        .and_then(|k| k.seating(scene, mesh, rule))
     {
         Some(seated) => (seated, None),
         None => {
-            let (seated, power) = crate::seat::planned_scene(scene, &part, &arms);
+            let (seated, power) = crate::seat::planned_scene(scene, &part, &arms, rule);
             (seated, Some(power))
         }
     };
@@ -254,6 +92,8 @@ fn plan_grasps_as_given(
             ))
         }),
     };
+    // The scene's power grasps, before seating: the plan file says how each moved across.
+    let given = scene.grasps.power;
     let scene = seated.as_ref().map_or(scene, |(s, _)| s);
     let geometry = part.clone();
     let mut ctx = PlanningContext::with_part(
@@ -300,6 +140,12 @@ fn plan_grasps_as_given(
             (part != [0.0; 2]).then_some(part)
         };
         (h.grasps.seated, h.grasps.fingertips) = (split(1.0), split(-1.0));
+        // Moved across the bar onto its mid-plane (held at the fingertips), to the micrometre.
+        let across = [0, 1].map(|k| {
+            let x = (given[k].inverse() * scene.grasps.power[k]).translation.x;
+            (x * 1e6).round() / 1e6 + 0.0
+        });
+        h.grasps.centred = (across != [0.0; 2]).then_some(across);
         h.candidates = candidates
             .iter()
             .map(RotationAxisCandidate::to_json)
@@ -398,13 +244,58 @@ fn plan_grasps_as_given(
             progress();
         }
     }
+    // A probe plans the candidates whose power grasps carry the part first, and stops where
+    // none of them gets a plan: the pass would be uncarried. Their outcomes are kept for the
+    // waves below, which take them where they come to those candidates.
+    let mut early: Vec<Option<CandidateOutcome>> = outcomes.iter().map(|_| None).collect();
+    let carries: Vec<Option<bool>> = if probe {
+        let check = |pose: &PowerGraspPose| carry_check.check(&pose.p_obj).map(|c| c.is_ok());
+        pending.iter().map(|(_, pose)| check(pose)).collect()
+    } else {
+        Vec::new()
+    };
+    if probe && !pending.is_empty() && carries.iter().all(Option::is_some) {
+        let carried: Vec<(usize, PowerGraspPose)> = pending
+            .iter()
+            .zip(&carries)
+            .filter(|(_, c)| **c == Some(true))
+            .map(|(p, _)| p.clone())
+            .collect();
+        let done: Vec<(usize, CandidateOutcome)> = carried
+            .into_par_iter()
+            .map(|(k, pose)| (k, evaluate(&candidates[k], pose)))
+            .collect();
+        let planned = done.iter().any(|(_, o)| {
+            matches!(
+                o,
+                CandidateOutcome::Planned {
+                    carry: Some(Ok(_)),
+                    check: None,
+                    ..
+                }
+            )
+        });
+        if !planned {
+            let fingertips = seated
+                .as_ref()
+                .is_some_and(|(_, m)| m.iter().any(|&m| m < 0.0));
+            return Ok((Pass::NoneCarries { fingertips }, geometry));
+        }
+        for (k, outcome) in done {
+            early[k] = Some(outcome);
+        }
+    }
     let wave = options.wave.max(1);
     let mut pending = pending.into_iter().peekable();
     while pending.peek().is_some() {
-        let batch: Vec<(usize, PowerGraspPose)> = pending.by_ref().take(wave).collect();
+        let batch: Vec<(usize, PowerGraspPose, Option<CandidateOutcome>)> = pending
+            .by_ref()
+            .take(wave)
+            .map(|(k, pose)| (k, pose, early[k].take()))
+            .collect();
         let done: Vec<(usize, CandidateOutcome)> = batch
             .into_par_iter()
-            .map(|(k, pose)| (k, evaluate(&candidates[k], pose)))
+            .map(|(k, pose, known)| (k, known.unwrap_or_else(|| evaluate(&candidates[k], pose))))
             .collect();
         for (k, outcome) in done {
             outcomes[k] = outcome;
@@ -523,7 +414,7 @@ fn plan_grasps_as_given(
         outcomes,
         hull: (!axes.hull.vertices.is_empty()).then_some(axes.hull),
     };
-    Ok((report, geometry))
+    Ok((Pass::Planned(Box::new(report)), geometry))
 }
 
 /// Algorithm 1 for `scene` on `mesh`, on the hull `known` has of this mesh when it has one.

@@ -1,0 +1,266 @@
+//! The whole method: Algorithm 1 → 2 → 3 for every candidate, ranked into a plan file.
+//!
+//! Candidates are independent, so Algorithms 2 and 3 run over them in parallel (rayon); each
+//! candidate's random choices come from its own seed ([`crate::paths::motion_seed`]) and results
+//! are collected in candidate order, so the plan is the same for any thread count.
+//!
+//! One pass (`pass.rs`) plans the scene's power grasps seated by one rule ([`crate::seat`]);
+//! [`plan`] tries the holds in turn until one carries the part: held at the fingertips, slid
+//! towards the centre of mass, wrapped (`[planner] power_hold`). A pass whose plan may still
+//! be replaced probes: it stops once Algorithm 2 shows that none of its candidates' power
+//! grasps that carry the part gets a plan.
+
+use std::time::Instant;
+
+use pregrasp_geometry::{ConvexHull, Mesh};
+use pregrasp_io::plan_file::PlanFile;
+use pregrasp_io::scene::{PowerHold, Scene};
+
+use crate::axes::RotationAxisCandidate;
+use crate::error::PlanError;
+use crate::hold::Unchecked;
+use crate::seat::SeatRule;
+
+mod pass;
+
+pub(crate) use pass::axes_of;
+use pass::plan_grasps_as_given;
+
+/// Settings of one `plan` run beyond the scene's `[planner]` table.
+#[derive(Clone, Debug)]
+pub struct PlanOptions {
+    /// Keep at most this many plans (best first).
+    pub max_plans: usize,
+    /// Plan only these candidates (ids of Algorithm 1's list); the others are reported as
+    /// skipped. `None`: every candidate. Re-planning uses it to keep a plan's candidate.
+    pub only: Option<Vec<usize>>,
+    /// `sup1` has already run: (supportive arm, its joints now). μ_rot must start there and
+    /// that arm must be the supportive one ([`crate::replan`] `--from rot`).
+    pub fixed_rot_start: Option<(usize, pregrasp_robot::Joints)>,
+    /// Algorithm 3 runs over the candidates with a pose in waves of this many, best S_rot
+    /// first (each wave in parallel); it stops once `max_plans` plans are kept whose scores
+    /// are above every candidate not yet run, so no later one could be kept. The waves do not
+    /// depend on the thread count: the plan file does not either.
+    pub wave: usize,
+    /// The part's geometry and gripper closings from an earlier context of the same part
+    /// (object frame, so any pose): used when they fit the scene's mesh, grasps and tool
+    /// points, built afresh otherwise. `replan` in a loop passes them.
+    pub known: Option<std::sync::Arc<crate::context::PartKnowledge>>,
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        PlanOptions {
+            max_plans: 3,
+            only: None,
+            fixed_rot_start: None,
+            wave: DEFAULT_WAVE,
+            known: None,
+        }
+    }
+}
+
+/// Candidates per wave of Algorithm 3 ([`PlanOptions::wave`]): a few more than the usual
+/// `max_plans`, and a multiple of two cores.
+pub const DEFAULT_WAVE: usize = 4;
+
+pub use crate::outcome::CandidateOutcome;
+
+impl PlanReport {
+    /// Whether the carry check found that plan `k` of the file's power grasps lift the part
+    /// (`true` also where it could not run: nothing says otherwise).
+    pub fn carries(&self, k: usize) -> bool {
+        let Some(candidate) = self.file.plans.get(k).map(|p| p.candidate) else {
+            return false;
+        };
+        self.candidates
+            .iter()
+            .position(|c| c.id == candidate)
+            .and_then(|i| self.outcomes.get(i))
+            .is_none_or(|o| {
+                !matches!(
+                    o,
+                    CandidateOutcome::Planned {
+                        carry: Some(Err(_)),
+                        ..
+                    }
+                )
+            })
+    }
+
+    /// How close a grasping gripper comes to the support along plan `k` of the file (m), as
+    /// the plan check measured it before the plan was kept.
+    pub fn closest_grasp_to_support(&self, k: usize) -> Option<f64> {
+        let candidate = self.file.plans.get(k)?.candidate;
+        self.candidates
+            .iter()
+            .position(|c| c.id == candidate)
+            .and_then(|i| match self.outcomes.get(i)? {
+                CandidateOutcome::Planned {
+                    closest_grasp_to_support,
+                    ..
+                } => *closest_grasp_to_support,
+                _ => None,
+            })
+    }
+}
+
+/// The result of [`plan`]: the plan file plus per-candidate details for reports.
+pub struct PlanReport {
+    pub file: PlanFile,
+    /// Why the plans carry no `physics` object (the mesh is not a closed solid), if so.
+    pub physics_note: Option<Unchecked>,
+
+    pub candidates: Vec<RotationAxisCandidate>,
+    pub outcomes: Vec<CandidateOutcome>,
+    /// Algorithm 1's convex hull of the part (object frame), for a viewer of the plan; `None`
+    /// when the mesh has none.
+    pub hull: Option<ConvexHull>,
+}
+
+/// Runs the pipeline on a loaded scene and mesh. `on_candidates` is told how many candidates
+/// Algorithm 1 found; `progress` is called once per candidate finished (from worker threads).
+///
+/// Every plan is re-verified by a [`crate::check::PlanChecker`] (the rules of `check`) before it
+/// is kept; a plan that fails (which would be a bug) is dropped and its candidate says which
+/// rule failed. An error is a scene or mesh the planner cannot work on ([`PlanError`]).
+///
+/// Where no plan carries the part because the carry check finds the power grasps cannot, the
+/// scene is planned again with them slid along their bars towards the centre of mass
+/// ([`crate::slide`]); that plan is kept when it carries (`grasps.slid` says how far). With
+/// `[planner] power_hold = "auto"`, grasps held at the fingertips ([`crate::seat`]) that
+/// cannot carry the part, even slid, give way to the wraps ([`SeatRule::WRAPS`]), as given and
+/// then slid.
+pub fn plan(
+    scene: &Scene,
+    mesh: &Mesh,
+    options: &PlanOptions,
+    on_candidates: &(dyn Fn(usize) + Sync),
+    progress: &(dyn Fn() + Sync),
+) -> Result<PlanReport, PlanError> {
+    let t0 = Instant::now();
+    let hold = scene.planner.power_hold;
+    let first = SeatRule::first_for(hold);
+    // Every pass whose plan may still be replaced probes: it plans the candidates whose power
+    // grasps carry the part first, and stops where none of them gets a plan.
+    let (pass, part) = plan_grasps_as_given(
+        scene,
+        mesh,
+        options,
+        (None, first, true),
+        on_candidates,
+        progress,
+    )?;
+    let (fingertips, first_report) = match pass {
+        Pass::Planned(report) if !uncarried(&report.outcomes) => return Ok(*report),
+        Pass::Planned(report) => (report.file.grasps.fingertips.is_some(), Some(*report)),
+        Pass::NoneCarries { fingertips } => (fingertips, None),
+    };
+    let total = |mut report: PlanReport| {
+        let total = t0.elapsed().as_secs_f64() * 1e3;
+        report.file.timing_ms.insert("total".into(), total);
+        report
+    };
+    // The holds tried in turn until one carries: the first rule's grasps slid; then, for
+    // `"auto"` where the first held some grasp at the fingertips, the wraps, and the wraps
+    // slid. Where none carries, the last grasps as given.
+    let wraps = hold == PowerHold::Auto && fingertips;
+    let slid_scene = slid_scene(scene, mesh, &part)?;
+    let mut tries = Vec::new();
+    let rules = if wraps {
+        vec![first, SeatRule::WRAPS]
+    } else {
+        vec![first]
+    };
+    for (k, rule) in rules.into_iter().enumerate() {
+        if k > 0 {
+            tries.push((None, rule));
+        }
+        if let Some(slid) = &slid_scene {
+            tries.push((Some(slid), rule));
+        }
+    }
+    let mut fallback = (first_report, first);
+    for (slid, rule) in tries {
+        let on = slid.map_or(scene, |(s, _)| s);
+        let by = (Some(part.clone()), rule, true);
+        let (pass, _) = plan_grasps_as_given(on, mesh, options, by, &|_| {}, &|| {})?;
+        let report = match pass {
+            Pass::Planned(report) => Some(*report),
+            Pass::NoneCarries { .. } => None,
+        };
+        match (slid, report) {
+            (Some((_, shifts)), Some(mut report))
+                if !report.file.plans.is_empty() && !uncarried(&report.outcomes) =>
+            {
+                report.file.grasps.slid = Some(*shifts);
+                return Ok(total(report));
+            }
+            (None, Some(report)) if !uncarried(&report.outcomes) => return Ok(total(report)),
+            (None, report) => fallback = (report, rule),
+            _ => {}
+        }
+    }
+    let report = match fallback {
+        (Some(report), _) => report,
+        (None, rule) => {
+            let by = (Some(part.clone()), rule, false);
+            match plan_grasps_as_given(scene, mesh, options, by, &|_| {}, &|| {})?.0 {
+                Pass::Planned(report) => *report,
+                Pass::NoneCarries { .. } => unreachable!("a pass that does not probe plans"),
+            }
+        }
+    };
+    Ok(total(report))
+}
+
+/// What a pass of [`plan_grasps_as_given`] ends with.
+enum Pass {
+    /// The plan report.
+    Planned(Box<PlanReport>),
+    /// A probing pass stopped: no candidate whose power grasps carry the part at its P_obj
+    /// got a plan (`fingertips`: the seating held some grasp at the fingertips).
+    NoneCarries { fingertips: bool },
+}
+
+/// `scene` with its power grasps slid along their bars towards the centre of mass
+/// ([`crate::slide`]) and how far each slid, when that is worth a plan.
+fn slid_scene(
+    scene: &Scene,
+    mesh: &Mesh,
+    part: &pregrasp_collision::ObjectGeometry,
+) -> Result<Option<(Scene, [f64; 2])>, PlanError> {
+    // The centre of mass the carry check uses (uniform density: the mass does not move it).
+    let Ok(com) = pregrasp_physics::MassProperties::from_mesh(mesh).map(|p| p.centroid) else {
+        return Ok(None);
+    };
+    let Some(full) = crate::slide::shifts_worth_trying(scene, &com) else {
+        return Ok(None);
+    };
+    let arms = crate::context::arm_models(scene)?;
+    Ok(crate::slide::slid_scene(scene, part, &arms, full))
+}
+
+/// Whether no candidate's plan carries the part, and the carry check is why: some candidate
+/// is refused by it (`[physics] reject_uncarried`) or planned with power grasps it finds
+/// cannot carry the part.
+fn uncarried(outcomes: &[CandidateOutcome]) -> bool {
+    let planned_carried = outcomes.iter().any(|o| {
+        matches!(
+            o,
+            CandidateOutcome::Planned {
+                carry: Some(Ok(_)),
+                check: None,
+                ..
+            }
+        )
+    });
+    let refused = outcomes.iter().any(|o| match o {
+        CandidateOutcome::Uncarried { .. } => true,
+        CandidateOutcome::Planned { carry, check, .. } => {
+            check.is_none() && matches!(carry, Some(Err(_)))
+        }
+        _ => false,
+    });
+    refused && !planned_carried
+}

@@ -1,0 +1,146 @@
+//! Power grasps held at the fingertips first (issue 48, `seat::SeatRule::PLANNER`): a 2F-85
+//! power grasp whose pads pinch its bar at the fingertips is held there, on the bar's
+//! mid-plane; where that pinch cannot carry the part, the plan is made with the wraps. The
+//! scene's `[planner] power_hold` chooses otherwise. What the replay says of each hold is
+//! `carry_truth.rs`'s.
+
+mod common;
+
+use std::path::Path;
+
+use common::scenes::example_files;
+use nalgebra::Translation3;
+use pregrasp_collision::{close_on_part, ObjectGeometry};
+use pregrasp_examples::generated::generated_scene;
+use pregrasp_examples::parts::families::{generate, Family};
+use pregrasp_io::scene::{PowerHold, Scene};
+use pregrasp_planner::context::arm_models;
+use pregrasp_planner::pipeline::PlanOptions;
+use pregrasp_planner::seat::{
+    bar_mid_plane, seat_power_grasps_by, SeatRule, CENTRE_REACH, FINGERTIP_STEP, FINGERTIP_TRIES,
+};
+use pregrasp_robot::ClosingKind;
+
+fn plan(scene: &Scene, mesh: &pregrasp_geometry::Mesh) -> pregrasp_io::plan_file::PlanFile {
+    pregrasp_planner::plan_scene(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
+        .unwrap()
+        .file
+}
+
+#[test]
+fn bars_the_pads_pinch_are_held_at_the_fingertips_though_the_wrap_squeezes() {
+    // The stool side's first grasp: the wrap squeezes its 25 mm leg 4 mm below the palm (the
+    // wraps seat it); the planner holds it at the fingertips, where the pads pinch it.
+    let (scene, mesh) = example_files("stool_side");
+    let part = ObjectGeometry::new(&mesh).unwrap();
+    let arms = arm_models(&scene).unwrap();
+    let power = &scene.grasps.power;
+    let wraps = seat_power_grasps_by(&part, &arms, power, [0.0; 2], SeatRule::WRAPS);
+    let first = seat_power_grasps_by(&part, &arms, power, [0.0; 2], SeatRule::PLANNER);
+    assert!(wraps.moved[0] > 0.0, "{:?}", wraps.moved);
+    for (k, arm) in arms.iter().enumerate() {
+        let point = arm.gripper.power_point();
+        let to_tips = scene.robots[k].precision_point_z - scene.robots[k].power_point_z;
+        let out = -first.moved[k];
+        let nearest = to_tips - FINGERTIP_STEP * (FINGERTIP_TRIES - 1) as f64;
+        assert!(
+            out >= nearest - 1e-5 && out <= to_tips + 1e-9,
+            "power[{k}] {out} m out"
+        );
+        let held = close_on_part(&part, &arm.gripper, &(first.power[k] * point.inverse()))
+            .unwrap()
+            .kinds;
+        assert_eq!(held, [ClosingKind::Pinch; 2], "power[{k}]");
+    }
+    // The plan is made with them: both out, the first also moved across onto its leg's
+    // mid-plane.
+    let file = plan(&scene, &mesh);
+    assert_eq!(file.grasps.seated, None);
+    assert_eq!(file.grasps.fingertips, Some(first.moved.map(|m| -m)));
+    let across = file.grasps.centred.unwrap();
+    assert!(
+        across[0] != 0.0 && across[0].abs() <= CENTRE_REACH,
+        "{across:?}"
+    );
+}
+
+#[test]
+fn a_grasp_held_at_the_fingertips_lies_on_its_bars_mid_plane() {
+    // Generated h_frame #1: the scene's master grasp lies 0.03 mm off its 24 mm bar's
+    // mid-plane (the scene file's 0.1 mm rounding). At the fingertips the pad that meets the
+    // bar first stops both fingers (their drivers turn together): off the mid-plane our closing
+    // ends on one side, on it both pads pinch.
+    let g = generated_scene(&generate(Family::HFrame, 1));
+    let scene = Scene::from_str(&g.scene_toml, Path::new("h_frame_1.toml")).unwrap();
+    let part = ObjectGeometry::new(&g.mesh).unwrap();
+    let arms = arm_models(&scene).unwrap();
+    let (k, arm) = (1, &arms[1]);
+    let grasp = scene.grasps.power[k];
+    let point = arm.gripper.power_point();
+    let out = scene.robots[k].power_point_z - scene.robots[k].precision_point_z;
+    let across = bar_mid_plane(&part, &grasp).unwrap();
+    assert!(across.abs() > 1e-6 && across.abs() < 1e-4, "{across}");
+    let kinds = |x: f64| {
+        let held = grasp * Translation3::new(x, 0.0, out);
+        close_on_part(&part, &arm.gripper, &(held * point.inverse()))
+            .unwrap()
+            .kinds
+    };
+    assert!(
+        kinds(0.0).contains(&ClosingKind::Closed),
+        "{:?}",
+        kinds(0.0)
+    );
+    assert_eq!(kinds(across), [ClosingKind::Pinch; 2]);
+    // The plan file says how far each grasp moved across, to the micrometre.
+    let file = plan(&scene, &g.mesh);
+    let centred = file.grasps.centred.unwrap();
+    assert!((centred[k] - across).abs() < 1e-6, "{centred:?} {across}");
+}
+
+#[test]
+fn the_wraps_carry_where_the_pinch_at_the_fingertips_cannot() {
+    // The chair side held at both fingertips: no grip force holds its weight's moment about the
+    // line through the two pinches, and sliding them does not help; the planner makes the plan
+    // with the wraps, which carry it.
+    let (scene, mesh) = example_files("chair_side");
+    let mut pinched = scene.clone();
+    pinched.planner.power_hold = PowerHold::Fingertips;
+    let file = plan(&pinched, &mesh);
+    assert_eq!(file.planner.power_hold.as_deref(), Some("fingertips"));
+    let warnings = file.plans[0].physics.as_ref().unwrap().warnings.clone();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.starts_with("carry: no grip force")),
+        "{warnings:?}"
+    );
+    let auto = plan(&scene, &mesh);
+    assert_eq!(auto.planner.power_hold, None);
+    assert!(auto.grasps.seated.is_some(), "{:?}", auto.grasps);
+    assert!(auto
+        .plans
+        .iter()
+        .all(|p| p.physics.as_ref().unwrap().warnings.is_empty()));
+    // `"wraps"` asks for them from the start: the same grasps.
+    let mut wrapped = scene.clone();
+    wrapped.planner.power_hold = PowerHold::Wraps;
+    let wraps = plan(&wrapped, &mesh);
+    assert_eq!(wraps.grasps, auto.grasps);
+    assert_eq!(wraps.planner.power_hold.as_deref(), Some("wraps"));
+}
+
+#[test]
+fn an_unknown_power_hold_is_refused_by_name() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/stool_side.toml");
+    let text = std::fs::read_to_string(root).unwrap();
+    let text = text.replacen("[planner]", "[planner]\npower_hold = \"palm\"", 1);
+    let err = Scene::from_str(&text, Path::new("stool_side.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("power_hold"), "{err}");
+    assert!(
+        err.contains("\"auto\", \"fingertips\" or \"wraps\""),
+        "{err}"
+    );
+}
