@@ -9,7 +9,6 @@ use pregrasp_robot::{
     GripperState, Joints, LinkShape, Primitive, UrModel, SHAPE_GROUPS,
 };
 
-use crate::closing::robotiq_finger_hull;
 use crate::error::CollisionError;
 use crate::shape::{Bounded, Placed};
 use crate::tight::Tight;
@@ -477,7 +476,6 @@ impl ArmModel {
         // The finger links by their pieces' lowest vertex, asked only of the links whose box
         // (which holds the pieces) reaches below the best so far, lowest box first.
         let tight = &self.shapes.gripper_tight;
-        let robotiq = self.gripper.robotiq().is_some();
         let mut boxes = [(f64::INFINITY, 0usize); MAX_GRIPPER_SHAPES];
         let n = prims.len() - statics;
         for (slot, k) in boxes.iter_mut().zip(statics..prims.len()) {
@@ -491,8 +489,6 @@ impl ArmModel {
             }
             let frame = flange * shape_frames[k];
             let exact = match &tight[k] {
-                // The 2F-85's finger links: their hulls shared with the closing.
-                Some(t) if robotiq => t.lowest_on(&frame, || robotiq_finger_hull(k - statics)),
                 Some(t) => t.lowest(&frame),
                 None => box_low,
             };

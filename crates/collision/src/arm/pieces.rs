@@ -7,6 +7,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use nalgebra::Isometry3;
 use pregrasp_robot::{Gripper, LinkShape};
 
+use crate::closing::robotiq_finger_hull;
 use crate::shape::Bounded;
 use crate::tight::Tight;
 
@@ -21,11 +22,23 @@ pub(super) fn gripper_tight(gripper: &Gripper) -> Arc<Vec<Option<Tight>>> {
     if let Some(t) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(key) {
         return t.clone();
     }
+    // The 2F-85's finger links get the hulls the closing uses (see `robotiq_finger_hull`), set
+    // now: built lazily, the first query's thread would decide which of two equal hulls is
+    // built, and the baked table (`baked_hulls`) would hold one or the other by timing.
+    let robotiq = gripper.robotiq().is_some();
+    let statics = gripper.static_count();
     let tight: Arc<Vec<Option<Tight>>> = Arc::new(
         gripper
             .shape_pieces()
             .into_iter()
-            .map(|p| p.and_then(Tight::new))
+            .enumerate()
+            .map(|(k, p)| {
+                let t = p.and_then(Tight::new)?;
+                Some(match k.checked_sub(statics) {
+                    Some(j) if robotiq => t.with_hull(robotiq_finger_hull(j)),
+                    _ => t,
+                })
+            })
             .collect(),
     );
     cache

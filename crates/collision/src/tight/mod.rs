@@ -230,6 +230,15 @@ impl Tight {
         })
     }
 
+    /// These pieces with the hull of all of them given now (instead of built when first asked):
+    /// a hull of the same points from elsewhere, its vertices the pieces' extreme points bit for
+    /// bit, so every least height is the same number. Given once, before any query, it is the
+    /// one hull every query uses, whichever thread asks first.
+    pub(crate) fn with_hull(self, hull: Polytope) -> Tight {
+        let _ = self.hull.set(hull);
+        self
+    }
+
     /// [`Tight::lowest`] with the hull of all pieces built by `hull` where it is not yet built:
     /// a hull of the same points from elsewhere (its vertices the pieces' extreme points, bit
     /// for bit), so the least height is the same number.
