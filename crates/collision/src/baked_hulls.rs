@@ -15,7 +15,8 @@
 //! examples (recording asks parry every time); the test fails when they differ from the file
 //! (another parry, other link data) and `PREGRASP_BLESS=1` writes it again. Points the table
 //! does not hold (another arm model, a jaw gripper from a URDF) are hulled at run time as
-//! before.
+//! before, and so is a piece's vertex graph built because it was scanned often (which pieces
+//! get there varies from run to run: `tight::polytope::Hulled`).
 
 use std::collections::{BTreeMap, HashMap};
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -65,7 +65,9 @@ impl Polytope {
             self.scans.store(scans + 1, Ordering::Relaxed);
             return None;
         }
-        self.graph.get_or_init(|| Graph::new(&self.points)).as_ref()
+        self.graph
+            .get_or_init(|| Graph::new(&self.points, Hulled::Scanned))
+            .as_ref()
     }
 
     /// The polytope whose hull has the vertices `points` and the faces `triangles` (indices
@@ -80,7 +82,8 @@ impl Polytope {
 
     /// Builds the vertex graph now rather than after [`BUILD_AFTER`] scans.
     pub(super) fn prepare(&self) {
-        self.graph.get_or_init(|| Graph::new(&self.points));
+        self.graph
+            .get_or_init(|| Graph::new(&self.points, Hulled::Prepared));
     }
 
     /// The index of the first vertex farthest along `dir`, by a scan over all vertices.
@@ -209,6 +212,19 @@ impl SupportMap for Climb<'_> {
     }
 }
 
+/// Why a polytope's vertex graph is built, which decides where its hull comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Hulled {
+    /// Asked for ahead of use ([`Polytope::prepare`]): from the baked table
+    /// ([`crate::baked_hulls`]) where it holds the points.
+    Prepared,
+    /// After [`BUILD_AFTER`] scans: from parry, always. Whether a polytope gets there in a plan
+    /// depends on how many scans the queries' warm starts save (their cache is keyed by
+    /// addresses), so the table, recorded from plans, cannot count on holding it; and a
+    /// polytope scanned that often has spent more on scans than its hull costs.
+    Scanned,
+}
+
 /// The vertex graph of a polytope's hull, over the polytope's own vertex indices: for each
 /// vertex, the vertices it shares a hull edge with (compressed rows; none for a vertex that
 /// repeats an earlier one).
@@ -245,12 +261,15 @@ impl Graph {
     /// hull, every point is one of its vertices, repeats an earlier point, lies inside it or on
     /// one of its faces (then joined to that face's vertices), and every hull vertex has at least
     /// three neighbours. Otherwise `None`.
-    pub(super) fn new(points: &[P]) -> Option<Graph> {
+    pub(super) fn new(points: &[P], why: Hulled) -> Option<Graph> {
         let n = points.len();
         if n < 4 || n >= u32::MAX as usize {
             return None;
         }
-        let (verts, triangles) = crate::baked_hulls::convex_hull(points)?;
+        let (verts, triangles) = match why {
+            Hulled::Prepared => crate::baked_hulls::convex_hull(points)?,
+            Hulled::Scanned => parry3d_f64::transformation::try_convex_hull(points).ok()?,
+        };
         // Hull vertex → the first point with its coordinates.
         let mut first = HashMap::with_capacity(n);
         for (k, p) in points.iter().enumerate() {

@@ -1,4 +1,4 @@
-use super::polytope::Graph;
+use super::polytope::{Graph, Hulled};
 use super::*;
 use crate::shape::parry_cylinder;
 use nalgebra::{Translation3, UnitQuaternion};
@@ -66,7 +66,7 @@ fn climbs_find_the_scans_support_points() {
             let Some(src) = link.pieces else { continue };
             for pts in &src.pieces {
                 let poly = Polytope::new(pts.clone());
-                let graph = Graph::new(pts);
+                let graph = Graph::new(pts, Hulled::Prepared);
                 pieces += 1;
                 graphs += usize::from(graph.is_some());
                 let _ = poly.graph.set(graph);
