@@ -58,3 +58,29 @@ pub enum CandidateOutcome {
     /// candidates that rank above it whatever it would give (see [`PlanOptions::wave`](crate::pipeline::PlanOptions::wave)).
     NotEvaluated,
 }
+
+impl CandidateOutcome {
+    /// A valid plan whose power grasps carry the part (the carry check ran and found forces).
+    pub fn planned_and_carried(&self) -> bool {
+        matches!(
+            self,
+            CandidateOutcome::Planned {
+                carry: Some(Ok(_)),
+                check: None,
+                ..
+            }
+        )
+    }
+
+    /// Refused for its carry: by `[physics] reject_uncarried`, or a valid plan whose power
+    /// grasps the carry check finds cannot carry the part.
+    pub fn carry_refused(&self) -> bool {
+        match self {
+            CandidateOutcome::Uncarried { .. } => true,
+            CandidateOutcome::Planned { carry, check, .. } => {
+                check.is_none() && matches!(carry, Some(Err(_)))
+            }
+            _ => false,
+        }
+    }
+}

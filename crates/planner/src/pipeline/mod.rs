@@ -7,8 +7,10 @@
 //! One pass (`pass.rs`) plans the scene's power grasps seated by one rule ([`crate::seat`]);
 //! [`plan`] tries the holds in turn until one carries the part: held at the fingertips, slid
 //! towards the centre of mass, wrapped (`[planner] power_hold`). A pass whose plan may still
-//! be replaced probes: it stops once Algorithm 2 shows that none of its candidates' power
-//! grasps that carry the part gets a plan.
+//! be replaced probes: it asks the carry check of every pose Algorithm 2 found, plans the
+//! candidates whose power grasps carry the part first, and stops where none of them gets a
+//! plan (the next hold is tried); the verdicts and those plans are reused by the rest of the
+//! pass.
 
 use std::time::Instant;
 
@@ -245,22 +247,6 @@ fn slid_scene(
 /// is refused by it (`[physics] reject_uncarried`) or planned with power grasps it finds
 /// cannot carry the part.
 fn uncarried(outcomes: &[CandidateOutcome]) -> bool {
-    let planned_carried = outcomes.iter().any(|o| {
-        matches!(
-            o,
-            CandidateOutcome::Planned {
-                carry: Some(Ok(_)),
-                check: None,
-                ..
-            }
-        )
-    });
-    let refused = outcomes.iter().any(|o| match o {
-        CandidateOutcome::Uncarried { .. } => true,
-        CandidateOutcome::Planned { carry, check, .. } => {
-            check.is_none() && matches!(carry, Some(Err(_)))
-        }
-        _ => false,
-    });
-    refused && !planned_carried
+    outcomes.iter().any(CandidateOutcome::carry_refused)
+        && !outcomes.iter().any(CandidateOutcome::planned_and_carried)
 }

@@ -13,6 +13,7 @@ use rayon::prelude::*;
 
 use super::{CandidateOutcome, Pass, PlanOptions, PlanReport};
 use crate::axes::{rotation_axis_candidates_with_hull, AxesResult, RotationAxisCandidate};
+use crate::carry::{CarryForces, Uncarried};
 use crate::check::PlanChecker;
 use crate::clock::Stage;
 use crate::context::{PartKnowledge, PlanningContext};
@@ -162,13 +163,16 @@ pub(super) fn plan_grasps_as_given(
     let hold_check = HoldCheck::new(scene, mesh, hull);
     let carry_check = hold_check.carry_check(&ctx);
     let reject_uncarried = scene.physics.reject && scene.physics.reject_uncarried;
-    let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose| {
+    // `known`: the carry check's verdict at this pose where a probe has it already.
+    let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose, known: Option<_>| {
         // The carry check needs P_obj alone: with `[physics] reject_uncarried` it runs first,
         // and a candidate whose power grasps cannot lift the part gets no motions; without it,
         // only for a candidate that gets them (its verdict is then only written).
+        let carry_of =
+            |pose: &PowerGraspPose| known.unwrap_or_else(|| carry_check.check(&pose.p_obj));
         let mut carry = None;
         if reject_uncarried {
-            carry = carry_check.check(&pose.p_obj);
+            carry = carry_of(&pose);
             if let Some(Err(reason)) = carry {
                 progress();
                 return CandidateOutcome::Uncarried { pose, reason };
@@ -194,7 +198,7 @@ pub(super) fn plan_grasps_as_given(
                 let pinch = physics.as_ref().and_then(|p| p.grip_force_recommended);
                 let id = (candidate.id, candidate.score);
                 if !reject_uncarried {
-                    carry = carry_check.check(&pose.p_obj);
+                    carry = carry_of(&pose);
                 }
                 let plan = output::plan(&ctx, id, &pose, &path, pinch, carry.as_ref());
                 let (check, closest_grasp_to_support) = match &checker {
@@ -248,33 +252,34 @@ pub(super) fn plan_grasps_as_given(
     // none of them gets a plan: the pass would be uncarried. Their outcomes are kept for the
     // waves below, which take them where they come to those candidates.
     let mut early: Vec<Option<CandidateOutcome>> = outcomes.iter().map(|_| None).collect();
-    let carries: Vec<Option<bool>> = if probe {
-        let check = |pose: &PowerGraspPose| carry_check.check(&pose.p_obj).map(|c| c.is_ok());
-        pending.iter().map(|(_, pose)| check(pose)).collect()
-    } else {
-        Vec::new()
-    };
-    if probe && !pending.is_empty() && carries.iter().all(Option::is_some) {
+    // A probe asks the carry check of every pending pose (each a small cone program, about
+    // 0.25 ms), in parallel; the candidates planned later reuse the verdicts.
+    let mut carries: Vec<Option<Option<Result<CarryForces, Uncarried>>>> =
+        outcomes.iter().map(|_| None).collect();
+    if probe {
+        let verdicts: Vec<_> = pending
+            .par_iter()
+            .map(|(_, pose)| carry_check.check(&pose.p_obj))
+            .collect();
+        for ((k, _), verdict) in pending.iter().zip(verdicts) {
+            carries[*k] = Some(verdict);
+        }
+    }
+    let verdict = |k: usize| carries[k].as_ref().map(|v| v.as_ref().map(|r| r.is_ok()));
+    let all_known = pending
+        .iter()
+        .all(|(k, _)| verdict(*k).is_some_and(|v| v.is_some()));
+    if probe && !pending.is_empty() && all_known {
         let carried: Vec<(usize, PowerGraspPose)> = pending
             .iter()
-            .zip(&carries)
-            .filter(|(_, c)| **c == Some(true))
-            .map(|(p, _)| p.clone())
+            .filter(|(k, _)| verdict(*k) == Some(Some(true)))
+            .cloned()
             .collect();
         let done: Vec<(usize, CandidateOutcome)> = carried
             .into_par_iter()
-            .map(|(k, pose)| (k, evaluate(&candidates[k], pose)))
+            .map(|(k, pose)| (k, evaluate(&candidates[k], pose, carries[k])))
             .collect();
-        let planned = done.iter().any(|(_, o)| {
-            matches!(
-                o,
-                CandidateOutcome::Planned {
-                    carry: Some(Ok(_)),
-                    check: None,
-                    ..
-                }
-            )
-        });
+        let planned = done.iter().any(|(_, o)| o.planned_and_carried());
         if !planned {
             let fingertips = seated
                 .as_ref()
@@ -295,7 +300,10 @@ pub(super) fn plan_grasps_as_given(
             .collect();
         let done: Vec<(usize, CandidateOutcome)> = batch
             .into_par_iter()
-            .map(|(k, pose, known)| (k, known.unwrap_or_else(|| evaluate(&candidates[k], pose))))
+            .map(|(k, pose, known)| {
+                let outcome = known.unwrap_or_else(|| evaluate(&candidates[k], pose, carries[k]));
+                (k, outcome)
+            })
             .collect();
         for (k, outcome) in done {
             outcomes[k] = outcome;
