@@ -187,8 +187,8 @@ pub struct GraspsJson {
     pub centred: Option<[f64; 2]>,
     /// (Extension) How far (m) each power grasp was slid along its bar (its own `y` axis) from
     /// the scene's, so that the line through both passes nearer the part's centre of mass: the
-    /// scene's grasps could not carry the part. Absent when they were kept. `power` holds the
-    /// slid grasps (then seated).
+    /// scene's grasps could not carry the part, or left its weight hanging more than 0.1 m off
+    /// their line. Absent when they were kept. `power` holds the slid grasps (then seated).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub slid: Option<[f64; 2]>,
 }

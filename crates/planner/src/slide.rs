@@ -61,6 +61,29 @@ pub fn shifts_to_centre(power: &[Isometry3<f64>; 2], com: &Point3<f64>) -> Optio
     s.iter().all(|x| x.is_finite()).then_some(s)
 }
 
+/// Longest moment arm (m) of the part's weight about the line through the power grasps at
+/// which a plan that carries the part is kept as it is. Beyond it the planner also tries the
+/// grasps slid towards the centre of mass, and keeps that plan where it carries with a shorter
+/// arm. The part tilts in the pads under its weight's moment about that line, and a lift loses
+/// the arm times the tilt: the whole-plan replay's carried pinches tilted up to 2.2° at 235 N
+/// (panel_15; `crates/physics/data/replay_truth/`), which costs 5 mm — the replay's budget, 45
+/// of 50 mm — at an arm of 130 mm. h_frame_25 and h_frame_27 (arms 164 and 160 mm, tilted 1.8
+/// and 2.0°) rose 45.0 and 44.4 mm. Every part the replay lifted with an arm under 100 mm
+/// lost less than 4 mm; the 29 H-frames of seeds 1–30 hold theirs at 125–165 mm.
+pub const HANGING_ARM: f64 = 0.10;
+
+/// The moment arm (m) about the line through the power grasps' origins `power` (object frame)
+/// of a vertical force at the centre of mass `com` (object frame), the part at `p_obj`:
+/// `|((c − p₀) × ẑ) · u|`, `u` the line's unit direction, all in the world frame (`z` up).
+/// 0 where the grasps coincide.
+pub fn weight_arm(p_obj: &Isometry3<f64>, power: &[Isometry3<f64>; 2], com: &Point3<f64>) -> f64 {
+    let [p0, p1] = power.map(|g| p_obj * Point3::from(g.translation.vector));
+    let Some(u) = (p1 - p0).try_normalize(1e-12) else {
+        return 0.0;
+    };
+    ((p_obj * com - p0).cross(&Vector3::z())).dot(&u).abs()
+}
+
 /// `power` slid by `s` along each grasp's `y` axis.
 pub fn slid(power: &[Isometry3<f64>; 2], s: [f64; 2]) -> [Isometry3<f64>; 2] {
     [0, 1].map(|k| power[k] * Translation3::new(0.0, s[k], 0.0))
@@ -122,6 +145,28 @@ pub fn slid_scene(
 mod tests {
     use super::*;
     use nalgebra::UnitQuaternion;
+
+    /// The arm is the horizontal distance of the centre of mass from a level line, whatever
+    /// its height; a line rising along itself holds the weight's moment about it, the distance
+    /// times the cosine of its slope; none where the centre lies on the line.
+    #[test]
+    fn the_weight_arm_is_the_moment_of_the_weight_about_the_line() {
+        let at = |x: f64, y: f64, z: f64| Isometry3::translation(x, y, z);
+        let level = [at(0.0, 0.0, 0.0), at(1.0, 0.0, 0.0)];
+        let com = Point3::new(0.5, 0.12, 0.9);
+        assert!((weight_arm(&Isometry3::identity(), &level, &com) - 0.12).abs() < 1e-12);
+        let power = [at(0.0, 0.0, 0.0), at(1.0, 0.0, 0.5)];
+        let cos = 2.0 / 5f64.sqrt();
+        assert!((weight_arm(&Isometry3::identity(), &power, &com) - 0.12 * cos).abs() < 1e-12);
+        let on = Point3::new(0.3, 0.0, 0.15);
+        assert!(weight_arm(&Isometry3::identity(), &power, &on).abs() < 1e-12);
+        // Turned 90° about z and moved: the same arm.
+        let p_obj = Isometry3::new(
+            Vector3::new(0.2, -0.3, 0.0),
+            Vector3::z() * std::f64::consts::FRAC_PI_2,
+        );
+        assert!((weight_arm(&p_obj, &level, &com) - 0.12).abs() < 1e-12);
+    }
 
     /// Two grasps on parallel bars along y, 0.8 m apart along x, the centre of mass 0.05 m
     /// off their line: both slide by about 0.05 m and the line then passes it.

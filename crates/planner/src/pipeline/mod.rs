@@ -129,7 +129,10 @@ pub struct PlanReport {
 ///
 /// Where no plan carries the part because the carry check finds the power grasps cannot, the
 /// scene is planned again with them slid along their bars towards the centre of mass
-/// ([`crate::slide`]); that plan is kept when it carries (`grasps.slid` says how far). With
+/// ([`crate::slide`]); that plan is kept when it carries (`grasps.slid` says how far). A plan
+/// that carries but leaves the weight hanging more than [`crate::slide::HANGING_ARM`] off the
+/// line through the grasps gives way to the slid grasps' plan where that carries with a
+/// shorter arm. With
 /// `[planner] power_hold = "auto"`, grasps held at the fingertips ([`crate::seat`]) that
 /// cannot carry the part, even slid, give way to the wraps ([`SeatRule::WRAPS`]), as given and
 /// then slid.
@@ -154,7 +157,9 @@ pub fn plan(
         progress,
     )?;
     let (fingertips, first_report) = match pass {
-        Pass::Planned(report) if !uncarried(&report.outcomes) => return Ok(*report),
+        Pass::Planned(report) if !uncarried(&report.outcomes) => {
+            return nearer_the_centre(scene, mesh, options, &part, first, *report, t0);
+        }
         Pass::Planned(report) => (report.file.grasps.fingertips.is_some(), Some(*report)),
         Pass::NoneCarries { fingertips } => (fingertips, None),
     };
@@ -198,7 +203,9 @@ pub fn plan(
                 report.file.grasps.slid = Some(*shifts);
                 return Ok(total(report));
             }
-            (None, Some(report)) if !uncarried(&report.outcomes) => return Ok(total(report)),
+            (None, Some(report)) if !uncarried(&report.outcomes) => {
+                return nearer_the_centre(scene, mesh, options, &part, rule, report, t0);
+            }
             (None, report) => fallback = (report, rule),
             _ => {}
         }
@@ -214,6 +221,58 @@ pub fn plan(
         }
     };
     Ok(total(report))
+}
+
+/// `report` (a plan of `scene`'s grasps held by `rule` that carries the part), or the plan of
+/// the grasps slid towards the centre of mass where its best plan leaves the weight hanging
+/// more than [`crate::slide::HANGING_ARM`] off the line through them and the slid grasps'
+/// plan carries the part with a shorter arm (`grasps.slid` says how far).
+fn nearer_the_centre(
+    scene: &Scene,
+    mesh: &Mesh,
+    options: &PlanOptions,
+    part: &std::sync::Arc<pregrasp_collision::ObjectGeometry>,
+    rule: SeatRule,
+    report: PlanReport,
+    t0: Instant,
+) -> Result<PlanReport, PlanError> {
+    let arm = best_plan_arm(&report, mesh);
+    if arm.is_none_or(|a| a <= crate::slide::HANGING_ARM) {
+        return Ok(report);
+    }
+    let Some((slid, shifts)) = slid_scene(scene, mesh, part)? else {
+        return Ok(report);
+    };
+    let by = (Some(part.clone()), rule, true);
+    let mut slid = match plan_grasps_as_given(&slid, mesh, options, by, &|_| {}, &|| {})?.0 {
+        Pass::Planned(slid) => *slid,
+        Pass::NoneCarries { .. } => return Ok(report),
+    };
+    let carried = slid
+        .outcomes
+        .iter()
+        .any(CandidateOutcome::planned_and_carried);
+    if !carried || uncarried(&slid.outcomes) || best_plan_arm(&slid, mesh) >= arm {
+        return Ok(report);
+    }
+    slid.file.grasps.slid = Some(shifts);
+    let total = t0.elapsed().as_secs_f64() * 1e3;
+    slid.file.timing_ms.insert("total".into(), total);
+    Ok(slid)
+}
+
+/// The moment arm (m) of the part's weight about the line through the power grasps at the best
+/// plan's P_obj ([`crate::slide::weight_arm`]); `None` without a plan or mass properties.
+fn best_plan_arm(report: &PlanReport, mesh: &Mesh) -> Option<f64> {
+    let best = report.file.plans.first()?;
+    let CandidateOutcome::Planned { pose, .. } = report.outcomes.get(best.candidate)? else {
+        return None;
+    };
+    let com = pregrasp_physics::MassProperties::from_mesh(mesh)
+        .ok()?
+        .centroid;
+    let power = report.file.grasps.power.each_ref().map(|g| g.to_isometry());
+    Some(crate::slide::weight_arm(&pose.p_obj, &power, &com))
 }
 
 /// What a pass of [`plan_grasps_as_given`] ends with.
