@@ -6,7 +6,9 @@
 //! line, rose 42.9 of 50 mm tilted 7.0°; with its grasps moved along their end rungs until the
 //! line passed the centre of mass it rose 49.6 mm). Where the carry check finds that the scene's
 //! power grasps cannot carry the part, the planner tries them slid along their bars so that the
-//! line through them passes the centre of mass, and keeps the slid plan if it carries.
+//! line through them passes the centre of mass, and keeps the slid plan if it carries. It tries
+//! them slid too where a plan carries but leaves the weight hanging more than [`HANGING_ARM`]
+//! off that line ([`weight_arm`]): the part then tilts in the pads as it rises.
 //!
 //! The bar runs along each grasp's `y` axis (across the closing direction `x` and the approach
 //! `z`). With `pᵢ` the grasp origins, `uᵢ` their `y` axes (object frame), `c` the centre of mass

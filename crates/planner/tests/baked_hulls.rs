@@ -12,7 +12,7 @@
 //! and so on the run — such hulls now come from parry, never the table (`Hulled::Scanned`);
 //! and the 2F-85 finger shapes' shared hull, which the first query's thread built one way or
 //! another — now given when the gripper's pieces are built. The plans also run on one thread,
-//! so that no order of first queries can matter. 80 runs in a row gave the same 26 entries.
+//! so that no order of first queries can matter. 80 runs in a row gave the same table.
 
 mod common;
 
