@@ -236,10 +236,14 @@ fn nearer_the_centre(
     report: PlanReport,
     t0: Instant,
 ) -> Result<PlanReport, PlanError> {
-    let arm = best_plan_arm(&report, mesh);
-    if arm.is_none_or(|a| a <= crate::slide::HANGING_ARM) {
+    // The centre of mass the carry check uses (uniform density: the mass does not move it).
+    let Ok(com) = pregrasp_physics::MassProperties::from_mesh(mesh).map(|p| p.centroid) else {
         return Ok(report);
-    }
+    };
+    let arm = best_plan_arm(&report, &com);
+    let Some(arm) = arm.filter(|&a| a > crate::slide::HANGING_ARM) else {
+        return Ok(report);
+    };
     let Some((slid, shifts)) = slid_scene(scene, mesh, part)? else {
         return Ok(report);
     };
@@ -252,7 +256,8 @@ fn nearer_the_centre(
         .outcomes
         .iter()
         .any(CandidateOutcome::planned_and_carried);
-    if !carried || uncarried(&slid.outcomes) || best_plan_arm(&slid, mesh) >= arm {
+    let shorter = best_plan_arm(&slid, &com).is_some_and(|a| a < arm);
+    if !carried || uncarried(&slid.outcomes) || !shorter {
         return Ok(report);
     }
     slid.file.grasps.slid = Some(shifts);
@@ -262,17 +267,15 @@ fn nearer_the_centre(
 }
 
 /// The moment arm (m) of the part's weight about the line through the power grasps at the best
-/// plan's P_obj ([`crate::slide::weight_arm`]); `None` without a plan or mass properties.
-fn best_plan_arm(report: &PlanReport, mesh: &Mesh) -> Option<f64> {
+/// plan's P_obj ([`crate::slide::weight_arm`]), the centre of mass at `com` (object frame);
+/// `None` without a plan.
+fn best_plan_arm(report: &PlanReport, com: &nalgebra::Point3<f64>) -> Option<f64> {
     let best = report.file.plans.first()?;
     let CandidateOutcome::Planned { pose, .. } = report.outcomes.get(best.candidate)? else {
         return None;
     };
-    let com = pregrasp_physics::MassProperties::from_mesh(mesh)
-        .ok()?
-        .centroid;
     let power = report.file.grasps.power.each_ref().map(|g| g.to_isometry());
-    Some(crate::slide::weight_arm(&pose.p_obj, &power, &com))
+    Some(crate::slide::weight_arm(&pose.p_obj, &power, com))
 }
 
 /// What a pass of [`plan_grasps_as_given`] ends with.
