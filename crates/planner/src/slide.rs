@@ -70,8 +70,9 @@ pub fn shifts_to_centre(power: &[Isometry3<f64>; 2], com: &Point3<f64>) -> Optio
 /// the arm times the tilt: the whole-plan replay's carried pinches tilted up to 2.2° at 235 N
 /// (panel_15; `crates/physics/data/replay_truth/`), which costs 5 mm — the replay's budget, 45
 /// of 50 mm — at an arm of 130 mm. h_frame_25 and h_frame_27 (arms 164 and 160 mm, tilted 1.8
-/// and 2.0°) rose 45.0 and 44.4 mm. Every part the replay lifted with an arm under 100 mm
-/// lost less than 4 mm; the 29 H-frames of seeds 1–30 hold theirs at 125–165 mm.
+/// and 2.0°) rose 45.0 and 44.4 mm. Of the 234 rows the replay had then, every arm is at
+/// most 97 mm (the shelf side) but the H-frames' whose grasps were not slid already: 29, at
+/// 125–165 mm.
 pub const HANGING_ARM: f64 = 0.10;
 
 /// The moment arm (m) about the line through the power grasps' origins `power` (object frame)
