@@ -156,23 +156,20 @@ pub fn plan(
         on_candidates,
         progress,
     )?;
+    // The grasps slid towards the centre of mass: one scene for every hold that asks.
+    let slid = SlidGrasps::new(scene, mesh, &part);
     let (fingertips, first_report) = match pass {
         Pass::Planned(report) if !uncarried(&report.outcomes) => {
-            return nearer_the_centre(scene, mesh, options, &part, first, *report, t0);
+            return nearer_the_centre(options, &slid, first, *report, t0);
         }
         Pass::Planned(report) => (report.file.grasps.fingertips.is_some(), Some(*report)),
         Pass::NoneCarries { fingertips } => (fingertips, None),
-    };
-    let total = |mut report: PlanReport| {
-        let total = t0.elapsed().as_secs_f64() * 1e3;
-        report.file.timing_ms.insert("total".into(), total);
-        report
     };
     // The holds tried in turn until one carries: the first rule's grasps slid; then, for
     // `"auto"` where the first held some grasp at the fingertips, the wraps, and the wraps
     // slid. Where none carries, the last grasps as given.
     let wraps = hold == PowerHold::Auto && fingertips;
-    let slid_scene = slid_scene(scene, mesh, &part)?;
+    let slid_scene = slid.get()?;
     let mut tries = Vec::new();
     let rules = if wraps {
         vec![first, SeatRule::WRAPS]
@@ -183,28 +180,28 @@ pub fn plan(
         if k > 0 {
             tries.push((None, rule));
         }
-        if let Some(slid) = &slid_scene {
+        if let Some(slid) = slid_scene {
             tries.push((Some(slid), rule));
         }
     }
     let mut fallback = (first_report, first);
-    for (slid, rule) in tries {
-        let on = slid.map_or(scene, |(s, _)| s);
+    for (on_slid, rule) in tries {
+        let on = on_slid.map_or(scene, |(s, _)| s);
         let by = (Some(part.clone()), rule, true);
         let (pass, _) = plan_grasps_as_given(on, mesh, options, by, &|_| {}, &|| {})?;
         let report = match pass {
             Pass::Planned(report) => Some(*report),
             Pass::NoneCarries { .. } => None,
         };
-        match (slid, report) {
+        match (on_slid, report) {
             (Some((_, shifts)), Some(mut report))
                 if !report.file.plans.is_empty() && !uncarried(&report.outcomes) =>
             {
                 report.file.grasps.slid = Some(*shifts);
-                return Ok(total(report));
+                return Ok(with_total(report, t0));
             }
             (None, Some(report)) if !uncarried(&report.outcomes) => {
-                return nearer_the_centre(scene, mesh, options, &part, rule, report, t0);
+                return nearer_the_centre(options, &slid, rule, report, t0);
             }
             (None, report) => fallback = (report, rule),
             _ => {}
@@ -220,50 +217,101 @@ pub fn plan(
             }
         }
     };
-    Ok(total(report))
+    Ok(with_total(report, t0))
 }
 
-/// `report` (a plan of `scene`'s grasps held by `rule` that carries the part), or the plan of
+/// `report` with `timing_ms.total`: the time since `t0`, every pass of [`plan`] counted.
+fn with_total(mut report: PlanReport, t0: Instant) -> PlanReport {
+    let total = t0.elapsed().as_secs_f64() * 1e3;
+    report.file.timing_ms.insert("total".into(), total);
+    report
+}
+
+/// The scene's power grasps slid along their bars towards the centre of mass
+/// ([`crate::slide`]), with how far each slid: worked out when a hold first asks for them, then
+/// kept for the others.
+struct SlidGrasps<'a> {
+    scene: &'a Scene,
+    mesh: &'a Mesh,
+    part: &'a std::sync::Arc<pregrasp_collision::ObjectGeometry>,
+    /// The centre of mass the carry check uses (uniform density: the mass does not move it),
+    /// object frame; `None` without mass properties.
+    com: Option<nalgebra::Point3<f64>>,
+    slid: std::cell::OnceCell<Option<(Scene, [f64; 2])>>,
+}
+
+impl<'a> SlidGrasps<'a> {
+    fn new(
+        scene: &'a Scene,
+        mesh: &'a Mesh,
+        part: &'a std::sync::Arc<pregrasp_collision::ObjectGeometry>,
+    ) -> SlidGrasps<'a> {
+        SlidGrasps {
+            scene,
+            mesh,
+            part,
+            com: pregrasp_physics::MassProperties::from_mesh(mesh)
+                .ok()
+                .map(|p| p.centroid),
+            slid: std::cell::OnceCell::new(),
+        }
+    }
+
+    /// The slid scene and the shifts, when sliding is worth a plan.
+    fn get(&self) -> Result<Option<&(Scene, [f64; 2])>, PlanError> {
+        if self.slid.get().is_none() {
+            let full = self
+                .com
+                .and_then(|com| crate::slide::shifts_worth_trying(self.scene, &com));
+            let slid = match full {
+                Some(full) => {
+                    let arms = crate::context::arm_models(self.scene)?;
+                    crate::slide::slid_scene(self.scene, self.part, &arms, full)
+                }
+                None => None,
+            };
+            let _ = self.slid.set(slid);
+        }
+        Ok(self.slid.get().and_then(Option::as_ref))
+    }
+}
+
+/// `report` (a plan of the scene's grasps held by `rule` that carries the part), or the plan of
 /// the grasps slid towards the centre of mass where its best plan leaves the weight hanging
 /// more than [`crate::slide::HANGING_ARM`] off the line through them and the slid grasps'
 /// plan carries the part with a shorter arm (`grasps.slid` says how far).
 fn nearer_the_centre(
-    scene: &Scene,
-    mesh: &Mesh,
     options: &PlanOptions,
-    part: &std::sync::Arc<pregrasp_collision::ObjectGeometry>,
+    slid: &SlidGrasps,
     rule: SeatRule,
     report: PlanReport,
     t0: Instant,
 ) -> Result<PlanReport, PlanError> {
-    // The centre of mass the carry check uses (uniform density: the mass does not move it).
-    let Ok(com) = pregrasp_physics::MassProperties::from_mesh(mesh).map(|p| p.centroid) else {
+    let Some(com) = slid.com else {
         return Ok(report);
     };
     let arm = best_plan_arm(&report, &com);
     let Some(arm) = arm.filter(|&a| a > crate::slide::HANGING_ARM) else {
         return Ok(report);
     };
-    let Some((slid, shifts)) = slid_scene(scene, mesh, part)? else {
+    let Some((on, shifts)) = slid.get()? else {
         return Ok(report);
     };
-    let by = (Some(part.clone()), rule, true);
-    let mut slid = match plan_grasps_as_given(&slid, mesh, options, by, &|_| {}, &|| {})?.0 {
-        Pass::Planned(slid) => *slid,
+    let by = (Some(slid.part.clone()), rule, true);
+    let mut moved = match plan_grasps_as_given(on, slid.mesh, options, by, &|_| {}, &|| {})?.0 {
+        Pass::Planned(moved) => *moved,
         Pass::NoneCarries { .. } => return Ok(report),
     };
-    let carried = slid
+    let carried = moved
         .outcomes
         .iter()
         .any(CandidateOutcome::planned_and_carried);
-    let shorter = best_plan_arm(&slid, &com).is_some_and(|a| a < arm);
-    if !carried || uncarried(&slid.outcomes) || !shorter {
+    let shorter = best_plan_arm(&moved, &com).is_some_and(|a| a < arm);
+    if !carried || uncarried(&moved.outcomes) || !shorter {
         return Ok(report);
     }
-    slid.file.grasps.slid = Some(shifts);
-    let total = t0.elapsed().as_secs_f64() * 1e3;
-    slid.file.timing_ms.insert("total".into(), total);
-    Ok(slid)
+    moved.file.grasps.slid = Some(*shifts);
+    Ok(with_total(moved, t0))
 }
 
 /// The moment arm (m) of the part's weight about the line through the power grasps at the best
@@ -285,24 +333,6 @@ enum Pass {
     /// A probing pass stopped: no candidate whose power grasps carry the part at its P_obj
     /// got a plan (`fingertips`: the seating held some grasp at the fingertips).
     NoneCarries { fingertips: bool },
-}
-
-/// `scene` with its power grasps slid along their bars towards the centre of mass
-/// ([`crate::slide`]) and how far each slid, when that is worth a plan.
-fn slid_scene(
-    scene: &Scene,
-    mesh: &Mesh,
-    part: &pregrasp_collision::ObjectGeometry,
-) -> Result<Option<(Scene, [f64; 2])>, PlanError> {
-    // The centre of mass the carry check uses (uniform density: the mass does not move it).
-    let Ok(com) = pregrasp_physics::MassProperties::from_mesh(mesh).map(|p| p.centroid) else {
-        return Ok(None);
-    };
-    let Some(full) = crate::slide::shifts_worth_trying(scene, &com) else {
-        return Ok(None);
-    };
-    let arms = crate::context::arm_models(scene)?;
-    Ok(crate::slide::slid_scene(scene, part, &arms, full))
 }
 
 /// Whether no candidate's plan carries the part, and the carry check is why: some candidate
