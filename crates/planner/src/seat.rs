@@ -25,10 +25,17 @@
 //! - the closing at the seated grasp still squeezes the bar from both sides (a pinch or an
 //!   encompassing grasp, not caged or one-sided) and starts from a free open hand; where it
 //!   would not, the grasp is seated against the part as planned ([`SEAT_GAP`] from it) if the
-//!   closing squeezes there; else it moves as deep as the closing still squeezes, in
-//!   [`PARTIAL_SEAT_STEP`] steps back from there, by at least [`PARTIAL_SEAT_MIN`]: the
-//!   closing then pulls the bar by what is left between it and the palm (on frame_1, frame_5
-//!   and ladder_3, moved 3.2–3.6 mm, the replay's push fell from 2.6–2.9 mm to 1.2–1.6 mm).
+//!   closing squeezes there.
+//!
+//! A wrap that squeezes on neither is not held short of the palm: its fingers pull the bar
+//! onto the palm, where the closing cages it, so it is a grasp caged where the scene holds it
+//! (below, held at the fingertips). Until 2026-11-30 it moved as deep as the closing still
+//! squeezed, the closing then pulling the bar by what was left; on panel_27 (24 mm bars, 31 mm
+//! stock), held 1.5 mm short of the palm, the whole-plan replay pulled the master's bar in and
+//! caged it (4–12 N on the bar) and the part turned 12.3° when the supportive gripper opened.
+//! Held at the fingertips, it lifts (47.8 mm, 1.6°). MuJoCo's closings on fixed bars agree:
+//! on 25 × 30 mm bars with the top 0.5 or 2 mm below the palm its fingertips meet under the
+//! bar, 4 mm below they squeeze (`closing_2f85_power.json`).
 //!
 //! A pinch near the palm pulls the bar too: the pads touch it above the 2F-85's equilibrium
 //! line, so the fingers curl in (the replay pulled the pinched legs of stool_1, stool_5 and
@@ -89,13 +96,13 @@ pub const SEAT_REACH: f64 = 0.025;
 /// one side. Whole-plan replay of the examples and 60 generated parts with every wrapped bar
 /// seated (`plan_replay_generated_seat_all_2f85.csv`, seeds 1–5, and
 /// `plan_replay_generated_seeds_6_10_seat_all_2f85.csv`; test `seat_truth`): every plan with a
-/// seated bar 18–22 mm thick had a power closing end caged or one-sided (4 of 4), and 86 of
-/// the 88 closings on seated bars 23.9–44 mm thick squeezed from both sides (stool_10's
-/// 23.9 mm legs among them: 24 mm here before, which kept them unseated).
+/// seated bar 18–22 mm thick had a power closing end caged or one-sided (4 of 4), and 73 of
+/// the 74 closings on bars 23.9–44 mm thick seated on the palm squeezed from both sides
+/// (stool_10's 23.9 mm legs among them: 24 mm here before, which kept them unseated).
 pub const MIN_SEAT_THICKNESS: f64 = 0.023;
 
-/// Step (m) of the search for the deepest grasp that still squeezes, where a grasp seated on
-/// the palm would not.
+/// Step (m) of the search for the deepest pinch that still squeezes, where one moved
+/// [`PINCH_SEAT_FRACTION`] of its way to the palm would not.
 pub const PARTIAL_SEAT_STEP: f64 = 0.0005;
 /// Least move (m) worth making in that search.
 pub const PARTIAL_SEAT_MIN: f64 = 0.001;
@@ -325,22 +332,20 @@ pub fn seat_power_grasps_by(
         if gap <= SEAT_TOLERANCE || !thick {
             return (grasp, 0.0, here);
         }
-        // As deep as the closing still squeezes, back from `from`: the pull is what is left
-        // between the bar and the palm.
+        // A pinch as deep as the closing still squeezes, back from `from`: the pull is what is
+        // left between the bar and the palm.
         let back_from = |from: f64| {
             (1..)
                 .map(move |j| round(from - j as f64 * PARTIAL_SEAT_STEP))
                 .take_while(|&moved| moved >= PARTIAL_SEAT_MIN)
         };
         let tries: Vec<f64> = match kind {
-            // Seated against the part as it rests, else against the part as planned, else
-            // part of the way.
+            // Seated against the part as it rests, else against the part as planned. Not part
+            // of the way: the wrap pulls its bar onto the palm, so where it cages there it
+            // cages (below).
             Some(HoldKind::Encompassing) => {
                 let deepest = gap + (rest[k] - SEAT_GAP).clamp(-SEAT_GAP, SEAT_DEPTH);
-                [round(deepest), round(gap - SEAT_GAP)]
-                    .into_iter()
-                    .chain(back_from(gap - SEAT_GAP))
-                    .collect()
+                vec![round(deepest), round(gap - SEAT_GAP)]
             }
             Some(HoldKind::Pinch) if rule.pinch_fraction > 0.0 => {
                 let share = round(rule.pinch_fraction * (gap - SEAT_GAP));
@@ -359,7 +364,10 @@ pub fn seat_power_grasps_by(
                 return (seated, moved, grip);
             }
         }
-        (grasp, 0.0, here)
+        // A wrap that cages its bar on the palm: as a grasp caged where the scene holds it.
+        let wrap = kind == Some(HoldKind::Encompassing);
+        let held = (wrap && rule.fingertips).then(fingertip_hold).flatten();
+        held.unwrap_or((grasp, 0.0, here))
     };
     let (a, b) = rayon::join(|| seat(0), || seat(1));
     SeatedGrasps {

@@ -75,21 +75,23 @@ fn seated_thin_bars_cage_and_seated_thick_bars_squeeze_in_the_replay() {
         }
     }
     println!("thin: {thin:#?}\nthick: {thick:#?}\ndeparts: {departs:#?}");
-    // Both sides of the threshold are in the tables. 88 seated closings on bars 23.9–44 mm
-    // thick (19 parts of seeds 1–5, 25 of seeds 6–10; seated on the palm, or part of the way
-    // where our closing cages there: frame_1, frame_5, h_frame_3, h_frame_4, ladder_3) squeeze
-    // from both sides but two (the thinnest, stool_10's 23.9 mm legs, squeeze):
-    // - the supportive's on stool_3 (37.5 mm leg, 20 mm wide) closes on one side with 120–137 N
-    //   on one pad: the part, held by the master, lies off the supportive's mid-plane when
-    //   `sup2` closes (so it did unseated, before b6ce5a2 seated it), and both pads hold it at
-    //   the lift;
-    // - the master's on h_frame_4 (30 mm thick, 24 mm wide, moved 3.3 mm of 4.7) ends caged: the
-    //   wrap pulls the bar in the rest of the way, where MuJoCo's closing on a fixed bar cages
-    //   it too. Unseated it closed on one side; the plan failed either way.
+    // Both sides of the threshold are in the tables. 74 closings on bars 23.9–44 mm thick
+    // seated on the palm (19 parts of seeds 1–5, 25 of seeds 6–10) squeeze from both sides but
+    // one (the thinnest, stool_10's 23.9 mm legs, squeeze): the supportive's on stool_3 (37.5 mm
+    // leg, 20 mm wide) closes on one side with 120–137 N on one pad: the part, held by the
+    // master, lies off the supportive's mid-plane when `sup2` closes (so it did unseated, before
+    // b6ce5a2 seated it), and both pads hold it at the lift.
+    //
+    // The sweeps also moved 14 grasps part of the way, where our closing cages the bar on the
+    // palm (frame_1, frame_5, h_frame_3, h_frame_4, ladder_3); the seating no longer does
+    // (`seat`: a wrap pulls its bar onto the palm). 13 squeezed; h_frame_4's master (30 mm
+    // thick, 24 mm wide, moved 3.3 mm of 4.7) ended caged: the wrap pulled the bar in the rest
+    // of the way, where MuJoCo's closing on a fixed bar cages it too — as on panel_27 since.
+    //
     // Of the 8 seated closings on bars 18–22 mm thick (4 parts) 5 end caged or one-sided, at
     // least one in each of the 4 plans.
     let caged = thin.iter().filter(|(.., c)| *c).count();
-    assert_eq!((thin.len(), caged, thick.len()), (8, 5, 88));
+    assert_eq!((thin.len(), caged, thick.len()), (8, 5, 74));
     let plans = |only_caged: bool| -> std::collections::BTreeSet<&String> {
         thin.iter()
             .filter(|(.., c)| *c || !only_caged)
@@ -98,13 +100,7 @@ fn seated_thin_bars_cage_and_seated_thick_bars_squeeze_in_the_replay() {
     };
     assert_eq!(plans(false).len(), 4);
     assert_eq!(plans(true), plans(false));
-    assert_eq!(
-        departs,
-        [
-            "h_frame_4 plan 0 mas1: seated bar 30 mm, caged_no_contact",
-            "stool_3 plan 0 sup2: seated bar 37 mm, one_side",
-        ]
-    );
+    assert_eq!(departs, ["stool_3 plan 0 sup2: seated bar 37 mm, one_side"]);
 }
 
 /// The closings on pinched bars that `rule` moved (`seat::PINCH_SEAT_FRACTION`), in the replay
