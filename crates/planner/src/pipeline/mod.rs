@@ -160,7 +160,7 @@ pub fn plan(
     let slid = SlidGrasps::new(scene, mesh, &part);
     let (fingertips, first_report) = match pass {
         Pass::Planned(report) if !uncarried(&report.outcomes) => {
-            return nearer_the_centre(options, &slid, first, *report, t0);
+            return nearer_the_centre(options, &slid, first, *report).map(|r| with_total(r, t0));
         }
         Pass::Planned(report) => (report.file.grasps.fingertips.is_some(), Some(*report)),
         Pass::NoneCarries { fingertips } => (fingertips, None),
@@ -201,7 +201,7 @@ pub fn plan(
                 return Ok(with_total(report, t0));
             }
             (None, Some(report)) if !uncarried(&report.outcomes) => {
-                return nearer_the_centre(options, &slid, rule, report, t0);
+                return nearer_the_centre(options, &slid, rule, report).map(|r| with_total(r, t0));
             }
             (None, report) => fallback = (report, rule),
             _ => {}
@@ -285,7 +285,6 @@ fn nearer_the_centre(
     slid: &SlidGrasps,
     rule: SeatRule,
     report: PlanReport,
-    t0: Instant,
 ) -> Result<PlanReport, PlanError> {
     let Some(com) = slid.com else {
         return Ok(report);
@@ -311,7 +310,7 @@ fn nearer_the_centre(
         return Ok(report);
     }
     moved.file.grasps.slid = Some(*shifts);
-    Ok(with_total(moved, t0))
+    Ok(moved)
 }
 
 /// The moment arm (m) of the part's weight about the line through the power grasps at the best
