@@ -6,6 +6,8 @@
 //! power-grasp solutions (`ReachPath3`). The first combination whose four motions all exist is
 //! the candidate's integrated path (an element of the paper's set Z).
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use crate::axes::RotationAxisCandidate;
 use crate::clock::Stage;
 use crate::context::{PlanningContext, FIXED_START_TOLERANCE};
@@ -220,11 +222,21 @@ pub fn integrated_path<T: Send, E: Send>(
                 };
                 let (asked, need_sup1, need_mas1) =
                     (accepted.is_some(), sup1.is_none(), mas1.is_none());
+                // A transit not yet begun when the grip check refuses the rotation is not
+                // begun: the candidate ends there and reads none of them.
+                let refused = AtomicBool::new(false);
+                let unrefused = || !refused.load(Ordering::Relaxed);
                 let (mut early_accept, mut early_sup1, mut early_mas1, mut early_sup2) = ahead(
-                    || (!asked).then(|| accept(&rot)),
-                    || need_sup1.then(|| transit(&sup1_query, &sup1_lines)),
-                    || need_mas1.then(|| transit(&mas1_query, &mas1_lines)),
-                    || Some(transit(&sup2_query, &sup2_lines)),
+                    || {
+                        (!asked).then(|| {
+                            let verdict = accept(&rot);
+                            refused.store(verdict.is_err(), Ordering::Relaxed);
+                            verdict
+                        })
+                    },
+                    || (need_sup1 && unrefused()).then(|| transit(&sup1_query, &sup1_lines)),
+                    || (need_mas1 && unrefused()).then(|| transit(&mas1_query, &mas1_lines)),
+                    || unrefused().then(|| transit(&sup2_query, &sup2_lines)),
                 );
                 if accepted.is_none() {
                     let verdict = early_accept.take().unwrap_or_else(|| accept(&rot));
