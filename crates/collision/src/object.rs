@@ -16,6 +16,7 @@ use pregrasp_geometry::Mesh;
 
 use crate::distance::{aabb_aabb_sq, segment_triangle_sq, triangle_box_intersect};
 use crate::error::CollisionError;
+use crate::grip::ClosingMemo;
 use crate::shape::{Bounded, Placed};
 use crate::solid::PartSolid;
 
@@ -32,6 +33,8 @@ pub struct ObjectGeometry {
     aabb: (P, P),
     /// The part as a solid (the inside test), built when first asked for.
     solid: Arc<OnceLock<PartSolid>>,
+    /// The 2F-85's closings on the part, remembered ([`crate::grip::ClosingMemo`]).
+    closings: Arc<ClosingMemo>,
 }
 
 impl std::fmt::Debug for ObjectGeometry {
@@ -59,6 +62,7 @@ impl ObjectGeometry {
             radius,
             aabb,
             solid: Arc::default(),
+            closings: Arc::default(),
         })
     }
 
@@ -71,6 +75,11 @@ impl ObjectGeometry {
     /// ([`crate::inside`]); built on first use.
     pub(crate) fn solid(&self) -> &PartSolid {
         crate::solid::solid_of(&self.solid, &self.mesh)
+    }
+
+    /// The 2F-85's closings on the part computed so far, by flange pose.
+    pub fn closings(&self) -> &ClosingMemo {
+        &self.closings
     }
 
     /// The parry mesh (object frame).
