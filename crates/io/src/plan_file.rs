@@ -174,9 +174,10 @@ pub struct GraspsJson {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seated: Option<[f64; 2]>,
     /// (Extension) How far (m) each power grasp was moved out along its approach from the
-    /// scene's, so that the pads pinch the bar at the fingertips: the closing at the scene's
-    /// grasp caged the bar or closed on one side (0: not moved); absent when neither moved.
-    /// `power` holds the moved grasps.
+    /// scene's, so that the pads pinch the bar at the fingertips: the planner holds a grasp
+    /// there where the pads pinch its bar, and where the closing at the scene's grasp cages the
+    /// bar, closes on one side or wraps it only short of the palm (0: not moved); absent when
+    /// neither moved. `power` holds the moved grasps.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fingertips: Option<[f64; 2]>,
     /// (Extension) How far (m) each power grasp held at the fingertips was moved across its
