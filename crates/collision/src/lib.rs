@@ -36,6 +36,7 @@ pub mod gjk;
 pub mod grip;
 pub mod inside;
 pub mod object;
+mod pose_memo;
 pub mod shape;
 mod solid;
 pub mod sweep;

@@ -16,7 +16,7 @@ use pregrasp_geometry::Mesh;
 
 use crate::distance::{aabb_aabb_sq, segment_triangle_sq, triangle_box_intersect};
 use crate::error::CollisionError;
-use crate::grip::ClosingMemo;
+use crate::pose_memo::PoseMemo;
 use crate::shape::{Bounded, Placed};
 use crate::solid::PartSolid;
 
@@ -33,8 +33,9 @@ pub struct ObjectGeometry {
     aabb: (P, P),
     /// The part as a solid (the inside test), built when first asked for.
     solid: Arc<OnceLock<PartSolid>>,
-    /// The 2F-85's closings on the part, remembered ([`crate::grip::ClosingMemo`]).
-    closings: Arc<ClosingMemo>,
+    /// Answers at poses of the part, remembered (the 2F-85's closings: [`PoseMemo`]); shared
+    /// by the clones, which are the same part.
+    memo: Arc<PoseMemo>,
 }
 
 impl std::fmt::Debug for ObjectGeometry {
@@ -62,7 +63,7 @@ impl ObjectGeometry {
             radius,
             aabb,
             solid: Arc::default(),
-            closings: Arc::default(),
+            memo: Arc::default(),
         })
     }
 
@@ -77,9 +78,9 @@ impl ObjectGeometry {
         crate::solid::solid_of(&self.solid, &self.mesh)
     }
 
-    /// The 2F-85's closings on the part computed so far, by flange pose.
-    pub fn closings(&self) -> &ClosingMemo {
-        &self.closings
+    /// Answers at poses of the part computed so far ([`crate::pose_memo`]).
+    pub(crate) fn memo(&self) -> &PoseMemo {
+        &self.memo
     }
 
     /// The parry mesh (object frame).

@@ -23,12 +23,10 @@ use crate::object::ObjectGeometry;
 use sweep::{Frame, Heights, LinkPoints, Swept};
 
 mod jaws;
-mod memo;
 mod open;
 mod patches;
 mod sweep;
 
-pub use memo::ClosingMemo;
 pub use open::{
     open_approach_inside, open_inside, OpenHand, OpenInside, OpenMemo, OPEN_APPROACH_STEP,
     OPEN_APPROACH_ZONE, OPEN_CONTACT_DEPTH,
@@ -300,8 +298,9 @@ pub fn close_on_part(
         });
     }
     match gripper {
+        // The 2F-85's shapes are built in: its closing depends on the part and the pose.
         Gripper::Robotiq2F85(_) => object
-            .closings()
+            .memo()
             .get_or(flange_in_object, || close_2f85(object, flange_in_object)),
         Gripper::Jaws(jaws) => jaws::close_jaws(object, jaws, flange_in_object),
     }
