@@ -137,8 +137,8 @@ pub struct SeatRule {
     /// Share of the way to the palm a pinched bar moves ([`PINCH_SEAT_FRACTION`]; 0: pinches
     /// stay).
     pub pinch_fraction: f64,
-    /// Whether a grasp whose closing cages the bar or closes on one side moves out to the
-    /// fingertips (see the module documentation).
+    /// Whether a grasp whose closing cages the bar or closes on one side, or wraps it and cages
+    /// it once on the palm, moves out to the fingertips (see the module documentation).
     pub fingertips: bool,
     /// Whether every grasp whose closing squeezes the bar at the fingertips is held there,
     /// the wrap kept for bars the pads cannot pinch (see the module documentation).
