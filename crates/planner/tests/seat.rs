@@ -9,7 +9,7 @@ use std::path::Path;
 use nalgebra::{Isometry3, Translation3};
 use parry3d_f64::query::distance;
 use parry3d_f64::shape::Cuboid;
-use pregrasp_collision::{close_on_part, ObjectGeometry};
+use pregrasp_collision::{close_on_part, ArmModel, ObjectGeometry};
 use pregrasp_examples::generated::generated_scene;
 use pregrasp_examples::parts::families::{generate, Family};
 use pregrasp_io::scene::Scene;
@@ -17,7 +17,8 @@ use pregrasp_planner::context::arm_models;
 use pregrasp_planner::pipeline::PlanOptions;
 use pregrasp_planner::seat::{
     seat_power_grasps, seat_power_grasps_by, seated_scene, seated_scene_by, thickness_at, SeatRule,
-    FINGERTIP_STEP, FINGERTIP_TRIES, MIN_SEAT_THICKNESS, SEAT_DEPTH, SEAT_GAP, SEAT_TOLERANCE,
+    SeatedGrasps, FINGERTIP_STEP, FINGERTIP_TRIES, MIN_SEAT_THICKNESS, SEAT_DEPTH, SEAT_GAP,
+    SEAT_TOLERANCE,
 };
 use pregrasp_robot::{ClosingKind, GripperState, Primitive};
 
@@ -45,6 +46,18 @@ fn palm_distance(
     nearest
 }
 
+/// The part of `scene` (its `mesh`), the scene's arms, and its power grasps seated by the
+/// wraps ([`SeatRule::WRAPS`]) against the part as planned.
+fn by_the_wraps(
+    scene: &Scene,
+    mesh: &pregrasp_geometry::Mesh,
+) -> (ObjectGeometry, [ArmModel; 2], SeatedGrasps) {
+    let part = ObjectGeometry::new(mesh).unwrap();
+    let arms = arm_models(scene).unwrap();
+    let seated = seat_power_grasps_by(&part, &arms, &scene.grasps.power, [0.0; 2], SeatRule::WRAPS);
+    (part, arms, seated)
+}
+
 fn example(name: &str) -> (Scene, pregrasp_geometry::Mesh) {
     let ex = pregrasp_examples::by_name(name).unwrap();
     let scene = Scene::from_str(&ex.scene_toml, Path::new(&format!("{name}.toml"))).unwrap();
@@ -58,10 +71,7 @@ fn a_wrapped_bar_below_the_palm_is_seated_and_still_squeezed() {
     let mut seated_any = 0;
     for name in ["chair_side", "stool_side"] {
         let (scene, mesh) = example(name);
-        let part = ObjectGeometry::new(&mesh).unwrap();
-        let arms = arm_models(&scene).unwrap();
-        let power = &scene.grasps.power;
-        let seated = seat_power_grasps_by(&part, &arms, power, [0.0; 2], SeatRule::WRAPS);
+        let (part, arms, seated) = by_the_wraps(&scene, &mesh);
         for (k, arm) in arms.iter().enumerate() {
             let gripper = &arm.gripper;
             let point = gripper.power_point();
@@ -220,10 +230,7 @@ fn a_wrap_that_cages_on_the_palm_is_held_at_the_fingertips_not_short_of_the_palm
     for (family, seed) in [(Family::Frame, 1), (Family::Panel, 27)] {
         let generated = generated_scene(&generate(family, seed));
         let scene = Scene::from_str(&generated.scene_toml, Path::new("part.toml")).unwrap();
-        let part = ObjectGeometry::new(&generated.mesh).unwrap();
-        let arms = arm_models(&scene).unwrap();
-        let power = &scene.grasps.power;
-        let seated = seat_power_grasps_by(&part, &arms, power, [0.0; 2], SeatRule::WRAPS);
+        let (part, arms, seated) = by_the_wraps(&scene, &generated.mesh);
         for (k, arm) in arms.iter().enumerate() {
             let gripper = &arm.gripper;
             let point = gripper.power_point();
