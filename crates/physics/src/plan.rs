@@ -102,10 +102,12 @@ pub fn analyse_plan(
 }
 
 /// [`analyse_plan`] for a yes-or-no answer: it stops at the first point of `rot` that cannot
-/// be held at all (the part slides at the support, or no grip force holds it), and that state
-/// is the report's last and worst one — the rotation is refused from there on, whatever
-/// follows. A rotation with no such point gets the whole analysis, the same report as
-/// [`analyse_plan`]'s.
+/// be held (the part slides at the support, no grip force holds it, or the force it needs
+/// with the safety factor is more than the gripper's most), and that state is the report's
+/// last and worst one — the rotation is refused from there on, whatever follows. A rotation
+/// that hangs on the pads' twist (a geometric measure over all its states, [`crate::twist`])
+/// is refused for it after its first point's state. A rotation with neither gets the whole
+/// analysis, the same report as [`analyse_plan`]'s.
 pub fn screen_plan(
     set: &PlanSet,
     plan_index: usize,
@@ -265,16 +267,36 @@ fn run(
     // states that fail the same way. `refine_all` refines every interval.
     let all = rot_states(rot, plan_index, settings.substeps)?;
     let stride = settings.substeps + 1;
+    // The twist arm over every state (`crate::twist`): the part hanging from a pinch nearer
+    // the axis than its centre of mass, on the pads' twist. Geometry alone: a screening that
+    // finds it too long refuses the rotation for it after the first point's state.
+    let twist = all
+        .iter()
+        .map(|s| {
+            let axis = axis_obj.map(|a| s.pose * a);
+            let closing = (s.pose * g_s).rotation * Vector3::x();
+            twist_arm(axis, s.pose * part.centroid, pads_centre(&s.pose), closing)
+        })
+        .fold(0.0, f64::max);
+    let hangs = twist > settings.max_twist_arm;
+    let (_, most) = settings.grip_force;
     let mut at_points = Vec::new();
     let mut warm = WarmStart::default();
     // The start each interval's states take: the optimum at the point that opens it.
     let mut warm_at_points = Vec::new();
+    // A screening stops at the first point that cannot be held: none holds it, or the grip it
+    // needs with the safety factor is more than the gripper's most.
+    let mut stopped = false;
     for s in all.iter().step_by(stride) {
         let report = solve(s, &mut warm)?;
         warm_at_points.push(warm.clone());
-        let failed = report.status != StateStatus::Held;
+        let failed = report.status != StateStatus::Held
+            || report
+                .n_min
+                .is_some_and(|n| settings.safety_factor * n > most);
         at_points.push(report);
-        if failed && stop_at_failure {
+        if stop_at_failure && (failed || hangs) {
+            stopped = true;
             break;
         }
     }
@@ -293,7 +315,6 @@ fn run(
                 && (a.support_contacts != b.support_contacts || local_max(k) || local_max(k + 1)))
     };
     // Stopped at a failure: that state decides, nothing between the points is needed.
-    let stopped = stop_at_failure && at_points.iter().any(|r| r.status != StateStatus::Held);
     let refined: Vec<bool> = (0..n.saturating_sub(1))
         .map(|k| !stopped && refine(k))
         .collect();
@@ -345,17 +366,7 @@ fn run(
     let mut warnings = Vec::new();
     let mut verdict = verdict;
     let mut recommended = recommended;
-    // The twist arm over every state (`crate::twist`): the part hanging from a pinch nearer
-    // the axis than its centre of mass, on the pads' twist.
-    let twist = all
-        .iter()
-        .map(|s| {
-            let axis = axis_obj.map(|a| s.pose * a);
-            let closing = (s.pose * g_s).rotation * Vector3::x();
-            twist_arm(axis, s.pose * part.centroid, pads_centre(&s.pose), closing)
-        })
-        .fold(0.0, f64::max);
-    if verdict == Verdict::Holds && twist > settings.max_twist_arm {
+    if verdict == Verdict::Holds && hangs {
         verdict = Verdict::LiftsOffSupport;
         warnings.push(GripWarning::HangsOnTwist {
             arm: twist,

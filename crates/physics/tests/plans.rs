@@ -313,6 +313,76 @@ fn screening_stops_at_the_first_failing_point() {
     assert!(why.to_string().contains("from θ ="), "{why}");
 }
 
+/// A screening also stops at the first point whose grip, with the safety factor, is more than
+/// the gripper's most: the rotation is refused from there whatever follows, as the whole
+/// analysis refuses it.
+#[test]
+fn screening_stops_where_the_grip_needs_more_than_the_gripper_has() {
+    let (file, mesh) = planned("stool_side");
+    let base = PhysicsSettings::default();
+    let part = PartMass::resolve(file.object.mass, &mesh, None, base.density).unwrap();
+    let whole = analyse_plan(&model(&file), 0, &part, &base).unwrap();
+    // A gripper whose most is just short of what the first point needs (the examples' rotations
+    // need the most at their start).
+    let need = |s: &pregrasp_physics::StateReport| base.safety_factor * s.n_min.unwrap();
+    let first = need(&whole.states[0]);
+    let weak = PhysicsSettings {
+        grip_force: (base.grip_force.0.min(first / 2.0), first * 0.95),
+        ..base
+    };
+    let whole = analyse_plan(&model(&file), 0, &part, &weak).unwrap();
+    assert_eq!(whole.verdict, Verdict::CannotHold);
+    assert!(whole.states.len() > 10);
+    let points: Vec<_> = whole.states.iter().filter(|s| s.point.is_some()).collect();
+    let over = points
+        .iter()
+        .position(|s| need(s) > weak.grip_force.1)
+        .expect("a point over the most");
+    let screened = screen_plan(&model(&file), 0, &part, &weak).unwrap();
+    assert!(screened.stopped_at_failure);
+    assert_eq!(screened.states.len(), over + 1);
+    assert_eq!(screened.worst, over);
+    assert_eq!(screened.verdict, Verdict::CannotHold);
+    assert_eq!(screened.states[over].n_min, points[over].n_min);
+    let why = screened.rejection().expect("refused").to_string();
+    assert!(
+        why.contains("from θ =") && why.contains("more than"),
+        "{why}"
+    );
+}
+
+/// A rotation that hangs on the pads' twist is refused for it after one state: the twist arm
+/// is geometry over all the states, the same number the whole analysis finds.
+#[test]
+fn screening_refuses_a_rotation_on_the_twist_after_one_state() {
+    // The chair side's candidate 1 hangs its weight 107.6 mm beyond the pinch (kept here).
+    let ex = pregrasp_examples::by_name("chair_side").unwrap();
+    let text = format!("{}\n[physics]\nreject = false\n", ex.scene_toml);
+    let scene = Scene::from_str(&text, Path::new("examples/chair_side.toml")).unwrap();
+    let options = PlanOptions {
+        max_plans: 5,
+        ..PlanOptions::default()
+    };
+    let file = plan(&scene, &ex.mesh, &options, &|_| {}, &|| {})
+        .unwrap()
+        .file;
+    let k = file
+        .plans
+        .iter()
+        .position(|p| p.candidate == 1)
+        .expect("kept");
+    let base = PhysicsSettings::default();
+    let part = PartMass::resolve(file.object.mass, &ex.mesh, None, base.density).unwrap();
+    let whole = analyse_plan(&model(&file), k, &part, &base).unwrap();
+    assert_eq!(whole.verdict, Verdict::LiftsOffSupport);
+    assert!(whole.states.len() > 10);
+    let screened = screen_plan(&model(&file), k, &part, &base).unwrap();
+    assert_eq!(screened.states.len(), 1);
+    assert_eq!(screened.verdict, Verdict::LiftsOffSupport);
+    assert_eq!(screened.twist_arm, whole.twist_arm);
+    assert_eq!(screened.rejection(), whole.rejection());
+}
+
 /// The report lists each closing with the force the plan gives it: `sup1` the pinch's recommended
 /// force (equal to this check's with the same settings), the power grasps the 2F-85's largest
 /// (the planner's carry check); a force the plan gives `mas1` is reported as given.
