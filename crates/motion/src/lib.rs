@@ -46,7 +46,8 @@ pub mod validity;
 
 pub use cartesian::{interpolate_pose, straight_line, CartesianError, CartesianSettings};
 pub use rrt_connect::{
-    rrt_connect, PlanResult, PlanStats, PlanStatus, RrtConnectSettings, SIMPLIFY_ROUNDS,
+    rrt_connect, rrt_connect_until, PlanResult, PlanStats, PlanStatus, RrtConnectSettings,
+    SIMPLIFY_ROUNDS,
 };
 pub use simplify::{simplify, simplify_by, PathCost, RestToRest};
 pub use space::{JointSpace, JointSpaceError, State};

@@ -55,6 +55,9 @@ pub enum PlanStatus {
     IterationLimit,
     /// `max_time` elapsed first (not reproducible).
     Timeout,
+    /// The caller's stop condition held first ([`rrt_connect_until`]): the answer was no
+    /// longer wanted.
+    Stopped,
 }
 
 /// Counters of one planning query. The check counters cover the search (start, goal,
@@ -208,6 +211,21 @@ pub fn rrt_connect<const D: usize, V: StateValidator<D> + ?Sized>(
     goal: &State<D>,
     settings: &RrtConnectSettings,
 ) -> PlanResult<D> {
+    rrt_connect_until(space, motion, start, goal, settings, &|| false)
+}
+
+/// [`rrt_connect`] that also ends, with [`PlanStatus::Stopped`], where `stop` holds before an
+/// iteration: a caller that learns its answer is no longer wanted (another thread refused what
+/// it was for) stops the search. Until `stop` holds, the same search and path as
+/// [`rrt_connect`]'s.
+pub fn rrt_connect_until<const D: usize, V: StateValidator<D> + ?Sized>(
+    space: &JointSpace<D>,
+    motion: &MotionValidator<D, V>,
+    start: &State<D>,
+    goal: &State<D>,
+    settings: &RrtConnectSettings,
+    stop: &dyn Fn() -> bool,
+) -> PlanResult<D> {
     let t0 = Instant::now();
     let mut search = Search {
         motion,
@@ -250,6 +268,10 @@ pub fn rrt_connect<const D: usize, V: StateValidator<D> + ?Sized>(
                 status = PlanStatus::Timeout;
                 break;
             }
+        }
+        if stop() {
+            status = PlanStatus::Stopped;
+            break;
         }
         search.stats.iterations += 1;
         let q_rand = space.sample(&mut rng);

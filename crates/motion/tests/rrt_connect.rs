@@ -1,7 +1,9 @@
 mod common;
 
 use common::*;
-use pregrasp_motion::{rrt_connect, MotionValidator, PlanStatus, RrtConnectSettings, State};
+use pregrasp_motion::{
+    rrt_connect, rrt_connect_until, MotionValidator, PlanStatus, RrtConnectSettings, State,
+};
 
 fn settings(seed: u64) -> RrtConnectSettings {
     RrtConnectSettings {
@@ -52,6 +54,31 @@ fn same_seed_same_path_bit_for_bit() {
     );
     assert_eq!(c.status, PlanStatus::Solved);
     assert_ne!(bits(&c.path), bits(&d.path));
+}
+
+/// A stop condition that never holds changes nothing; one that holds after `k` iterations ends
+/// the search there with `Stopped`, not a path.
+#[test]
+fn a_search_stops_where_its_caller_says() {
+    let space = cube6();
+    let v = narrow_passage6;
+    let mv = MotionValidator::new(&space, &v, 0.01);
+    let plain = rrt_connect(&space, &mv, &START6, &GOAL6, &settings(11));
+    let never = rrt_connect_until(&space, &mv, &START6, &GOAL6, &settings(11), &|| false);
+    assert_eq!(plain.status, PlanStatus::Solved);
+    assert!(plain.stats.iterations > 3, "the passage needs a search");
+    assert_eq!((never.status, never.path), (plain.status, plain.path));
+    assert_eq!(never.stats.iterations, plain.stats.iterations);
+
+    let asked = std::cell::Cell::new(0);
+    let stop = || {
+        asked.set(asked.get() + 1);
+        asked.get() > 3
+    };
+    let stopped = rrt_connect_until(&space, &mv, &START6, &GOAL6, &settings(11), &stop);
+    assert_eq!(stopped.status, PlanStatus::Stopped);
+    assert!(stopped.path.is_empty());
+    assert_eq!(stopped.stats.iterations, 3);
 }
 
 const RES: f64 = 0.01;

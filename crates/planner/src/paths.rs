@@ -216,16 +216,18 @@ pub fn integrated_path<T: Send, E: Send>(
                     }
                 };
                 // Every line holds: now the grip check, then the transits, each planned once.
+                let refused = AtomicBool::new(false);
+                let stopped = || refused.load(Ordering::Relaxed);
                 let transit = |query: &ReachQuery, lines| {
-                    ctx.clock
-                        .time(Stage::Transit, || reach_transit(ctx, query, lines))
+                    ctx.clock.time(Stage::Transit, || {
+                        reach_transit(ctx, query, lines, &stopped)
+                    })
                 };
                 let (asked, need_sup1, need_mas1) =
                     (accepted.is_some(), sup1.is_none(), mas1.is_none());
                 // A transit not yet begun when the grip check refuses the rotation is not
-                // begun: the candidate ends there and reads none of them.
-                let refused = AtomicBool::new(false);
-                let unrefused = || !refused.load(Ordering::Relaxed);
+                // begun, and one under way stops: the candidate ends there and reads none of
+                // them.
                 let (mut early_accept, mut early_sup1, mut early_mas1, mut early_sup2) = ahead(
                     || {
                         (!asked).then(|| {
@@ -234,9 +236,9 @@ pub fn integrated_path<T: Send, E: Send>(
                             verdict
                         })
                     },
-                    || (need_sup1 && unrefused()).then(|| transit(&sup1_query, &sup1_lines)),
-                    || (need_mas1 && unrefused()).then(|| transit(&mas1_query, &mas1_lines)),
-                    || unrefused().then(|| transit(&sup2_query, &sup2_lines)),
+                    || (need_sup1 && !stopped()).then(|| transit(&sup1_query, &sup1_lines)),
+                    || (need_mas1 && !stopped()).then(|| transit(&mas1_query, &mas1_lines)),
+                    || (!stopped()).then(|| transit(&sup2_query, &sup2_lines)),
                 );
                 if accepted.is_none() {
                     let verdict = early_accept.take().unwrap_or_else(|| accept(&rot));

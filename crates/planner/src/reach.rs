@@ -10,8 +10,8 @@
 
 use nalgebra::{Isometry3, Translation3};
 use pregrasp_motion::{
-    rrt_connect, simplify_by, straight_line, time_parameterize, CartesianError, CartesianSettings,
-    PlanStatus, RestToRest, RrtConnectSettings, State,
+    rrt_connect_until, simplify_by, straight_line, time_parameterize, CartesianError,
+    CartesianSettings, PlanStatus, RestToRest, RrtConnectSettings, State,
 };
 use std::sync::Mutex;
 
@@ -205,11 +205,15 @@ pub fn reach_lines(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachLin
 }
 
 /// Plans the transit between validated lines (RRT-Connect, then shortcutting) and times the
-/// whole motion: straight pieces along their length, the transit rest-to-rest per edge.
+/// whole motion: straight pieces along their length, the transit rest-to-rest per edge. Where
+/// `stop` holds before an iteration of the search or before the shortcutting, the motion is no
+/// longer wanted and the transit ends with [`PlanStatus::Stopped`]; until then, `stop` changes
+/// nothing.
 pub fn reach_transit(
     ctx: &PlanningContext,
     query: &ReachQuery,
     lines: &ReachLines,
+    stop: &dyn Fn() -> bool,
 ) -> Result<ReachMotion, ReachFailure> {
     let arm = query.arm;
     let strict = query.validity(ctx, false, None);
@@ -232,15 +236,19 @@ pub fn reach_transit(
     let transit = if transit_from == standoff {
         vec![standoff]
     } else {
-        let result = rrt_connect(
+        let result = rrt_connect_until(
             &ctx.spaces[arm],
             &strict_motion,
             &transit_from,
             &standoff,
             &settings,
+            stop,
         );
         if result.status != PlanStatus::Solved {
             return Err(ReachFailure::Transit(result.status));
+        }
+        if stop() {
+            return Err(ReachFailure::Transit(PlanStatus::Stopped));
         }
         simplify_by(
             &strict_motion,
@@ -293,5 +301,5 @@ pub fn reach_transit(
 /// Plans a whole reach motion: (retreat), transit, approach.
 pub fn reach(ctx: &PlanningContext, query: &ReachQuery) -> Result<ReachMotion, ReachFailure> {
     let lines = reach_lines(ctx, query)?;
-    reach_transit(ctx, query, &lines)
+    reach_transit(ctx, query, &lines, &|| false)
 }
