@@ -14,9 +14,11 @@
 //!   about the squeeze line with `‖(t, s)‖ ≤ μ·N_g`.
 //! - **The enclosure**, where the fingers wrapped the bar: the bar cannot leave the closed hand,
 //!   so the hand pushes on it with any force across the bar (grasp `x`, `z`). Where the drivers
-//!   were blocked by the bar (encompassing) the wrap is tight and also resists any moment about
-//!   those two axes; where the tips met around it first (caged) the bar has room to turn in the
-//!   hand, and only the forces remain. Along the bar (`y`) and about it only the squeeze's
+//!   were blocked by the bar (encompassing) the wrap is tight and also resists a moment about
+//!   those two axes, each at most `w·N_g`: the fingers bear on the bar across their width `w`
+//!   along it ([`PowerHold::wrap_moment_arm`]) and press with the squeeze, so the pressure
+//!   shifting to one edge of each finger holds no more; where the tips met around it first
+//!   (caged) the bar has room to turn in the hand, and only the forces remain. Along the bar (`y`) and about it only the squeeze's
 //!   friction holds it. The friction the enclosure's own push would add is left out, on
 //!   purpose: the two hands could push on the part against each other without limit in the
 //!   program (the arms hold positions; their internal force is not known), and that would make
@@ -61,6 +63,9 @@ pub struct PowerHold {
     /// (`v`): a pad pressing with `N_g` over its patch tilts the bar by at most `N_g` times
     /// these about `v` and `u` (its pressure shifting to the patch's edge). 0: point contacts.
     pub patch_half_extent: [f64; 2],
+    /// The moment (m, per newton of squeeze) an encompassing wrap resists about each of the
+    /// grasp's `x` and `z` axes: the width of the fingers along the bar. 0: forces only.
+    pub wrap_moment_arm: f64,
     /// How the closing ended.
     pub closing: HoldKind,
 }
@@ -218,6 +223,14 @@ pub fn min_carry_force(problem: &CarryProblem) -> Result<CarryOutcome, SolverErr
         };
         if let Some(most) = most {
             ge(&mut push, &mut b, &[(col.squeeze, -1.0)], -most / load);
+        }
+        // |m_x|, |m_z| ≤ w N_g: the wrap's moments, at most the squeeze across the fingers.
+        if let (Some(c), HoldKind::Encompassing) = (col.enclosure, h.closing) {
+            for m in [c + 2, c + 3] {
+                let w = h.wrap_moment_arm.max(0.0);
+                ge(&mut push, &mut b, &[(col.squeeze, w), (m, -1.0)], 0.0);
+                ge(&mut push, &mut b, &[(col.squeeze, w), (m, 1.0)], 0.0);
+            }
         }
         // |m_u| ≤ a_v N_g (the pressure shifts across the bar), |m_v| ≤ a_u N_g (along it).
         for c in col.pads {

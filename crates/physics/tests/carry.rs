@@ -8,6 +8,8 @@ use pregrasp_physics::{min_carry_force, CarryOutcome, CarryProblem, HoldKind, Po
 
 const MU: f64 = 0.8;
 const E: f64 = 0.005;
+/// The fingers' width along the bar: a wrap's moments per newton of squeeze.
+const W: f64 = 0.022;
 const WEIGHT: f64 = 30.0;
 
 /// The load the hands carry: the weight under the lift's acceleration.
@@ -30,6 +32,7 @@ fn hold(at: [f64; 3], bar: Vector3<f64>, closing: HoldKind) -> PowerHold {
         squeeze: [o - 0.01 * x, o + 0.01 * x],
         torsion_radius: E,
         patch_half_extent: [0.0; 2],
+        wrap_moment_arm: W,
         closing,
     }
 }
@@ -83,10 +86,23 @@ fn a_centre_of_mass_off_the_line_needs_the_pads_torsion() {
 
 #[test]
 fn an_enclosed_horizontal_bar_hangs_in_the_hand() {
-    // Across the bar the closed hand carries any force and tilt: no squeeze is needed.
-    for com in [[0.0; 3], [0.0, 0.05, 0.0], [0.1, 0.1, -0.05]] {
+    // Across the bar the closed hand carries any force: with the centre of mass on the line
+    // through both hands, no squeeze is needed.
+    for com in [[0.0; 3], [0.1, 0.0, 0.0], [0.1, 0.0, -0.05]] {
         let n = force(&problem(com, Vector3::y(), HoldKind::Encompassing, WEIGHT));
         assert!(n < 1e-6, "{com:?}: {n}");
+    }
+    // Off that line by d, the moment load·d about it (the grasps' x) rests on the wraps, w N
+    // each, and on the four pads' torsion, μ e N each.
+    for d in [0.01, 0.05, 0.1] {
+        let n = force(&problem(
+            [0.0, d, 0.0],
+            Vector3::y(),
+            HoldKind::Encompassing,
+            WEIGHT,
+        ));
+        let want = load(WEIGHT) * d / (2.0 * W + 4.0 * MU * E);
+        assert!(close(n, want), "d {d}: {n} vs {want}");
     }
 }
 
@@ -103,14 +119,14 @@ fn a_caged_bar_hangs_but_may_turn() {
     let heavy = most / load(1.0) * 1.01;
     let off = |w| force(&problem([0.0, d, 0.0], Vector3::y(), HoldKind::Caged, w));
     assert!(off(light).is_finite() && off(heavy).is_infinite());
-    // Wrapped tightly (encompassing), the same part hangs at no squeeze.
-    let n = force(&problem(
+    // Wrapped tightly (encompassing), the wraps' moments hold the heavy one too.
+    let wrapped = force(&problem(
         [0.0, d, 0.0],
         Vector3::y(),
         HoldKind::Encompassing,
-        WEIGHT,
+        heavy,
     ));
-    assert!(n < 1e-6, "{n}");
+    assert!(wrapped.is_finite(), "{wrapped}");
     // One-sided: nothing holds.
     assert!(force(&problem([0.0; 3], Vector3::y(), HoldKind::OneSided, 0.1)).is_infinite());
 }

@@ -30,6 +30,10 @@ use crate::context::{Grips, PlanningContext};
 /// Half the 2F-85 pad's width (m), along the bar it holds (a jaw's patch is taken alike).
 const PAD_HALF_WIDTH: f64 = 0.011;
 
+/// The 2F-85's fingers' width along the bar (m), their pads' (`docs/hardware-facts.md`): the
+/// lever of a wrap's moments per newton of squeeze ([`PowerHold::wrap_moment_arm`]).
+const FINGER_WIDTH: f64 = 2.0 * PAD_HALF_WIDTH;
+
 /// The carry check of one scene: the part's mass and the power grasps' closings, known once.
 pub struct CarryCheck {
     /// Weight (N) and centre of mass (object frame); `None` when the part has no mass
@@ -220,6 +224,7 @@ fn hold_in_object(
         squeeze,
         torsion_radius,
         patch_half_extent,
+        wrap_moment_arm: FINGER_WIDTH,
         closing: hold_kind(&grip.kinds),
     })
 }
