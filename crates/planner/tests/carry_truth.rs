@@ -136,27 +136,21 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
     // docs/physics.md — a change of the model that adds or removes one shows here.
     // Replayed with the planner that holds grasps at the fingertips first (`seat`) and slides
     // them where the weight would hang more than 0.1 m off their line (`slide::HANGING_ARM`),
-    // and the panels held at the fingertips whatever the check says: 283 rows, 4 + 272 agree
+    // and the panels held at the fingertips whatever the check says: 283 rows, 4 + 273 agree
     // (the four panels whose pads' pinch needs 242–314 N, more than the 2F-85's 235 N, and
-    // fail), 5 lift below the force the plan sets (the examples at their pinch's force), 2
-    // depart:
-    // - panel_18, carried by its wraps (seated on the palm, where the pinch cannot carry it),
-    //   rises 42.4 mm and tilts 4.5°: the wrap's hold of the weight's moment about the line
-    //   through the grasps, which the check credits more generously than the replay;
+    // fail), 5 lift below the force the plan sets (the examples at their pinch's force), 1
+    // departs:
     // - panel_27, not carried: its wraps cage on the palm, so it is held at the fingertips,
     //   where the pads need 2 × 128 N by the check; it lifts at 235 N (47.8 mm, 1.6°), the
     //   cautious side. (Seated part of the way until 2026-11-30, its master's wrap was pulled
     //   onto the palm and caged in the replay, and it rose 37.4 mm: carried, failing.)
     // (h_frame_25 and h_frame_27, which rose 45.0 and 44.4 mm held 164 and 160 mm off their
-    // grasps' line, now plan slid and lift, 49 mm.)
-    assert_eq!((refused, kept, cautious.len()), (4, 272, 5));
-    assert_eq!(
-        departures,
-        [
-            "panel_18 plan 0: carried, fails",
-            "panel_27 plan 0: not carried, lifts",
-        ]
-    );
+    // grasps' line, now plan slid and lift, 49 mm. panel_18, carried by wraps that held any
+    // moment, rose 42.4 mm and tilted 4.5°; since a wrap holds at most the squeeze across the
+    // fingers' width, its wraps and those of panel_8, panel_12 and panel_20 plan slid and all
+    // four lift, seeds 6–20 replayed again on 2026-11-30.)
+    assert_eq!((refused, kept, cautious.len()), (4, 273, 5));
+    assert_eq!(departures, ["panel_27 plan 0: not carried, lifts"]);
 }
 
 /// panel_8 (10.4 kg) held at the fingertips (`[planner] power_hold = "fingertips"`): the pads'
