@@ -36,7 +36,7 @@
 use clarabel::solver::SupportedConeT;
 use nalgebra::{Isometry3, Point3, Vector3};
 
-use crate::statics::{run_clarabel, SolverError};
+use crate::statics::{run_clarabel_unrefined, SolverError};
 
 /// Squeeze (N) a caged closing puts on the bar whatever the setting: its finger tips bear on
 /// each other, and only the spring links press on the bar. The whole-plan replay measured
@@ -268,7 +268,7 @@ pub fn min_carry_force(problem: &CarryProblem) -> Result<CarryOutcome, SolverErr
         }
     }
     let a = clarabel::algebra::CscMatrix::new_from_triplets(row, n, ri, ci, vals);
-    let Some(solution) = run_clarabel(&a, &b, &cones)? else {
+    let Some(solution) = run_clarabel_unrefined(&a, &b, &cones)? else {
         return Ok(CarryOutcome::CannotCarry);
     };
     let x = &solution.x;

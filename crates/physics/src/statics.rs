@@ -234,6 +234,26 @@ pub(crate) fn run_clarabel(
     b: &[f64],
     cones: &[SupportedConeT<f64>],
 ) -> Result<Option<PrimalDual>, SolverError> {
+    run_clarabel_refined(a, b, cones, true)
+}
+
+/// [`run_clarabel`] without the iterative refinement of each step's linear solve: about 30 %
+/// fewer instructions, for an answer read to the newton (the carry check's), not to the last
+/// digit (the pinch's, which the plan file writes).
+pub(crate) fn run_clarabel_unrefined(
+    a: &CscMatrix<f64>,
+    b: &[f64],
+    cones: &[SupportedConeT<f64>],
+) -> Result<Option<PrimalDual>, SolverError> {
+    run_clarabel_refined(a, b, cones, false)
+}
+
+fn run_clarabel_refined(
+    a: &CscMatrix<f64>,
+    b: &[f64],
+    cones: &[SupportedConeT<f64>],
+    refine: bool,
+) -> Result<Option<PrimalDual>, SolverError> {
     let nvar = a.n;
     let p = CscMatrix::zeros((nvar, nvar));
     let mut q = vec![0.0; nvar];
@@ -243,6 +263,7 @@ pub(crate) fn run_clarabel(
         .tol_gap_abs(1e-11)
         .tol_gap_rel(1e-11)
         .tol_feas(1e-11)
+        .iterative_refinement_enable(refine)
         .max_iter(200)
         .build()
         .expect("valid solver settings");
