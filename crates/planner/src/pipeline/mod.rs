@@ -26,7 +26,7 @@ use crate::seat::SeatRule;
 mod pass;
 
 pub(crate) use pass::axes_of;
-use pass::plan_grasps_as_given;
+use pass::{plan_grasps_as_given, Built};
 
 /// Settings of one `plan` run beyond the scene's `[planner]` table.
 #[derive(Clone, Debug)]
@@ -148,7 +148,7 @@ pub fn plan(
     let first = SeatRule::first_for(hold);
     // Every pass whose plan may still be replaced probes: it plans the candidates whose power
     // grasps carry the part first, and stops where none of them gets a plan.
-    let (pass, part) = plan_grasps_as_given(
+    let (pass, built) = plan_grasps_as_given(
         scene,
         mesh,
         options,
@@ -157,7 +157,7 @@ pub fn plan(
         progress,
     )?;
     // The grasps slid towards the centre of mass: one scene for every hold that asks.
-    let slid = SlidGrasps::new(scene, mesh, &part);
+    let slid = SlidGrasps::new(scene, mesh, &built);
     let (fingertips, first_report) = match pass {
         Pass::Planned(report) if !uncarried(&report.outcomes) => {
             return nearer_the_centre(options, &slid, first, *report).map(|r| with_total(r, t0));
@@ -169,7 +169,7 @@ pub fn plan(
     // `"auto"` where the first held some grasp at the fingertips, the wraps, and the wraps
     // slid. Where none carries, the last grasps as given.
     let wraps = hold == PowerHold::Auto && fingertips;
-    let slid_scene = slid.get()?;
+    let slid_scene = slid.get();
     let mut tries = Vec::new();
     let rules = if wraps {
         vec![first, SeatRule::WRAPS]
@@ -187,7 +187,7 @@ pub fn plan(
     let mut fallback = (first_report, first);
     for (on_slid, rule) in tries {
         let on = on_slid.map_or(scene, |(s, _)| s);
-        let by = (Some(part.clone()), rule, true);
+        let by = (Some(built.clone()), rule, true);
         let (pass, _) = plan_grasps_as_given(on, mesh, options, by, &|_| {}, &|| {})?;
         let report = match pass {
             Pass::Planned(report) => Some(*report),
@@ -210,7 +210,7 @@ pub fn plan(
     let report = match fallback {
         (Some(report), _) => report,
         (None, rule) => {
-            let by = (Some(part.clone()), rule, false);
+            let by = (Some(built.clone()), rule, false);
             match plan_grasps_as_given(scene, mesh, options, by, &|_| {}, &|| {})?.0 {
                 Pass::Planned(report) => *report,
                 Pass::NoneCarries { .. } => unreachable!("a pass that does not probe plans"),
@@ -233,7 +233,8 @@ fn with_total(mut report: PlanReport, t0: Instant) -> PlanReport {
 struct SlidGrasps<'a> {
     scene: &'a Scene,
     mesh: &'a Mesh,
-    part: &'a std::sync::Arc<pregrasp_collision::ObjectGeometry>,
+    /// The part's geometry and the arm models, as the first pass built them.
+    built: &'a Built,
     /// The centre of mass the carry check uses (uniform density: the mass does not move it),
     /// object frame; `None` without mass properties.
     com: Option<nalgebra::Point3<f64>>,
@@ -241,15 +242,11 @@ struct SlidGrasps<'a> {
 }
 
 impl<'a> SlidGrasps<'a> {
-    fn new(
-        scene: &'a Scene,
-        mesh: &'a Mesh,
-        part: &'a std::sync::Arc<pregrasp_collision::ObjectGeometry>,
-    ) -> SlidGrasps<'a> {
+    fn new(scene: &'a Scene, mesh: &'a Mesh, built: &'a Built) -> SlidGrasps<'a> {
         SlidGrasps {
             scene,
             mesh,
-            part,
+            built,
             com: pregrasp_physics::MassProperties::from_mesh(mesh)
                 .ok()
                 .map(|p| p.centroid),
@@ -258,21 +255,14 @@ impl<'a> SlidGrasps<'a> {
     }
 
     /// The slid scene and the shifts, when sliding is worth a plan.
-    fn get(&self) -> Result<Option<&(Scene, [f64; 2])>, PlanError> {
-        if self.slid.get().is_none() {
-            let full = self
-                .com
-                .and_then(|com| crate::slide::shifts_worth_trying(self.scene, &com));
-            let slid = match full {
-                Some(full) => {
-                    let arms = crate::context::arm_models(self.scene)?;
-                    crate::slide::slid_scene(self.scene, self.part, &arms, full)
-                }
-                None => None,
-            };
-            let _ = self.slid.set(slid);
-        }
-        Ok(self.slid.get().and_then(Option::as_ref))
+    fn get(&self) -> Option<&(Scene, [f64; 2])> {
+        self.slid
+            .get_or_init(|| {
+                let com = self.com?;
+                let full = crate::slide::shifts_worth_trying(self.scene, &com)?;
+                crate::slide::slid_scene(self.scene, &self.built.part, &self.built.arms, full)
+            })
+            .as_ref()
     }
 }
 
@@ -293,10 +283,10 @@ fn nearer_the_centre(
     let Some(arm) = arm.filter(|&a| a > crate::slide::HANGING_ARM) else {
         return Ok(report);
     };
-    let Some((on, shifts)) = slid.get()? else {
+    let Some((on, shifts)) = slid.get() else {
         return Ok(report);
     };
-    let by = (Some(slid.part.clone()), rule, true);
+    let by = (Some(slid.built.clone()), rule, true);
     let mut moved = match plan_grasps_as_given(on, slid.mesh, options, by, &|_| {}, &|| {})?.0 {
         Pass::Planned(moved) => *moved,
         Pass::NoneCarries { .. } => return Ok(report),

@@ -1,8 +1,10 @@
 //! One pass of the pipeline: the scene's power grasps seated by one rule ([`crate::seat`]),
 //! Algorithm 1 → 2 → 3 for every candidate, ranked into a plan report.
 
+use std::sync::Arc;
 use std::time::Instant;
 
+use pregrasp_collision::{ArmModel, ObjectGeometry};
 use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::{Outcome, PlanStatus};
 use pregrasp_io::plan_model::plan_json;
@@ -28,22 +30,27 @@ use crate::rejection::{FailedRule, Rejection, Unheld};
 use crate::rotate::RotationPath;
 use crate::seat::SeatRule;
 
+/// What a pass built that the next passes of the same mesh and robots reuse (their scenes
+/// differ in the power grasps alone): the part's collision geometry and the arm models.
+#[derive(Clone)]
+pub(super) struct Built {
+    pub(super) part: Arc<ObjectGeometry>,
+    pub(super) arms: Arc<[ArmModel; 2]>,
+}
+
 /// [`plan`] with the scene's power grasps (seated by `rule`, [`crate::seat`]), not slid; and
-/// the part's collision geometry it planned with (`part` when given, else the known part's,
-/// else built here), for a second plan of the same mesh. With `probe`, it stops where
-/// Algorithm 2 shows no candidate's power grasps carry the part ([`Pass::NoneCarries`]).
+/// the part's collision geometry and the arm models it planned with (`built` when given, else
+/// the known part's geometry, else built here), for a second plan of the same mesh. With
+/// `probe`, it stops where Algorithm 2 shows no candidate's power grasps carry the part
+/// ([`Pass::NoneCarries`]).
 pub(super) fn plan_grasps_as_given(
     scene: &Scene,
     mesh: &Mesh,
     options: &PlanOptions,
-    (part, rule, probe): (
-        Option<std::sync::Arc<pregrasp_collision::ObjectGeometry>>,
-        SeatRule,
-        bool,
-    ),
+    (built, rule, probe): (Option<Built>, SeatRule, bool),
     on_candidates: &(dyn Fn(usize) + Sync),
     progress: &(dyn Fn() + Sync),
-) -> Result<(Pass, std::sync::Arc<pregrasp_collision::ObjectGeometry>), PlanError> {
+) -> Result<(Pass, Built), PlanError> {
     check_mesh(mesh)?;
     let t0 = Instant::now();
     let axes = axes_of(scene, mesh, options.known.as_deref());
@@ -54,22 +61,30 @@ pub(super) fn plan_grasps_as_given(
     let known = options.known.as_deref().filter(|k| k.fits_mesh(mesh));
     // The part's geometry and what closings need (built once a process) beside the arm models:
     // else each arm's first closing in the seating waits for the other's to build them.
-    let (part, arms) = rayon::join(
-        || {
-            for robot in &scene.robots {
-                pregrasp_collision::prepare_closing(&robot.gripper_model());
+    let built = match built {
+        Some(built) => built,
+        None => {
+            let (part, arms) = rayon::join(
+                || {
+                    for robot in &scene.robots {
+                        pregrasp_collision::prepare_closing(&robot.gripper_model());
+                    }
+                    match known {
+                        Some(k) => Ok(k.part()),
+                        None => ObjectGeometry::new(mesh)
+                            .map(Arc::new)
+                            .map_err(PlanError::Mesh),
+                    }
+                },
+                || crate::context::arm_models(scene),
+            );
+            Built {
+                part: part?,
+                arms: Arc::new(arms?),
             }
-            match (part, known) {
-                (Some(part), _) => Ok(part),
-                (None, Some(k)) => Ok(k.part()),
-                (None, None) => pregrasp_collision::ObjectGeometry::new(mesh)
-                    .map(std::sync::Arc::new)
-                    .map_err(PlanError::Mesh),
-            }
-        },
-        || crate::context::arm_models(scene),
-    );
-    let (part, arms) = (part?, arms?);
+        }
+    };
+    let (part, arms) = (built.part.clone(), &*built.arms);
     // A part known from an earlier plan (a replan loop) keeps its seating. A new part's
     // closings at G_s do not depend on it: they run beside it.
     let seating = || match options
@@ -79,7 +94,7 @@ pub(super) fn plan_grasps_as_given(
     {
         Some(seated) => (seated, None),
         None => {
-            let (seated, power) = crate::seat::planned_scene(scene, &part, &arms, rule);
+            let (seated, power) = crate::seat::planned_scene(scene, &part, arms, rule);
             (seated, Some(power))
         }
     };
@@ -88,7 +103,7 @@ pub(super) fn plan_grasps_as_given(
         None => rayon::join(seating, || {
             Some(crate::context::support_closings(
                 &part,
-                &arms,
+                arms,
                 &scene.grasps.support,
             ))
         }),
@@ -96,14 +111,13 @@ pub(super) fn plan_grasps_as_given(
     // The scene's power grasps, before seating: the plan file says how each moved across.
     let given = scene.grasps.power;
     let scene = seated.as_ref().map_or(scene, |(s, _)| s);
-    let geometry = part.clone();
     let mut ctx = PlanningContext::with_part(
         scene,
         mesh,
         options.known.as_deref(),
         Some(part),
         crate::context::KnownClosings { support, power },
-        Some(arms),
+        Some(arms.clone()),
     )?;
     let t_grips = t_ctx.elapsed();
     ctx.fixed_rot_start = options.fixed_rot_start;
@@ -284,7 +298,7 @@ pub(super) fn plan_grasps_as_given(
             let fingertips = seated
                 .as_ref()
                 .is_some_and(|(_, m)| m.iter().any(|&m| m < 0.0));
-            return Ok((Pass::NoneCarries { fingertips }, geometry));
+            return Ok((Pass::NoneCarries { fingertips }, built));
         }
         for (k, outcome) in done {
             early[k] = Some(outcome);
@@ -422,7 +436,7 @@ pub(super) fn plan_grasps_as_given(
         outcomes,
         hull: (!axes.hull.vertices.is_empty()).then_some(axes.hull),
     };
-    Ok((Pass::Planned(Box::new(report)), geometry))
+    Ok((Pass::Planned(Box::new(report)), built))
 }
 
 /// Algorithm 1 for `scene` on `mesh`, on the hull `known` has of this mesh when it has one.
