@@ -18,16 +18,19 @@
 //!   those two axes, each at most `w·N_g`: the fingers bear on the bar across their width `w`
 //!   along it ([`PowerHold::wrap_moment_arm`]) and press with the squeeze, so the pressure
 //!   shifting to one edge of each finger holds no more; where the tips met around it first
-//!   (caged) the bar has room to turn in the hand, and only the forces remain. Along the bar (`y`) and about it only the squeeze's
-//!   friction holds it. The friction the enclosure's own push would add is left out, on
-//!   purpose: the two hands could push on the part against each other without limit in the
-//!   program (the arms hold positions; their internal force is not known), and that would make
-//!   friction from nothing.
+//!   (caged) the bar has room to turn in the hand, and only the forces remain. Along the bar
+//!   (`y`) and about it only the squeeze's friction holds it. The friction the enclosure's own
+//!   push would add is left out, on purpose: the two hands could push on the part against each
+//!   other without limit in the program (the arms hold positions; their internal force is not
+//!   known), and that would make friction from nothing.
 //!
 //! A caged hand squeezes with its spring links only ([`CAGED_SQUEEZE`]); a one-sided closing
 //! gives nothing. Held to the whole-plan replay (`crates/planner/tests/carry_truth.rs`): of the
 //! variants "caged: no enclosure", "forces only" and "forces and moments", forces only departs
 //! from the replay least (3 of 46 rows when chosen; 2 of 46 since the closing model of b6ce5a2).
+//! An encompassing wrap held any moment until 2026-11-30, and panel_18, carried so, tilted in
+//! the replay; with the bound `w·N_g` it is slid towards its centre of mass and lifts, and the
+//! test's 283 rows keep one departure, on the cautious side (`docs/physics.md`).
 //!
 //! A pinch (the pads alone bear on the bar) has the squeeze only. Equations: the hands' forces
 //! sum to `W·(g + a)/g · ẑ`, their moments about the centre of mass to zero. Forces are solved
@@ -226,8 +229,8 @@ pub fn min_carry_force(problem: &CarryProblem) -> Result<CarryOutcome, SolverErr
         }
         // |m_x|, |m_z| ≤ w N_g: the wrap's moments, at most the squeeze across the fingers.
         if let (Some(c), HoldKind::Encompassing) = (col.enclosure, h.closing) {
+            let w = h.wrap_moment_arm.max(0.0);
             for m in [c + 2, c + 3] {
-                let w = h.wrap_moment_arm.max(0.0);
                 ge(&mut push, &mut b, &[(col.squeeze, w), (m, -1.0)], 0.0);
                 ge(&mut push, &mut b, &[(col.squeeze, w), (m, 1.0)], 0.0);
             }

@@ -234,7 +234,7 @@ pub(crate) fn run_clarabel(
     b: &[f64],
     cones: &[SupportedConeT<f64>],
 ) -> Result<Option<PrimalDual>, SolverError> {
-    run_clarabel_refined(a, b, cones, true)
+    run_clarabel_with(a, b, cones, true)
 }
 
 /// [`run_clarabel`] without the iterative refinement of each step's linear solve: about 30 %
@@ -245,10 +245,11 @@ pub(crate) fn run_clarabel_unrefined(
     b: &[f64],
     cones: &[SupportedConeT<f64>],
 ) -> Result<Option<PrimalDual>, SolverError> {
-    run_clarabel_refined(a, b, cones, false)
+    run_clarabel_with(a, b, cones, false)
 }
 
-fn run_clarabel_refined(
+/// [`run_clarabel`], its linear solves refined or not.
+fn run_clarabel_with(
     a: &CscMatrix<f64>,
     b: &[f64],
     cones: &[SupportedConeT<f64>],
