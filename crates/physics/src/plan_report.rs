@@ -91,7 +91,8 @@ pub struct PlanPhysics {
     /// Each closing segment of the plan (`sup1`, `mas1`, `sup2`, in plan order) with the grip
     /// force the plan closes it with.
     pub closings: Vec<ClosingForce>,
-    /// The analysis stopped at the first state that cannot be held ([`screen_plan`](crate::screen_plan)): `worst`
+    /// The analysis stopped at the first state that cannot be held, or after the first state of
+    /// a rotation that hangs on the pads' twist ([`screen_plan`](crate::screen_plan)): `worst`
     /// is where the failure begins, and the states after it were not checked.
     #[serde(skip)]
     pub stopped_at_failure: bool,
