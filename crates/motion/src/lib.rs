@@ -7,8 +7,9 @@
 //! - [`validity`]: [`StateValidator`], [`MotionValidator`] — edges checked every
 //!   `resolution` metres of arm-point travel, coarse-to-fine, first failure stops; whole boxes
 //!   of states at once where the validator can, a failed box handing its [`Doubts`] down.
-//! - [`rrt_connect`](mod@rrt_connect): [`rrt_connect()`] with [`RrtConnectSettings`];
-//!   the outcome is a [`PlanResult`] with a [`PlanStatus`] and [`PlanStats`], never an error.
+//! - [`rrt_connect`](mod@rrt_connect): [`rrt_connect()`] with [`RrtConnectSettings`], and
+//!   [`rrt_connect_until`] that a caller may stop (its answer no longer wanted); the outcome
+//!   is a [`PlanResult`] with a [`PlanStatus`] and [`PlanStats`], never an error.
 //! - [`simplify`](mod@simplify): [`simplify()`] / [`simplify_by`] — greedy, seeded random
 //!   and single-joint (partial) shortcutting, then waypoint removal; never invalidates a
 //!   path nor raises its [`PathCost`] (length, or [`RestToRest`] duration).
@@ -35,7 +36,8 @@
 //! ```
 //!
 //! Determinism: all randomness comes from ChaCha8 seeded by the caller; only the
-//! optional wall-clock limit ([`PlanStatus::Timeout`]) can make results differ.
+//! optional wall-clock limit ([`PlanStatus::Timeout`]) and a caller's stop
+//! ([`PlanStatus::Stopped`]) can make results differ.
 
 pub mod cartesian;
 pub mod rrt_connect;
