@@ -30,7 +30,7 @@
 //! from the replay least (3 of 46 rows when chosen; 2 of 46 since the closing model of b6ce5a2).
 //! An encompassing wrap held any moment until 2026-11-30, and panel_18, carried so, tilted in
 //! the replay; with the bound `w·N_g` it is slid towards its centre of mass and lifts, and the
-//! test's 283 rows keep one departure, on the cautious side (`docs/physics.md`).
+//! test's 327 rows keep one departure, on the cautious side (`docs/physics.md`).
 //!
 //! A pinch (the pads alone bear on the bar) has the squeeze only. Equations: the hands' forces
 //! sum to `W·(g + a)/g · ẑ`, their moments about the centre of mass to zero. Forces are solved
