@@ -129,13 +129,18 @@ pub fn slid_scene(
         return None;
     }
     let power = &scene.grasps.power;
+    // Each arm's closings beside the other's (they are independent).
+    let both = |f: &(dyn Fn(usize) -> bool + Sync)| {
+        let (a, b) = rayon::join(|| f(0), || f(1));
+        [a, b]
+    };
     // The scene's closings, once for every share.
-    let squeezed = [0, 1].map(|k| squeezes(closing_kind(part, &arms[k], &power[k])));
+    let squeezed = both(&|k| squeezes(closing_kind(part, &arms[k], &power[k])));
     SLIDE_SHARES.iter().find_map(|share| {
         // Rounded to 0.1 mm: the plan file says how far each grasp moved.
         let s = full.map(|x| (x * share * 1e4).round() / 1e4);
         let to = slid(power, s);
-        let holds = (0..2).all(|k| still_holds(part, &arms[k], squeezed[k], &to[k]));
+        let holds = both(&|k| still_holds(part, &arms[k], squeezed[k], &to[k])) == [true; 2];
         holds.then(|| {
             let mut slid_scene = scene.clone();
             slid_scene.grasps.power = to;
