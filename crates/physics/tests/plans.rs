@@ -36,6 +36,27 @@ fn planned(name: &str) -> (PlanFile, Mesh) {
     (file, ex.mesh)
 }
 
+/// Example `name` planned with `[physics] reject = false` (a plan is kept whatever the grip
+/// check says): the file, the index in it of candidate `id`'s plan, and the mesh.
+fn kept_plan(name: &str, id: usize) -> (PlanFile, usize, Mesh) {
+    let ex = pregrasp_examples::by_name(name).expect("built-in example");
+    let text = format!("{}\n[physics]\nreject = false\n", ex.scene_toml);
+    let scene = Scene::from_str(&text, Path::new(&format!("examples/{name}.toml"))).unwrap();
+    let options = PlanOptions {
+        max_plans: 5,
+        ..PlanOptions::default()
+    };
+    let file = plan(&scene, &ex.mesh, &options, &|_| {}, &|| {})
+        .unwrap()
+        .file;
+    let k = file
+        .plans
+        .iter()
+        .position(|p| p.candidate == id)
+        .expect("kept");
+    (file, k, ex.mesh)
+}
+
 /// The file as the plan model (as every reader of a plan file gets it).
 fn model(file: &PlanFile) -> PlanSet {
     file.to_model().expect("the planner's robots")
@@ -278,18 +299,7 @@ fn screening_stops_at_the_first_failing_point() {
 
     // The stool's candidate 2 with point pads (its pad contact patches left out, so they
     // resist no twist) slides at the support (kept here).
-    let ex = pregrasp_examples::by_name("stool_side").unwrap();
-    let text = format!("{}\n[physics]\nreject = false\n", ex.scene_toml);
-    let scene = Scene::from_str(&text, Path::new("examples/stool_side.toml")).unwrap();
-    let kept = plan(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {})
-        .unwrap()
-        .file;
-    let k = kept
-        .plans
-        .iter()
-        .position(|p| p.candidate == 2)
-        .expect("kept");
-    let mut kept = kept;
+    let (mut kept, k, _) = kept_plan("stool_side", 2);
     for seg in &mut kept.plans[k].segments {
         seg.pad_contact = None;
     }
@@ -356,23 +366,9 @@ fn screening_stops_where_the_grip_needs_more_than_the_gripper_has() {
 #[test]
 fn screening_refuses_a_rotation_on_the_twist_after_one_state() {
     // The chair side's candidate 1 hangs its weight 107.6 mm beyond the pinch (kept here).
-    let ex = pregrasp_examples::by_name("chair_side").unwrap();
-    let text = format!("{}\n[physics]\nreject = false\n", ex.scene_toml);
-    let scene = Scene::from_str(&text, Path::new("examples/chair_side.toml")).unwrap();
-    let options = PlanOptions {
-        max_plans: 5,
-        ..PlanOptions::default()
-    };
-    let file = plan(&scene, &ex.mesh, &options, &|_| {}, &|| {})
-        .unwrap()
-        .file;
-    let k = file
-        .plans
-        .iter()
-        .position(|p| p.candidate == 1)
-        .expect("kept");
+    let (file, k, mesh) = kept_plan("chair_side", 1);
     let base = PhysicsSettings::default();
-    let part = PartMass::resolve(file.object.mass, &ex.mesh, None, base.density).unwrap();
+    let part = PartMass::resolve(file.object.mass, &mesh, None, base.density).unwrap();
     let whole = analyse_plan(&model(&file), k, &part, &base).unwrap();
     assert_eq!(whole.verdict, Verdict::LiftsOffSupport);
     assert!(whole.states.len() > 10);
