@@ -16,6 +16,13 @@ pub struct Grips {
     pub power: [Result<Grip, GripFailure>; 2],
 }
 
+/// `f(0)` and `f(1)` side by side: one computation per arm (its gripper's closings), each
+/// independent of the other's.
+pub(crate) fn each_arm<T: Send>(f: impl Fn(usize) -> T + Sync) -> [T; 2] {
+    let (a, b) = rayon::join(|| f(0), || f(1));
+    [a, b]
+}
+
 /// Whether both arms hold G_s alike: they hold it by their precision points, so with the same
 /// precision point the closing on the part there, and its pad patches, are one.
 pub(crate) fn holds_support_alike(arms: &[ArmModel; 2]) -> bool {
@@ -89,12 +96,7 @@ pub(crate) fn grips_knowing(
                 .clone()
                 .unwrap_or_else(|| support_closings(object, world.arms(), support))
         },
-        || {
-            known.power.clone().unwrap_or_else(|| {
-                let (p0, p1) = rayon::join(|| close_power(0), || close_power(1));
-                [p0, p1]
-            })
-        },
+        || known.power.clone().unwrap_or_else(|| each_arm(close_power)),
     );
     Grips {
         support: at_support,

@@ -369,7 +369,7 @@ pub fn seat_power_grasps_by(
         let held = (wrap && rule.fingertips).then(fingertip_hold).flatten();
         held.unwrap_or((grasp, 0.0, here))
     };
-    let (a, b) = rayon::join(|| seat(0), || seat(1));
+    let [a, b] = crate::closings::each_arm(seat);
     SeatedGrasps {
         power: [a.0, b.0],
         moved: [a.1, b.1],

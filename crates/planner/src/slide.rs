@@ -28,6 +28,7 @@ use pregrasp_collision::{ArmModel, ObjectGeometry};
 use pregrasp_io::scene::Scene;
 use pregrasp_physics::HoldKind;
 
+use crate::closings::each_arm;
 use crate::hold_kind::squeezes;
 use crate::seat::{closing, thickness_at};
 
@@ -129,18 +130,13 @@ pub fn slid_scene(
         return None;
     }
     let power = &scene.grasps.power;
-    // Each arm's closings beside the other's (they are independent).
-    let both = |f: &(dyn Fn(usize) -> bool + Sync)| {
-        let (a, b) = rayon::join(|| f(0), || f(1));
-        [a, b]
-    };
-    // The scene's closings, once for every share.
-    let squeezed = both(&|k| squeezes(closing_kind(part, &arms[k], &power[k])));
+    // The scene's closings, once for every share; each arm's beside the other's.
+    let squeezed = each_arm(|k| squeezes(closing_kind(part, &arms[k], &power[k])));
     SLIDE_SHARES.iter().find_map(|share| {
         // Rounded to 0.1 mm: the plan file says how far each grasp moved.
         let s = full.map(|x| (x * share * 1e4).round() / 1e4);
         let to = slid(power, s);
-        let holds = both(&|k| still_holds(part, &arms[k], squeezed[k], &to[k])) == [true; 2];
+        let holds = each_arm(|k| still_holds(part, &arms[k], squeezed[k], &to[k])) == [true; 2];
         holds.then(|| {
             let mut slid_scene = scene.clone();
             slid_scene.grasps.power = to;
