@@ -227,6 +227,27 @@ impl std::fmt::Display for UnclosedGrip {
     }
 }
 
+/// How rule 2 treats the transits of a reach or regrasp — the points from the end of its
+/// retreat (its first point, without one) to `approach_from`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Transits {
+    /// Every state, as for any plan file.
+    Checked,
+    /// Only the transit's first state: the planner has just proved its edges. Each edge of a
+    /// transit is an edge of a path the planner's motion validator accepted in the same world
+    /// (the same part and arm models, the other arm, the part and the held fingers where the
+    /// plan puts them: `reach::reach_transit`), with each clearance grown by
+    /// [`PLANNING_MARGIN`](crate::context::PLANNING_MARGIN) and states checked every
+    /// [`MOTION_RESOLUTION`](crate::context::MOTION_RESOLUTION): every state *between* its
+    /// checked ones keeps the clearance this check applies; the time parameterisation samples
+    /// points on those edges (`pregrasp_motion::timing`). Pairs that do not involve the moving
+    /// arm do not change along a segment and are checked at its other states; a transit's
+    /// gripper is open and touches nothing, so rules 4 and the open hand's do not apply there.
+    /// A plan whose `rot` does not end at its P_obj exactly (the pose the planner proved
+    /// `mas1` and `sup2` with) has its later transits checked whole.
+    Proven,
+}
+
 /// The models a plan set is checked with — arms, the collision world with the plan's
 /// clearances, the widths the grippers close on, the part's hull — built once for any number of
 /// plans of the same cell (robots, grasps, planner settings, support, mesh).
@@ -322,9 +343,20 @@ impl PlanChecker {
         self.check_plans(set, &set.plans)
     }
 
-    /// Checks `plans` as the plans of `set`'s cell (its own `plans` are not read): the planner
-    /// asks about one plan at a time.
+    /// Checks `plans` as the plans of `set`'s cell (its own `plans` are not read), every
+    /// state of every motion.
     pub fn check_plans(&self, set: &PlanSet, plans: &[Plan]) -> CheckReport {
+        self.check_plans_with(set, plans, Transits::Checked)
+    }
+
+    /// [`check_plans`](Self::check_plans) for plans the planner has just built with this cell's
+    /// models ([`Transits::Proven`]): their transits are not checked again. The planner asks
+    /// about one plan at a time; `pregrasp check` never asks this.
+    pub(crate) fn check_own_plans(&self, set: &PlanSet, plans: &[Plan]) -> CheckReport {
+        self.check_plans_with(set, plans, Transits::Proven)
+    }
+
+    fn check_plans_with(&self, set: &PlanSet, plans: &[Plan], transits: Transits) -> CheckReport {
         let mut structure = Rule::new();
         let mut limits = Rule::new();
         let mut collisions = Rule::new();
@@ -366,6 +398,7 @@ impl PlanChecker {
                 limits: &mut limits,
                 collisions: &mut collisions,
                 states_checked: &mut states_checked,
+                transits,
                 open_states: &mut open_states,
                 rotation: &mut rotation,
                 grasps: &mut grasps,

@@ -10,8 +10,8 @@ use pregrasp_model::timeline::{lerp_joints, lerp_pose, CONTACT_ZONE};
 use super::open::OpenAt;
 use super::walk::{at, edge, grasp_error, pose_error, PlanCheck, Queued};
 use super::{
-    Rule, AXIS_MOTION_TOLERANCE, BELOW_SUPPORT_TOLERANCE, CHECK_RESOLUTION, FINE_CHECK_RESOLUTION,
-    GRASP_POSITION_TOLERANCE, LINE_ANGLE_TOLERANCE, LINE_POSITION_TOLERANCE,
+    Rule, Transits, AXIS_MOTION_TOLERANCE, BELOW_SUPPORT_TOLERANCE, CHECK_RESOLUTION,
+    FINE_CHECK_RESOLUTION, GRASP_POSITION_TOLERANCE, LINE_ANGLE_TOLERANCE, LINE_POSITION_TOLERANCE,
 };
 
 /// Which straight line a point of a reach/regrasp segment lies on, if any.
@@ -95,14 +95,25 @@ impl<'a> PlanCheck<'a> {
                 CHECK_RESOLUTION
             }
         };
-        let total = (0..n)
-            .map(|k| edge(pts, k, &weights, resolution(k)).1)
-            .sum();
+        // Edge k's end and the states checked on it: of a transit the planner proved
+        // (`Transits::Proven`), its first state alone.
+        let transit = retreat_to.unwrap_or(0)..approach_from;
+        let transits = self.transits;
+        let edge_of = |k: usize| {
+            let (edge_end, steps) = edge(pts, k, &weights, resolution(k));
+            match transits {
+                Transits::Proven if transit.contains(&k) => {
+                    (edge_end, usize::from(k == transit.start))
+                }
+                _ => (edge_end, steps),
+            }
+        };
+        let total = (0..n).map(|k| edge_of(k).1).sum();
         let mut queue = Queued::with_capacity(total);
         // The flange (object frame) where the open hand was last judged, and its memo.
         let mut judged = (None, pregrasp_collision::OpenMemo::default());
         for k in 0..n {
-            let (edge_end, steps) = edge(pts, k, &weights, resolution(k));
+            let (edge_end, steps) = edge_of(k);
             for s in 0..steps {
                 let f = s as f64 / steps as f64;
                 let qi = lerp_joints(&pts[k].q, &pts[edge_end].q, f);

@@ -50,6 +50,8 @@ pub(super) struct PlanCheck<'a> {
     pub(super) open_states: &'a mut u64,
     pub(super) rotation: &'a mut Rule,
     pub(super) grasps: &'a mut Rule,
+    /// Whether the transits' states are checked or known free.
+    pub(super) transits: super::Transits,
 }
 
 /// Edge `k → k+1` of a segment as (index of its end, number of checked sub-steps), so that no
@@ -196,6 +198,10 @@ impl<'a> PlanCheck<'a> {
                     self.check_rotation(arm, seg, &q, &gripper, &holding, &axis, &p_init, &g_s);
                     let last = seg.points.last().expect("≥ 2 points");
                     object = last.object_pose.unwrap_or(object);
+                    // The planner proved the later transits with the part at P_obj exactly.
+                    if object != p_obj {
+                        self.transits = super::Transits::Checked;
+                    }
                     let (dp, da) = pose_error(&object, &p_obj);
                     grasp_error(self.grasps, dp, da, || {
                         format!("plan {} rot: last object_pose vs object_goal_pose", index)

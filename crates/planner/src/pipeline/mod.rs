@@ -24,6 +24,8 @@ use crate::hold::Unchecked;
 use crate::seat::SeatRule;
 
 mod pass;
+#[cfg(test)]
+mod recheck;
 
 pub(crate) use pass::axes_of;
 use pass::{plan_grasps_as_given, Built};

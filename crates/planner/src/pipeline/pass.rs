@@ -454,6 +454,6 @@ pub(crate) fn axes_of(scene: &Scene, mesh: &Mesh, known: Option<&PartKnowledge>)
 /// The first rule `plan` (checked as a plan of `header`) fails, if any, and how close a
 /// grasping gripper comes to the support along it (from the same check).
 fn verify(checker: &PlanChecker, set: &PlanSet, plan: &Plan) -> (Option<FailedRule>, Option<f64>) {
-    let report = checker.check_plans(set, std::slice::from_ref(plan));
+    let report = checker.check_own_plans(set, std::slice::from_ref(plan));
     (FailedRule::first(&report), report.closest_grasp_to_support)
 }
