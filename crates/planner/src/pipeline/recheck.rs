@@ -69,20 +69,27 @@ fn the_planners_own_check_judges_its_plans_as_the_full_check_does() {
 }
 
 /// The transits are trusted only where the planner has just proved them: a plan file whose
-/// transit runs through the table fails `pregrasp check`, which checks every state.
+/// transit runs through the part fails `pregrasp check`, which checks every state.
 #[test]
 fn a_plan_file_is_checked_whole_whoever_wrote_it() {
     let (mut file, mesh) = planned("stool_side");
     let sup1 = &mut file.plans[0].segments[0];
     let from = sup1.approach_from.expect("a reach");
     assert!(from >= 4, "a transit of {from} points");
-    // A transit point in the middle, the shoulder turned down into the table.
+    // A transit point in the middle, the shoulder turned by a radian: the gripper passes
+    // through the part on the way there.
     sup1.points[from / 2].q[1] += 1.0;
     let set = file.to_model().expect("model");
     let checker = checker(&file, &mesh);
     let collides = |report: &CheckReport| report.rules[2].ok == Some(false);
     assert!(collides(&checker.check_plans(&set, &set.plans)));
-    assert!(collides(&check_plan(&file, &mesh)));
+    let whole = check_plan(&file, &mesh);
+    assert!(collides(&whole));
+    assert!(
+        whole.rules[2].detail.contains("sup1 point") && whole.rules[2].detail.contains("object"),
+        "{}",
+        whole.rules[2].detail
+    );
     // What the planner's own check skips: the states of its transits.
     assert!(!collides(&checker.check_own_plans(&set, &set.plans)));
 }
