@@ -8,17 +8,38 @@ use pregrasp_geometry::Mesh;
 use pregrasp_io::plan_file::PlanFile;
 use pregrasp_io::scene::Scene;
 
+use pregrasp_examples::generated::generated_scene;
+use pregrasp_examples::parts::families;
+
 use super::{plan, PlanOptions};
 use crate::check::{check_plan, CheckReport, PlanChecker};
 
 fn planned(name: &str) -> (PlanFile, Mesh) {
     let ex = pregrasp_examples::by_name(name).expect("built-in example");
-    let scene = Scene::from_str(&ex.scene_toml, Path::new(&format!("examples/{name}.toml")))
-        .expect("example scene parses");
-    let file = plan(&scene, &ex.mesh, &PlanOptions::default(), &|_| {}, &|| {})
+    planned_from(&ex.scene_toml, &format!("examples/{name}.toml"), ex.mesh)
+}
+
+fn planned_from(toml: &str, path: &str, mesh: Mesh) -> (PlanFile, Mesh) {
+    let scene = Scene::from_str(toml, Path::new(path)).expect("scene parses");
+    let file = plan(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
         .expect("plans")
         .file;
-    (file, ex.mesh)
+    (file, mesh)
+}
+
+/// The examples and the first generated part of every family.
+fn scenes() -> Vec<(String, PlanFile, Mesh)> {
+    let examples = pregrasp_examples::NAMES.iter().map(|&name| {
+        let (file, mesh) = planned(name);
+        (name.to_string(), file, mesh)
+    });
+    let generated = families::FAMILIES.iter().map(|&family| {
+        let part = generated_scene(&families::generate(family, 1));
+        let (file, mesh) =
+            planned_from(&part.scene_toml, &format!("{}.toml", part.stem), part.mesh);
+        (part.stem, file, mesh)
+    });
+    examples.chain(generated).collect()
 }
 
 fn checker(file: &PlanFile, mesh: &Mesh) -> PlanChecker {
@@ -37,13 +58,18 @@ fn states(report: &CheckReport) -> u64 {
         .unwrap_or_else(|| panic!("no count in {detail:?}"))
 }
 
-/// On every example's plans the two checks give the same verdict on every rule, the same
-/// closest grasping gripper to the support (the robustness ranking reads it), and the same
-/// words but for rule 2's count of states: the planner's own check skips its transits'.
+/// On the plans of the examples and of a generated part of every family the two checks give
+/// the same verdict on every rule, the same closest grasping gripper to the support (the
+/// robustness ranking reads it), and the same words but for rule 2's count of states: the
+/// planner's own check skips its transits'.
 #[test]
 fn the_planners_own_check_judges_its_plans_as_the_full_check_does() {
-    for name in pregrasp_examples::NAMES {
-        let (file, mesh) = planned(name);
+    let mut plans = 0;
+    for (name, file, mesh) in scenes() {
+        plans += file.plans.len();
+        if file.plans.is_empty() {
+            continue;
+        }
         let set = file.to_model().expect("model");
         let checker = checker(&file, &mesh);
         let full = checker.check_plans(&set, &set.plans);
@@ -66,6 +92,7 @@ fn the_planners_own_check_judges_its_plans_as_the_full_check_does() {
             "{name}: {skipped} of {all} states checked again"
         );
     }
+    assert!(plans >= 10, "only {plans} plans compared");
 }
 
 /// The transits are trusted only where the planner has just proved them: a plan file whose
