@@ -30,8 +30,9 @@ from tables import csv_text, dump_json, write_atomic  # noqa: E402
 
 SCRIPT = "tools/gripper_truth/plan_sweep.py"
 EXIT_PLANNED, EXIT_NO_PLAN = 0, 2
-# crates/examples/src/parts/families.rs, Family::name
-FAMILIES = ("frame", "ladder", "u_frame", "panel", "stool", "h_frame")
+# crates/examples/src/parts/kit.rs, Family::name: the six families and the six hard ones (`--hard`)
+FAMILIES = ("frame", "ladder", "u_frame", "panel", "stool", "h_frame",
+            "t_junction", "l_corner", "hand_hole", "parallel_bars", "chamfered", "thin_rungs")
 
 
 def family_seed(stem):
