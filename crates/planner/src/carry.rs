@@ -26,9 +26,7 @@ use pregrasp_physics::{
 };
 
 use crate::context::{Grips, PlanningContext};
-
-/// Half the 2F-85 pad's width (m), along the bar it holds (a jaw's patch is taken alike).
-const PAD_HALF_WIDTH: f64 = 0.011;
+use crate::hold_kind::PAD_HALF_WIDTH;
 
 /// The 2F-85's fingers' width along the bar (m), their pads' (`docs/hardware-facts.md`): the
 /// lever of a wrap's moments per newton of squeeze ([`PowerHold::wrap_moment_arm`]).

@@ -3,6 +3,9 @@
 use pregrasp_physics::HoldKind;
 use pregrasp_robot::ClosingKind;
 
+/// Half the 2F-85 pad's width (m), along the bar it holds (a jaw's patch is taken alike).
+pub const PAD_HALF_WIDTH: f64 = 0.011;
+
 /// How a closing holds: one-sided if a finger closed on nothing, caged if a finger's tips met
 /// the other's, encompassing if a finger wrapped the bar, else a pinch.
 pub fn hold_kind(kinds: &[ClosingKind; 2]) -> HoldKind {

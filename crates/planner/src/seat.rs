@@ -55,8 +55,12 @@
 //! on the bar's mid-plane ([`bar_mid_plane`], at most [`CENTRE_REACH`] across): the 2F-85's
 //! fingers close together, and the pad that meets an off-centre bar first stops both, so our
 //! closing ended on one side on 13 caged masters of the replay tables, 0.01–0.06 mm off
-//! the mid-plane (the scene files' 0.1 mm rounding), and they stayed caged. The plan file
-//! writes that move as `grasps.centred`.
+//! the mid-plane (the scene files' 0.1 mm rounding), and they stayed caged. The mid-plane is
+//! halfway between the faces each pad meets first over its width: on a tapered leg (its
+//! face sloping 2° along the bar) a pad meets the face at its edge, 0.1–0.3 mm before its
+//! centre would, and the fifteen chamfered parts of the hard families closed on one side at
+//! every fingertip depth until the edges were read too. The plan file writes that move as
+//! `grasps.centred`.
 //!
 //! **Fingertips first** (the planner's rule, [`SeatRule::PLANNER`]). A wrap pulls its bar to
 //! the palm while the other gripper only pinches the part: the whole-plan replay measured the
@@ -77,7 +81,7 @@ use pregrasp_collision::{close_on_part, ArmModel, Grip, GripFailure, ObjectGeome
 use pregrasp_physics::HoldKind;
 use pregrasp_robot::{GripperState, Primitive};
 
-use crate::hold_kind::{hold_kind, squeezes};
+use crate::hold_kind::{hold_kind, squeezes, PAD_HALF_WIDTH};
 
 /// Gap (m) left between the palm and the part as it rests on the support once a grasp is
 /// seated: touching, with room for the mesh's and the arm's tolerances.
@@ -228,17 +232,27 @@ pub fn thickness_at(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f
 }
 
 /// How far (m) along `grasp`'s `x` (the closing direction) the mid-plane of the bar at its
-/// origin lies: halfway between the faces that rays from the open 2F-85's stroke ends
-/// (± half the stroke along `x`, through the origin) first meet. `None` if either misses.
+/// origin lies: halfway between the faces each pad meets first. Rays run from the open 2F-85's
+/// stroke ends (± half the stroke along `x`) towards the bar through the origin and through
+/// the pad's two edges along the bar (± [`PAD_HALF_WIDTH`] along `y`): on a bar whose faces
+/// are not parallel to the fingers (a tapered leg) a pad meets the face at its edge first.
+/// `None` if a ray through the origin misses.
 pub fn bar_mid_plane(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f64> {
     let half = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke() / 2.0;
-    let face = |side: f64| {
-        let start = grasp * nalgebra::Point3::new(side * half, 0.0, 0.0);
+    let hit = |side: f64, along: f64| {
+        let start = grasp * nalgebra::Point3::new(side * half, along, 0.0);
         let towards = grasp.rotation * Vector3::new(-side, 0.0, 0.0);
         let hit = object
             .trimesh()
             .cast_local_ray(&Ray::new(start, towards), half, false)?;
-        Some(side * (half - hit))
+        Some(half - hit)
+    };
+    // The face a pad meets first: the least distance it closes, over its width.
+    let face = |side: f64| {
+        let centre = hit(side, 0.0)?;
+        let edges = [-PAD_HALF_WIDTH, PAD_HALF_WIDTH].map(|y| hit(side, y));
+        let nearest = edges.into_iter().flatten().fold(centre, f64::max);
+        Some(side * nearest)
     };
     Some(0.5 * (face(1.0)? + face(-1.0)?))
 }

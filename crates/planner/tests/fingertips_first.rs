@@ -99,6 +99,52 @@ fn a_grasp_held_at_the_fingertips_lies_on_its_bars_mid_plane() {
 }
 
 #[test]
+fn a_tapered_legs_mid_plane_is_where_both_pads_meet_it() {
+    // Generated chamfered #11: the legs taper (the inner face slopes about 2° along the leg),
+    // so a pad meets that face first at its edge. Centred between the faces at the grasp's
+    // origin alone, the pad on the sloping face stops both fingers and the other closes on
+    // nothing; centred between the faces each pad meets first over its width, both pinch.
+    let g = generated_scene(&generate(Family::Chamfered, 11));
+    let scene = Scene::from_str(&g.scene_toml, Path::new("chamfered_11.toml")).unwrap();
+    let part = ObjectGeometry::new(&g.mesh).unwrap();
+    let arms = arm_models(&scene).unwrap();
+    for (k, arm) in arms.iter().enumerate() {
+        let grasp = scene.grasps.power[k];
+        let point = arm.gripper.power_point();
+        let out = scene.robots[k].power_point_z - scene.robots[k].precision_point_z;
+        // The faces the rays through the origin meet, as bar_mid_plane read them before.
+        let half = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke() / 2.0;
+        let face = |side: f64| {
+            let start = grasp * nalgebra::Point3::new(side * half, 0.0, 0.0);
+            let towards = grasp.rotation * nalgebra::Vector3::new(-side, 0.0, 0.0);
+            let ray = parry3d_f64::query::Ray::new(start, towards);
+            let hit =
+                parry3d_f64::query::RayCast::cast_local_ray(part.trimesh(), &ray, half, false);
+            side * (half - hit.unwrap())
+        };
+        let at_origin = 0.5 * (face(1.0) + face(-1.0));
+        let across = bar_mid_plane(&part, &grasp).unwrap();
+        assert!(
+            (across - at_origin).abs() > 1e-4,
+            "power[{k}] {across} {at_origin}"
+        );
+        assert!(across.abs() <= CENTRE_REACH, "power[{k}] {across}");
+        let kinds = |x: f64| {
+            let held = grasp * Translation3::new(x, 0.0, out);
+            close_on_part(&part, &arm.gripper, &(held * point.inverse()))
+                .unwrap()
+                .kinds
+        };
+        assert!(
+            kinds(at_origin).contains(&ClosingKind::Closed),
+            "power[{k}] {:?}",
+            kinds(at_origin)
+        );
+        assert_eq!(kinds(across), [ClosingKind::Pinch; 2], "power[{k}]");
+    }
+}
+
+#[test]
 fn the_wraps_carry_where_the_pinch_at_the_fingertips_cannot() {
     // The chair side held at both fingertips: no grip force holds its weight's moment about the
     // line through the two pinches, and sliding them does not help; the planner makes the plan
