@@ -22,7 +22,8 @@
 //! seeds 1–20 held at the fingertips whatever the check says
 //! (`plan_replay_panels_fingertips_2f85.csv`, `[planner] power_hold = "fingertips"`), each part
 //! made again here from its family and seed. A second test holds it to the six hard families
-//! (`plan_replay_hard_seeds_1_15_*_2f85.csv`, 108 plans), which were not replayed before.
+//! (`plan_replay_hard_seeds_1_15_*_2f85.csv` and `…_16_25_…`, 177 plans), which were not replayed
+//! before.
 
 mod common;
 
@@ -97,17 +98,18 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
 }
 
 /// The six hard families (`pregrasp example generate --hard`: material next to the grasps),
-/// seeds 1–15, 90 parts and 108 plans, planned and replayed whole at 235 N by the planner of
-/// 6c11f8a (`plan_replay_hard_seeds_1_15_*_2f85.csv`), none of them seen when the model was
-/// set. The check agrees on 103 rows (3 refused that fail, 100 kept that lift) and departs on
-/// 5, named in docs/physics.md ("The hard families in the whole-plan replay"):
-/// - not carried, lifting (the cautious side): hand_hole_1, _2 and _12, whose pads' pinches
-///   need 120–139 N (240–278 N with the safety factor); the three it refuses that fail,
-///   hand_hole_7, _10 and _11, need 143–185 N: N_min orders the six by outcome;
-/// - carried, failing: hand_hole_5, whose wraps on 36 mm stock our closing finds tight and the
-///   replay's master cages (66 N per side instead of 235 N; tilted 8.8°), and chamfered_11,
-///   whose supportive gripper closes on nothing at `sup2` once the part has turned 0.9° in
-///   the master's pinch (rose 40.2 mm).
+/// none of them seen when the model was set, planned and replayed whole at 235 N by the
+/// planner of 6c11f8a: seeds 1–15 (90 parts, 108 plans, `plan_replay_hard_seeds_1_15_*`) and
+/// seeds 16–25, generated after it (60 parts, 69 plans, `…_16_25_…`). The check agrees on 170
+/// rows (3 refused that fail, 167 kept that lift) and departs on 7, named in docs/physics.md
+/// ("The hard families in the whole-plan replay"):
+/// - not carried, lifting (the cautious side): hand_hole_1, _2, _12 and _17, whose pads'
+///   pinches need 118–139 N (236–278 N with the safety factor); the three it refuses that
+///   fail, hand_hole_7, _10 and _11, need 143–185 N: N_min orders the seven by outcome;
+/// - carried, failing: hand_hole_5 and hand_hole_20, whose wraps on 36 mm stock our
+///   closing finds tight and the replay's master cages (60–68 N per side instead of 235 N;
+///   tilted 8.8° and 9.8°), and chamfered_11, whose supportive gripper closes on nothing at
+///   `sup2` once the part has turned 0.9° in the master's pinch (rose 40.2 mm).
 ///
 /// (Two more plans lift but fail the replay's closing criteria, which this check does not
 /// judge: l_corner_12's supportive gripper closes on one side, and t_junction_6's master
@@ -118,6 +120,8 @@ fn the_carry_check_on_the_hard_families() {
     for table in [
         "plan_replay_hard_seeds_1_15_tee_corner_hole_2f85.csv",
         "plan_replay_hard_seeds_1_15_bars_chamfer_rungs_2f85.csv",
+        "plan_replay_hard_seeds_16_25_tee_corner_hole_2f85.csv",
+        "plan_replay_hard_seeds_16_25_bars_chamfer_rungs_2f85.csv",
     ] {
         all.extend(
             rows(table)
@@ -125,9 +129,9 @@ fn the_carry_check_on_the_hard_families() {
                 .filter(|r| !r["candidate"].is_empty()),
         );
     }
-    assert_eq!(all.len(), 108);
+    assert_eq!(all.len(), 177);
     let t = tally(&all);
-    assert_eq!((t.refused, t.kept, t.cautious.len()), (3, 100, 0));
+    assert_eq!((t.refused, t.kept, t.cautious.len()), (3, 167, 0));
     assert_eq!(
         t.departures,
         [
@@ -136,6 +140,8 @@ fn the_carry_check_on_the_hard_families() {
             "hand_hole_5 plan 0: carried, fails",
             "hand_hole_12 plan 0: not carried, lifts",
             "chamfered_11 plan 0: carried, fails",
+            "hand_hole_17 plan 0: not carried, lifts",
+            "hand_hole_20 plan 0: carried, fails",
         ]
     );
 }
