@@ -190,3 +190,28 @@ fn an_unknown_power_hold_is_refused_by_name() {
         "{err}"
     );
 }
+
+#[test]
+fn where_the_wraps_get_no_path_the_pinch_is_planned_and_flagged() {
+    // Generated hand_hole #22 (36 mm stock): its pads' pinch at the fingertips needs 141 N by
+    // the carry check (282 N with the safety factor, past the 2F-85's 235 N), so the planner
+    // tries the wraps, which carry it but whose master's open hand touches the part on its
+    // straight approach. The plan is then the pinch's, flagged, not none: the whole-plan
+    // replay lifts it (47.6 mm, tilted 1.7°).
+    let g = generated_scene(&generate(Family::HandHole, 22));
+    let scene = Scene::from_str(&g.scene_toml, Path::new("hand_hole_22.toml")).unwrap();
+    let file = plan(&scene, &g.mesh);
+    assert!(!file.plans.is_empty(), "{:?}", file.reason);
+    assert!(file.grasps.fingertips.is_some() && file.grasps.seated.is_none());
+    let warnings = &file.plans[0].physics.as_ref().unwrap().warnings;
+    assert!(
+        warnings.iter().any(|w| w.starts_with("carry: ")),
+        "{warnings:?}"
+    );
+    // The wraps alone get no plan, and said why.
+    let mut wraps = scene.clone();
+    wraps.planner.power_hold = PowerHold::Wraps;
+    let file = plan(&wraps, &g.mesh);
+    assert!(file.plans.is_empty());
+    assert!(file.reason.unwrap().contains("μ_mas1: straight approach"));
+}

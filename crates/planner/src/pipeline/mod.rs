@@ -137,7 +137,8 @@ pub struct PlanReport {
 /// shorter arm. With
 /// `[planner] power_hold = "auto"`, grasps held at the fingertips ([`crate::seat`]) that
 /// cannot carry the part, even slid, give way to the wraps ([`SeatRule::WRAPS`]), as given and
-/// then slid.
+/// then slid. Where no hold carries the part, the plan is the last hold's grasps as given,
+/// flagged by the carry check; where those get no plan at all, the first hold's.
 pub fn plan(
     scene: &Scene,
     mesh: &Mesh,
@@ -169,7 +170,8 @@ pub fn plan(
     };
     // The holds tried in turn until one carries: the first rule's grasps slid; then, for
     // `"auto"` where the first held some grasp at the fingertips, the wraps, and the wraps
-    // slid. Where none carries, the last grasps as given.
+    // slid. Where none carries, the last grasps as given (the first's where those get no
+    // plan).
     let wraps = hold == PowerHold::Auto && fingertips;
     let slid_scene = slid.get();
     let mut tries = Vec::new();
@@ -212,10 +214,26 @@ pub fn plan(
     let report = match fallback {
         (Some(report), _) => report,
         (None, rule) => {
-            let by = (Some(built.clone()), rule, false);
-            match plan_grasps_as_given(scene, mesh, options, by, &|_| {}, &|| {})?.0 {
-                Pass::Planned(report) => *report,
-                Pass::NoneCarries { .. } => unreachable!("a pass that does not probe plans"),
+            // The last hold's grasps as given, all candidates planned; where they get no plan
+            // at all (the wraps' paths blocked), the first hold's: a plan the carry check
+            // flags rather than none.
+            let as_given = |rule: SeatRule| -> Result<PlanReport, PlanError> {
+                let by = (Some(built.clone()), rule, false);
+                match plan_grasps_as_given(scene, mesh, options, by, &|_| {}, &|| {})?.0 {
+                    Pass::Planned(report) => Ok(*report),
+                    Pass::NoneCarries { .. } => unreachable!("a pass that does not probe plans"),
+                }
+            };
+            let last = as_given(rule)?;
+            if last.file.plans.is_empty() && rule != first {
+                let earlier = as_given(first)?;
+                if earlier.file.plans.is_empty() {
+                    last
+                } else {
+                    earlier
+                }
+            } else {
+                last
             }
         }
     };
