@@ -105,7 +105,7 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
 /// on 170 rows (3 refused that fail, 167 kept that lift) and departs on 8, named in
 /// docs/physics.md ("The hard families in the whole-plan replay"):
 /// - not carried, lifting (the cautious side): hand_hole_1, _2, _12, _17 and _22, whose pads'
-///   pinches need 118–141 N (236–282 N with the safety factor); the three it refuses that
+///   pinches need 118–141 N (236–281 N with the safety factor); the three it refuses that
 ///   fail, hand_hole_7, _10 and _11, need 143–185 N: N_min orders the eight by outcome;
 /// - carried, failing: hand_hole_5 and hand_hole_20, whose wraps on 36 mm stock our
 ///   closing finds tight and the replay's master cages (60–68 N per side instead of 235 N;

@@ -194,7 +194,7 @@ fn an_unknown_power_hold_is_refused_by_name() {
 #[test]
 fn where_the_wraps_get_no_path_the_pinch_is_planned_and_flagged() {
     // Generated hand_hole #22 (36 mm stock): its pads' pinch at the fingertips needs 141 N by
-    // the carry check (282 N with the safety factor, past the 2F-85's 235 N), so the planner
+    // the carry check (281 N with the safety factor, past the 2F-85's 235 N), so the planner
     // tries the wraps, which carry it but whose master's open hand touches the part on its
     // straight approach. The plan is then the pinch's, flagged, not none: the whole-plan
     // replay lifts it (47.6 mm, tilted 1.7°).
