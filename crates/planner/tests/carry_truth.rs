@@ -110,7 +110,8 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
 /// - carried, failing: hand_hole_5 and hand_hole_20, whose wraps on 36 mm stock our
 ///   closing finds tight and the replay's master cages (60–68 N per side instead of 235 N;
 ///   tilted 8.8° and 9.8°), and chamfered_11, whose supportive gripper closes on nothing at
-///   `sup2` once the part has turned 0.9° in the master's pinch (rose 40.2 mm).
+///   `sup2`: held by the master's pinch alone, the part crept 6.4° while that gripper
+///   travelled (rose 40.2 mm).
 ///
 /// (Two more plans lift but fail the replay's closing criteria, which this check does not
 /// judge: l_corner_12's supportive gripper closes on one side, and t_junction_6's master
