@@ -8,11 +8,10 @@ mod common;
 
 use std::path::Path;
 
-use common::scenes::example_files;
+use common::scenes::{example_files, generated_files};
 use nalgebra::Translation3;
 use pregrasp_collision::{close_on_part, ObjectGeometry};
-use pregrasp_examples::generated::generated_scene;
-use pregrasp_examples::parts::families::{generate, Family};
+use pregrasp_examples::parts::families::Family;
 use pregrasp_io::scene::{PowerHold, Scene};
 use pregrasp_planner::context::arm_models;
 use pregrasp_planner::pipeline::PlanOptions;
@@ -25,6 +24,23 @@ fn plan(scene: &Scene, mesh: &pregrasp_geometry::Mesh) -> pregrasp_io::plan_file
     pregrasp_planner::plan_scene(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
         .unwrap()
         .file
+}
+
+/// How arm `k`'s fingers end when its power grasp is held at the fingertips (the precision
+/// point) and moved `x` across its bar.
+fn kinds_at_fingertips(
+    scene: &Scene,
+    part: &ObjectGeometry,
+    arms: &[pregrasp_collision::ArmModel; 2],
+    k: usize,
+    x: f64,
+) -> [ClosingKind; 2] {
+    let gripper = &arms[k].gripper;
+    let out = scene.robots[k].power_point_z - scene.robots[k].precision_point_z;
+    let held = scene.grasps.power[k] * Translation3::new(x, 0.0, out);
+    close_on_part(part, gripper, &(held * gripper.power_point().inverse()))
+        .unwrap()
+        .kinds
 }
 
 #[test]
@@ -70,22 +86,14 @@ fn a_grasp_held_at_the_fingertips_lies_on_its_bars_mid_plane() {
     // mid-plane (the scene file's 0.1 mm rounding). At the fingertips the pad that meets the
     // bar first stops both fingers (their drivers turn together): off the mid-plane our closing
     // ends on one side, on it both pads pinch.
-    let g = generated_scene(&generate(Family::HFrame, 1));
-    let scene = Scene::from_str(&g.scene_toml, Path::new("h_frame_1.toml")).unwrap();
-    let part = ObjectGeometry::new(&g.mesh).unwrap();
+    let (scene, mesh) = generated_files(Family::HFrame, 1);
+    let part = ObjectGeometry::new(&mesh).unwrap();
     let arms = arm_models(&scene).unwrap();
-    let (k, arm) = (1, &arms[1]);
+    let k = 1;
     let grasp = scene.grasps.power[k];
-    let point = arm.gripper.power_point();
-    let out = scene.robots[k].power_point_z - scene.robots[k].precision_point_z;
     let across = bar_mid_plane(&part, &grasp).unwrap();
     assert!(across.abs() > 1e-6 && across.abs() < 1e-4, "{across}");
-    let kinds = |x: f64| {
-        let held = grasp * Translation3::new(x, 0.0, out);
-        close_on_part(&part, &arm.gripper, &(held * point.inverse()))
-            .unwrap()
-            .kinds
-    };
+    let kinds = |x: f64| kinds_at_fingertips(&scene, &part, &arms, k, x);
     assert!(
         kinds(0.0).contains(&ClosingKind::Closed),
         "{:?}",
@@ -93,7 +101,7 @@ fn a_grasp_held_at_the_fingertips_lies_on_its_bars_mid_plane() {
     );
     assert_eq!(kinds(across), [ClosingKind::Pinch; 2]);
     // The plan file says how far each grasp moved across, to the micrometre.
-    let file = plan(&scene, &g.mesh);
+    let file = plan(&scene, &mesh);
     let centred = file.grasps.centred.unwrap();
     assert!((centred[k] - across).abs() < 1e-6, "{centred:?} {across}");
 }
@@ -104,14 +112,11 @@ fn a_tapered_legs_mid_plane_is_where_both_pads_meet_it() {
     // so a pad meets that face first at its edge. Centred between the faces at the grasp's
     // origin alone, the pad on the sloping face stops both fingers and the other closes on
     // nothing; centred between the faces each pad meets first over its width, both pinch.
-    let g = generated_scene(&generate(Family::Chamfered, 11));
-    let scene = Scene::from_str(&g.scene_toml, Path::new("chamfered_11.toml")).unwrap();
-    let part = ObjectGeometry::new(&g.mesh).unwrap();
+    let (scene, mesh) = generated_files(Family::Chamfered, 11);
+    let part = ObjectGeometry::new(&mesh).unwrap();
     let arms = arm_models(&scene).unwrap();
-    for (k, arm) in arms.iter().enumerate() {
+    for k in 0..2 {
         let grasp = scene.grasps.power[k];
-        let point = arm.gripper.power_point();
-        let out = scene.robots[k].power_point_z - scene.robots[k].precision_point_z;
         // The faces the rays through the origin meet, as bar_mid_plane read them before.
         let half = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke() / 2.0;
         let face = |side: f64| {
@@ -129,12 +134,7 @@ fn a_tapered_legs_mid_plane_is_where_both_pads_meet_it() {
             "power[{k}] {across} {at_origin}"
         );
         assert!(across.abs() <= CENTRE_REACH, "power[{k}] {across}");
-        let kinds = |x: f64| {
-            let held = grasp * Translation3::new(x, 0.0, out);
-            close_on_part(&part, &arm.gripper, &(held * point.inverse()))
-                .unwrap()
-                .kinds
-        };
+        let kinds = |x: f64| kinds_at_fingertips(&scene, &part, &arms, k, x);
         assert!(
             kinds(at_origin).contains(&ClosingKind::Closed),
             "power[{k}] {:?}",
@@ -198,9 +198,8 @@ fn where_the_wraps_get_no_path_the_pinch_is_planned_and_flagged() {
     // tries the wraps, which carry it but whose master's open hand touches the part on its
     // straight approach. The plan is then the pinch's, flagged, not none: the whole-plan
     // replay lifts it (47.6 mm, tilted 1.7°).
-    let g = generated_scene(&generate(Family::HandHole, 22));
-    let scene = Scene::from_str(&g.scene_toml, Path::new("hand_hole_22.toml")).unwrap();
-    let file = plan(&scene, &g.mesh);
+    let (scene, mesh) = generated_files(Family::HandHole, 22);
+    let file = plan(&scene, &mesh);
     assert!(!file.plans.is_empty(), "{:?}", file.reason);
     assert!(file.grasps.fingertips.is_some() && file.grasps.seated.is_none());
     let warnings = &file.plans[0].physics.as_ref().unwrap().warnings;
@@ -211,7 +210,7 @@ fn where_the_wraps_get_no_path_the_pinch_is_planned_and_flagged() {
     // The wraps alone get no plan, and said why.
     let mut wraps = scene.clone();
     wraps.planner.power_hold = PowerHold::Wraps;
-    let file = plan(&wraps, &g.mesh);
+    let file = plan(&wraps, &mesh);
     assert!(file.plans.is_empty());
     assert!(file.reason.unwrap().contains("μ_mas1: straight approach"));
 }

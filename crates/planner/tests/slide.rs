@@ -4,24 +4,17 @@
 //! and keeps that plan when it carries; it does the same where a plan carries but leaves the
 //! weight hanging more than `HANGING_ARM` off that line.
 
+mod common;
+
 use std::path::Path;
 
+use common::scenes::generated_files as generated;
 use nalgebra::Vector3;
-use pregrasp_examples::generated::generated_scene;
-use pregrasp_examples::parts::families::{generate, Family};
+use pregrasp_examples::parts::families::Family;
 use pregrasp_io::scene::Scene;
 use pregrasp_physics::mass::MassProperties;
 use pregrasp_planner::pipeline::{plan, PlanOptions};
 use pregrasp_planner::slide::{weight_arm, HANGING_ARM};
-
-fn generated(family: Family, seed: u64) -> (Scene, pregrasp_geometry::Mesh) {
-    let g = generated_scene(&generate(family, seed));
-    let path = format!("generated/{}.toml", g.stem);
-    (
-        Scene::from_str(&g.scene_toml, Path::new(&path)).unwrap(),
-        g.mesh,
-    )
-}
 
 fn carry_warnings(file: &pregrasp_io::plan_file::PlanFile) -> usize {
     file.plans

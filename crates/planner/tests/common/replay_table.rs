@@ -5,8 +5,6 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use pregrasp_examples::generated::generated_scene;
-use pregrasp_examples::parts::families::generate;
 use pregrasp_examples::Family;
 use pregrasp_geometry::Mesh;
 use pregrasp_io::scene::Scene;
@@ -52,13 +50,7 @@ pub fn scene_of(row: &HashMap<String, String>) -> (Scene, Mesh) {
         return super::scenes::example_files(&row["example"]);
     }
     let seed: u64 = row["seed"].parse().unwrap();
-    let part = generate(Family::from_name(family).unwrap(), seed);
-    let g = generated_scene(&part);
-    let path = format!("generated/{}.toml", g.stem);
-    (
-        Scene::from_str(&g.scene_toml, Path::new(&path)).unwrap(),
-        g.mesh,
-    )
+    super::scenes::generated_files(Family::from_name(family).unwrap(), seed)
 }
 
 /// `scene` with the power grasps the planner plans with, as its plan file gives them: seated on

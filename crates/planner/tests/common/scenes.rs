@@ -2,6 +2,9 @@
 
 use std::path::Path;
 
+use pregrasp_examples::generated::generated_scene;
+use pregrasp_examples::parts::families::generate;
+use pregrasp_examples::Family;
 use pregrasp_geometry::Mesh;
 use pregrasp_io::mesh_io::load_mesh;
 use pregrasp_io::scene::Scene;
@@ -17,6 +20,17 @@ pub fn example_files(name: &str) -> (Scene, Mesh) {
         .unwrap()
         .mesh;
     (scene, mesh)
+}
+
+/// The generated part of `family` and `seed` (`pregrasp example generate`): its scene, read as
+/// `generated/<stem>.toml`, and its mesh.
+pub fn generated_files(family: Family, seed: u64) -> (Scene, Mesh) {
+    let g = generated_scene(&generate(family, seed));
+    let path = format!("generated/{}.toml", g.stem);
+    (
+        Scene::from_str(&g.scene_toml, Path::new(&path)).unwrap(),
+        g.mesh,
+    )
 }
 
 /// The scene text with its `[grasps]` table replaced by `mode = "auto"` and `extra` lines.
