@@ -22,8 +22,8 @@
 //! seeds 1–20 held at the fingertips whatever the check says
 //! (`plan_replay_panels_fingertips_2f85.csv`, `[planner] power_hold = "fingertips"`), each part
 //! made again here from its family and seed. A second test holds it to the six hard families
-//! (`plan_replay_hard_seeds_1_15_*_2f85.csv` and `…_16_25_…`, 178 plans), which were not replayed
-//! before.
+//! (`plan_replay_hard_seeds_1_15_*_2f85.csv`, `…_16_25_…` and `…_26_30_…`, 211 plans), which
+//! were not replayed before.
 
 mod common;
 
@@ -98,15 +98,17 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
 }
 
 /// The six hard families (`pregrasp example generate --hard`: material next to the grasps),
-/// none of them seen when the model was set, planned and replayed whole at 235 N by the
-/// planner of 6c11f8a: seeds 1–15 (90 parts, 108 plans, `plan_replay_hard_seeds_1_15_*`) and
-/// seeds 16–25, generated after it (60 parts, 70 plans, `…_16_25_…`; the T-junctions',
-/// L-corners' and hand holes' table at fafa907, which plans hand_hole_22). The check agrees
-/// on 170 rows (3 refused that fail, 167 kept that lift) and departs on 8, named in
-/// docs/physics.md ("The hard families in the whole-plan replay"):
-/// - not carried, lifting (the cautious side): hand_hole_1, _2, _12, _17 and _22, whose pads'
-///   pinches need 118–141 N (236–281 N with the safety factor); the three it refuses that
-///   fail, hand_hole_7, _10 and _11, need 143–185 N: N_min orders the eight by outcome;
+/// none of them seen when the model was set, planned and replayed whole at 235 N: seeds 1–15
+/// by the planner of 6c11f8a (90 parts, 108 plans, `plan_replay_hard_seeds_1_15_*`), seeds
+/// 16–25, generated after it (60 parts, 70 plans, `…_16_25_…`; the T-junctions', L-corners'
+/// and hand holes' table at fafa907, which plans hand_hole_22), and seeds 26–30 by the planner
+/// of 9815062 (30 parts, 33 plans, `…_26_30_…`). The check agrees on 202 rows (4 refused that
+/// fail, 198 kept that lift) and departs on 9, named in docs/physics.md ("The hard families in
+/// the whole-plan replay"):
+/// - not carried, lifting (the cautious side): hand_hole_1, _2, _12, _17, _22 and _28, whose
+///   power grasps need 118–141 N (236–281 N with the safety factor); the four it refuses that
+///   fail, hand_hole_7, _10, _11 and _27, need 143–185 N: N_min orders the ten by outcome, and
+///   the two of seeds 26–30 (130 N lifts, 151 N fails) fall on the sides the others set;
 /// - carried, failing: hand_hole_5 and hand_hole_20, whose wraps on 36 mm stock our
 ///   closing finds tight and the replay's master cages (60–68 N per side instead of 235 N;
 ///   tilted 8.8° and 9.8°), and chamfered_11, whose supportive gripper closes on nothing at
@@ -124,6 +126,8 @@ fn the_carry_check_on_the_hard_families() {
         "plan_replay_hard_seeds_1_15_bars_chamfer_rungs_2f85.csv",
         "plan_replay_hard_seeds_16_25_tee_corner_hole_2f85.csv",
         "plan_replay_hard_seeds_16_25_bars_chamfer_rungs_2f85.csv",
+        "plan_replay_hard_seeds_26_30_tee_corner_hole_2f85.csv",
+        "plan_replay_hard_seeds_26_30_bars_chamfer_rungs_2f85.csv",
     ] {
         all.extend(
             rows(table)
@@ -131,9 +135,9 @@ fn the_carry_check_on_the_hard_families() {
                 .filter(|r| !r["candidate"].is_empty()),
         );
     }
-    assert_eq!(all.len(), 178);
+    assert_eq!(all.len(), 211);
     let t = tally(&all);
-    assert_eq!((t.refused, t.kept, t.cautious.len()), (3, 167, 0));
+    assert_eq!((t.refused, t.kept, t.cautious.len()), (4, 198, 0));
     assert_eq!(
         t.departures,
         [
@@ -145,6 +149,7 @@ fn the_carry_check_on_the_hard_families() {
             "hand_hole_17 plan 0: not carried, lifts",
             "hand_hole_20 plan 0: carried, fails",
             "hand_hole_22 plan 0: not carried, lifts",
+            "hand_hole_28 plan 0: not carried, lifts",
         ]
     );
 }
