@@ -305,7 +305,6 @@ pub fn seat_power_grasps_by(
         let Some(robotiq) = arm.gripper.robotiq() else {
             return (grasp, 0.0, closing(object, arm, &flange).0);
         };
-        let (here, kind) = closing(object, arm, &flange);
         // The pads at the fingertips, where they pinch in parallel, on the bar's mid-plane.
         let fingertip_hold = || -> Option<Seat> {
             let across = bar_mid_plane(object, &grasp)
@@ -325,16 +324,28 @@ pub fn seat_power_grasps_by(
             }
             None
         };
+        let gap = palm_gap(object, arm, &flange);
+        // Fingertips first, the palm within reach: a grasp whose pads squeeze the bar at the
+        // fingertips is held there whatever its closing at the scene's depth (below), so that
+        // closing is not needed where they do.
+        let fingertips_tried = rule.fingertips_first && rule.fingertips && gap.is_some();
+        if fingertips_tried {
+            if let Some(held) = fingertip_hold() {
+                return held;
+            }
+        }
+        let (here, kind) = closing(object, arm, &flange);
         if !squeezes(kind) {
             // Caged or on one side.
-            let held = rule.fingertips.then(fingertip_hold).flatten();
+            let held = (rule.fingertips && !fingertips_tried)
+                .then(fingertip_hold)
+                .flatten();
             return held.unwrap_or((grasp, 0.0, here));
         }
-        let gap = palm_gap(object, arm, &flange);
         // A pinch with the palm beyond SEAT_REACH holds the bar at the fingertips already (a
         // grasp held there before: `replan` plans again from a plan file's grasps).
         let held_already = kind == Some(HoldKind::Pinch) && gap.is_none();
-        if rule.fingertips_first && !held_already {
+        if rule.fingertips_first && !held_already && !fingertips_tried {
             if let Some(held) = fingertip_hold() {
                 return held;
             }
@@ -380,7 +391,9 @@ pub fn seat_power_grasps_by(
         }
         // A wrap that cages its bar on the palm: as a grasp caged where the scene holds it.
         let wrap = kind == Some(HoldKind::Encompassing);
-        let held = (wrap && rule.fingertips).then(fingertip_hold).flatten();
+        let held = (wrap && rule.fingertips && !fingertips_tried)
+            .then(fingertip_hold)
+            .flatten();
         held.unwrap_or((grasp, 0.0, here))
     };
     let [a, b] = crate::closings::each_arm(seat);
