@@ -58,7 +58,7 @@ from pregrasp_sim import part as sim_part  # noqa: E402
 from pregrasp_sim.geometry import dh_fk, pose_T, rot_angle  # noqa: E402
 from pregrasp_sim.run import (CAGED_MARGIN, CAL_A, CAL_B, F_MAX, N_CORRECT, T_HOLD, T_LIFT, T_OPEN,  # noqa: E402
                               T_RAMP, T_SETTLE, T_SPRING, T_WINDOW, run_plan, segment_forces)
-from pregrasp_sim.scene import PlanScene  # noqa: E402
+from pregrasp_sim.scene import PAD_TORSION_RADIUS, PlanScene  # noqa: E402
 from pregrasp_sim.verdict import LIFT, THRESHOLDS  # noqa: E402
 
 
@@ -124,7 +124,7 @@ def replay_file(plan_path, plan_indices, power_forces, src, a, log):
             t0 = time.time()
             log(f"{example} plan {k}: mass {mass} kg, {dinfo['pieces']} pieces, pinch {pinch} N, power {pf} N")
             sc = PlanScene(src / MODEL_XML, doc, meshes, mp, ph.get("mu_pad", 0.8), ph.get("mu_support", 0.4),
-                           a.dt, a.noslip)
+                           a.dt, a.noslip, pad_condim=a.pads_condim)
             force, from_plan = segment_forces(plan, pinch, pf)
             rec, _ = run_plan(sc, doc, plan, force, lift=LIFT, slow=a.slow,
                               fk_check=lambda model, q: fk_check(a.pregrasp, model, q), log=log)
@@ -146,7 +146,8 @@ def header(a, prov):
         "mujoco_version": mujoco.__version__, "numpy_version": np.__version__, "trimesh_version": trimesh.__version__,
         "units": "metres, kilograms, newtons, seconds; *_deg in degrees",
         "model": {"timestep": a.dt, "noslip_iterations": a.noslip, "cone": "elliptic", "impratio": 10.0,
-                  "pads_condim": 3, "time_scaling": a.slow, "force_calibration": [CAL_A, CAL_B],
+                  "pads_condim": a.pads_condim,
+                  **({"pad_torsion_radius": PAD_TORSION_RADIUS} if a.pads_condim == 4 else {}), "time_scaling": a.slow, "force_calibration": [CAL_A, CAL_B],
                   "phases": {"settle": T_SETTLE, "spring_close": T_SPRING, "ramp": T_RAMP, "window": T_WINDOW,
                              "pinch_corrections": N_CORRECT, "open": T_OPEN, "lift": LIFT, "t_lift": T_LIFT,
                              "hold": T_HOLD},
@@ -165,6 +166,9 @@ def model_args(ap):
     ap.add_argument("--slow", type=float, default=1.0, help="time scaling of every segment (1 = the plan's time line)")
     ap.add_argument("--dt", type=float, default=0.001)
     ap.add_argument("--noslip", type=int, default=10)
+    ap.add_argument("--pads-condim", type=int, choices=[3, 4], default=3,
+                    help="pad contacts: 3 (no torsional friction at a point; the truth tables) or 4 (torsional "
+                         "friction mu_pad x 11.6 mm, as the rotation replay's condim 4)")
     ap.add_argument("--out", default=str(OUT_DIR))
 
 

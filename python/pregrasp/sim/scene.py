@@ -14,14 +14,21 @@ GRIPPER_BODIES = ["base_mount", "base"] + [f"{s}_{ln}" for s in ("right", "left"
 PAD_GEOMS = {"pos": ["right_pad1", "right_pad2"], "neg": ["left_pad1", "left_pad2"]}
 PAD_POINT = np.array([0.0, -0.0066, 0.01875])  # pad contact-face centre in the pad body (README "Points")
 TIP_POINT = np.array([0.0, -0.0066, 0.0375])  # the far end of that face (the fingertip)
+# With pad condim 4: each pad contact point's torsional friction is mu_pad times this radius (m), the rotation
+# replay's (tools/gripper_truth/replay.py `--torsion-radius`).
+PAD_TORSION_RADIUS = 0.0116
 
 
 class PlanScene:
     """Table, part (free body), two 2F-85 (prefixes `sup_`, `mas_`) on free bases welded to mocap flanges.
     `meshes`: the part's convex pieces as (vertices, faces) in the object frame (scaled); `mp`: its mass
-    properties (part.mass_properties)."""
+    properties (part.mass_properties). `pad_condim`: the pad boxes' contact dimension, 3 (no torsional friction
+    at a contact point: a pad resists a twist only through the spread of its contact points) or 4 (each point
+    also resists a twist up to mu_pad * PAD_TORSION_RADIUS * its normal force)."""
 
-    def __init__(self, gripper_xml, doc, meshes, mp, mu_pad, mu_sup, dt, noslip):
+    def __init__(self, gripper_xml, doc, meshes, mp, mu_pad, mu_sup, dt, noslip, pad_condim=3):
+        if pad_condim not in (3, 4):
+            raise ValueError(f"pad_condim must be 3 or 4, found {pad_condim}")
         sp = mujoco.MjSpec()
         sp.option.timestep = dt
         sp.option.noslip_iterations = noslip
@@ -37,8 +44,8 @@ class PlanScene:
             c.body("base_mount").add_freejoint(name="free")
             for g in c.geoms:
                 if g.name in PAD_GEOMS["pos"] + PAD_GEOMS["neg"]:
-                    g.friction = [mu_pad, 0.0, 0.0001]
-                    g.condim = 3
+                    g.friction = [mu_pad, mu_pad * PAD_TORSION_RADIUS if pad_condim == 4 else 0.0, 0.0001]
+                    g.condim = pad_condim
                 elif g.contype or g.conaffinity:
                     g.friction = [mu_pad, 0.005, 0.0001]
             act = c.actuator("fingers_actuator")
