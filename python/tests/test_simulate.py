@@ -70,6 +70,15 @@ def test_carried_at_the_pinch_force(chair):
     assert r.lift.rise_mm >= 45.0 and r.lift.tilt_deg < 5.0
 
 
+def test_pads_with_torsion(chair):
+    """The pads' contacts with torsional friction (condim 4): chair plan 0 is carried there too; 3 and 4 only."""
+    path, _, _ = chair
+    r = pregrasp.simulate(path, pad_condim=4)
+    assert r.verdict.passed, r.summary()
+    with pytest.raises(ValueError, match="pad_condim must be 3 or 4, found 6"):
+        pregrasp.simulate(path, pad_condim=6)
+
+
 def test_bad_input_names_the_file(tmp_path):
     missing = tmp_path / "nowhere.json"
     with pytest.raises(pregrasp.SimulationError, match="nowhere.json"):

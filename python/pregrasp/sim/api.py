@@ -187,7 +187,7 @@ def prepare_part(doc, mesh_path):
 def simulate(plan: Union[str, "os.PathLike[str]", dict, Any], lift: float = 0.05, plan_index: int = 0,
              power_force: Optional[float] = None, pinch_force: Optional[float] = None, *,
              mesh_root=None, mesh=None, model=None, slow: float = 1.0, dt: float = 0.001,
-             noslip: int = 10) -> SimResult:
+             noslip: int = 10, pad_condim: int = 3) -> SimResult:
     """Replays plan `plan_index` of a plan (a plan file's path, its parsed JSON or a pregrasp.Plan) in MuJoCo:
     both arms' Robotiq 2F-85 grippers follow the planned flange poses through sup1 (the pinch closes), rot, mas1
     (the master's power grasp closes), the supportive gripper opens, sup2 (its power grasp closes); then both rise
@@ -196,6 +196,9 @@ def simulate(plan: Union[str, "os.PathLike[str]", dict, Any], lift: float = 0.05
     Forces (N): `pinch_force` for sup1, `power_force` for mas1 and sup2; when None, each closing segment's own
     `grip_force`, else the plan's `physics.grip_force_recommended`. `mesh_root` / `mesh`: where the part's mesh is
     when the plan's path does not find it. `model`: another 2f85.xml (default: the vendored Menagerie model).
+    `pad_condim`: the pads' contacts, 3 (the truth tables': no torsional friction at a contact point) or 4 (each
+    point also resists a twist, mu_pad x 11.6 mm x its normal force); how far plans turn on it:
+    docs/physics.md, "The pads' torsion in the whole-plan replay".
     Raises SimulationError for a plan that cannot be simulated."""
     t0 = time.time()
     doc, path = _load(plan)
@@ -210,6 +213,8 @@ def simulate(plan: Union[str, "os.PathLike[str]", dict, Any], lift: float = 0.05
         raise SimulationError(f"{where}: no plan {plan_index} (the file has {len(plans)})")
     if not lift > 0 or not math.isfinite(lift):
         raise ValueError(f"lift must be a positive number of metres, found {lift}")
+    if pad_condim not in (3, 4):
+        raise ValueError(f"pad_condim must be 3 or 4, found {pad_condim}")
     p = plans[plan_index]
     names = [s.get("name") for s in p.get("segments", [])]
     missing = [n for n in SEGMENTS if n not in names]
@@ -229,7 +234,7 @@ def simulate(plan: Union[str, "os.PathLike[str]", dict, Any], lift: float = 0.05
     tri, meshes, _ = prepare_part(doc, resolve_mesh(doc, path, mesh_root, mesh))
     forces = _forces(p, pinch_force, power_force)
     scene = PlanScene(Path(model) if model else MODEL, doc, meshes, mass_properties(tri, float(mass)),
-                      ph.get("mu_pad", 0.8), ph.get("mu_support", 0.4), dt, noslip)
+                      ph.get("mu_pad", 0.8), ph.get("mu_support", 0.4), dt, noslip, pad_condim=pad_condim)
     rec, trace = run_plan(scene, doc, p, {n: f for n, (f, _) in forces.items()}, lift=lift, slow=slow)
     return _result(doc, p, plan_index, lift, forces, rec, trace, time.time() - t0)
 
