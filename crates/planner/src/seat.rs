@@ -305,8 +305,10 @@ pub fn seat_power_grasps_by(
         let Some(robotiq) = arm.gripper.robotiq() else {
             return (grasp, 0.0, closing(object, arm, &flange).0);
         };
-        // The pads at the fingertips, where they pinch in parallel, on the bar's mid-plane.
-        let fingertip_hold = || -> Option<Seat> {
+        // The pads at the fingertips, where they pinch in parallel, on the bar's mid-plane:
+        // closed once, however many of the rules below ask.
+        let at_fingertips = std::cell::OnceCell::new();
+        let fingertips = || -> Option<Seat> {
             let across = bar_mid_plane(object, &grasp)
                 .filter(|x| x.abs() <= CENTRE_REACH)
                 .map_or(0.0, |x| (x * 1e6).round() / 1e6);
@@ -324,12 +326,12 @@ pub fn seat_power_grasps_by(
             }
             None
         };
+        let fingertip_hold = || at_fingertips.get_or_init(fingertips).clone();
         let gap = palm_gap(object, arm, &flange);
         // Fingertips first, the palm within reach: a grasp whose pads squeeze the bar at the
         // fingertips is held there whatever its closing at the scene's depth (below), so that
         // closing is not needed where they do.
-        let fingertips_tried = rule.fingertips_first && rule.fingertips && gap.is_some();
-        if fingertips_tried {
+        if rule.fingertips_first && rule.fingertips && gap.is_some() {
             if let Some(held) = fingertip_hold() {
                 return held;
             }
@@ -337,15 +339,13 @@ pub fn seat_power_grasps_by(
         let (here, kind) = closing(object, arm, &flange);
         if !squeezes(kind) {
             // Caged or on one side.
-            let held = (rule.fingertips && !fingertips_tried)
-                .then(fingertip_hold)
-                .flatten();
+            let held = rule.fingertips.then(fingertip_hold).flatten();
             return held.unwrap_or((grasp, 0.0, here));
         }
         // A pinch with the palm beyond SEAT_REACH holds the bar at the fingertips already (a
         // grasp held there before: `replan` plans again from a plan file's grasps).
         let held_already = kind == Some(HoldKind::Pinch) && gap.is_none();
-        if rule.fingertips_first && !held_already && !fingertips_tried {
+        if rule.fingertips_first && !held_already {
             if let Some(held) = fingertip_hold() {
                 return held;
             }
@@ -391,9 +391,7 @@ pub fn seat_power_grasps_by(
         }
         // A wrap that cages its bar on the palm: as a grasp caged where the scene holds it.
         let wrap = kind == Some(HoldKind::Encompassing);
-        let held = (wrap && rule.fingertips && !fingertips_tried)
-            .then(fingertip_hold)
-            .flatten();
+        let held = (wrap && rule.fingertips).then(fingertip_hold).flatten();
         held.unwrap_or((grasp, 0.0, here))
     };
     let [a, b] = crate::closings::each_arm(seat);
