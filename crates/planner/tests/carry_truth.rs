@@ -121,21 +121,14 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
 /// holds on one side at the end of the lift.)
 #[test]
 fn the_carry_check_on_the_hard_families() {
-    let mut all = Vec::new();
-    for table in [
+    let all = replayed_plans(&[
         "plan_replay_hard_seeds_1_15_tee_corner_hole_2f85.csv",
         "plan_replay_hard_seeds_1_15_bars_chamfer_rungs_2f85.csv",
         "plan_replay_hard_seeds_16_25_tee_corner_hole_2f85.csv",
         "plan_replay_hard_seeds_16_25_bars_chamfer_rungs_2f85.csv",
         "plan_replay_hard_seeds_26_30_tee_corner_hole_2f85.csv",
         "plan_replay_hard_seeds_26_30_bars_chamfer_rungs_2f85.csv",
-    ] {
-        all.extend(
-            rows(table)
-                .into_iter()
-                .filter(|r| !r["candidate"].is_empty()),
-        );
-    }
+    ]);
     assert_eq!(all.len(), 211);
     let t = tally(&all);
     assert_eq!((t.refused, t.kept, t.cautious.len()), (4, 198, 0));
@@ -162,17 +155,10 @@ fn the_carry_check_on_the_hard_families() {
 /// the replay's pad model (docs/physics.md, "The pads' torsion in the whole-plan replay").
 #[test]
 fn the_carry_check_against_pads_with_torsion() {
-    let mut all = Vec::new();
-    for table in [
+    let all = replayed_plans(&[
         "plan_replay_hard_seeds_1_15_pads_condim4_2f85.csv",
         "plan_replay_generated_seeds_21_30_pads_condim4_2f85.csv",
-    ] {
-        all.extend(
-            rows(table)
-                .into_iter()
-                .filter(|r| !r["candidate"].is_empty()),
-        );
-    }
+    ]);
     assert_eq!(all.len(), 193);
     let t = tally(&all);
     // 185 kept that lift; none refused that fails: every plan the check refuses lifts with
@@ -193,6 +179,15 @@ fn the_carry_check_against_pads_with_torsion() {
             "panel_27 plan 0: not carried, lifts",
         ]
     );
+}
+
+/// The rows of `tables` that replayed a plan (not the parts that got none).
+fn replayed_plans(tables: &[&str]) -> Vec<std::collections::HashMap<String, String>> {
+    tables
+        .iter()
+        .flat_map(|table| rows(table))
+        .filter(|r| !r["candidate"].is_empty())
+        .collect()
 }
 
 /// How the carry check's verdicts on a table's rows compare with the replay.
