@@ -173,32 +173,49 @@ pub fn plan(
     // slid. Where none carries, the last grasps as given (the first's where those get no
     // plan).
     let wraps = hold == PowerHold::Auto && fingertips;
-    let slid_scene = slid.get();
-    let mut tries = Vec::new();
-    let rules = if wraps {
-        vec![first, SeatRule::WRAPS]
-    } else {
-        vec![first]
-    };
-    for (k, rule) in rules.into_iter().enumerate() {
-        if k > 0 {
-            tries.push((None, rule));
-        }
-        if let Some(slid) = slid_scene {
-            tries.push((Some(slid), rule));
-        }
+    let mut tries = vec![(true, first)];
+    if wraps {
+        tries.extend([(false, SeatRule::WRAPS), (true, SeatRule::WRAPS)]);
     }
-    let mut fallback = (first_report, first);
-    for (on_slid, rule) in tries {
-        let on = on_slid.map_or(scene, |(s, _)| s);
+    // One try's pass: `None` where the grasps do not slide (no slid scene) or no candidate
+    // whose grasps carry the part got a plan.
+    let attempt = |(on_slid, rule): (bool, SeatRule)| -> Result<Option<PlanReport>, PlanError> {
+        let on = if on_slid {
+            match slid.get() {
+                Some((slid_scene, _)) => slid_scene,
+                None => return Ok(None),
+            }
+        } else {
+            scene
+        };
         let by = (Some(built.clone()), rule, true);
         let (pass, _) = plan_grasps_as_given(on, mesh, options, by, &|_| {}, &|| {})?;
-        let report = match pass {
+        Ok(match pass {
             Pass::Planned(report) => Some(*report),
             Pass::NoneCarries { .. } => None,
+        })
+    };
+    let mut fallback = (first_report, first);
+    let mut ahead = None;
+    for (k, &(on_slid, rule)) in tries.iter().enumerate() {
+        // With a second thread the next try runs beside this one: a pass's answer does not
+        // depend on what runs beside it (the part's closings are remembered by pose, the rest
+        // they share is read only), and where this one does not carry the next is needed.
+        let report = match ahead.take() {
+            Some(report) => report?,
+            None if k + 1 < tries.len() && rayon::current_num_threads() > 1 => {
+                let (this, next) = rayon::join(|| attempt(tries[k]), || attempt(tries[k + 1]));
+                ahead = Some(next);
+                this?
+            }
+            None => attempt(tries[k])?,
         };
-        match (on_slid, report) {
-            (Some((_, shifts)), Some(mut report))
+        let shifts = slid.get().filter(|_| on_slid).map(|(_, shifts)| shifts);
+        if on_slid && shifts.is_none() {
+            continue;
+        }
+        match (shifts, report) {
+            (Some(shifts), Some(mut report))
                 if !report.file.plans.is_empty() && !uncarried(&report.outcomes) =>
             {
                 report.file.grasps.slid = Some(*shifts);
@@ -258,7 +275,7 @@ struct SlidGrasps<'a> {
     /// The centre of mass the carry check uses (uniform density: the mass does not move it),
     /// object frame; `None` without mass properties.
     com: Option<nalgebra::Point3<f64>>,
-    slid: std::cell::OnceCell<Option<(Scene, [f64; 2])>>,
+    slid: std::sync::OnceLock<Option<(Scene, [f64; 2])>>,
 }
 
 impl<'a> SlidGrasps<'a> {
@@ -270,7 +287,7 @@ impl<'a> SlidGrasps<'a> {
             com: pregrasp_physics::MassProperties::from_mesh(mesh)
                 .ok()
                 .map(|p| p.centroid),
-            slid: std::cell::OnceCell::new(),
+            slid: std::sync::OnceLock::new(),
         }
     }
 
