@@ -24,7 +24,7 @@
 //! made again here from its family and seed. A second test holds it to the six hard families
 //! (`plan_replay_hard_seeds_1_15_*_2f85.csv`, `…_16_25_…`, `…_26_30_…` and `…_31_45_…`, 315
 //! plans), which were not replayed before; a third to the replay with torsional friction at
-//! the pads (`…_pads_condim4_…`, 193 plans), which the truth tables leave out.
+//! the pads (`…_pads_condim4_…`, 297 plans), which the truth tables leave out.
 
 mod common;
 
@@ -160,22 +160,25 @@ fn the_carry_check_on_the_hard_families() {
 
 /// The same check against the whole-plan replay with torsional friction at the pads
 /// (`plan_sweep.py --pads-condim 4`: each pad contact point also resists a twist up to
-/// μ_pad × 11.6 mm × its normal force), the plans of the hard seeds 1–15 and of seeds 21–30
-/// replayed again (`…_pads_condim4_2f85.csv`, 193 plans): how far the check's verdicts hang on
-/// the replay's pad model (docs/physics.md, "The pads' torsion in the whole-plan replay").
+/// μ_pad × 11.6 mm × its normal force), the plans of the hard seeds 1–15, of seeds 21–30 and of
+/// the hard seeds 31–45 replayed again (`…_pads_condim4_2f85.csv`, 297 plans): how far the
+/// check's verdicts hang on the replay's pad model (docs/physics.md, "The pads' torsion in the
+/// whole-plan replay").
 #[test]
 fn the_carry_check_against_pads_with_torsion() {
     let all = replayed_plans(&[
         "plan_replay_hard_seeds_1_15_pads_condim4_2f85.csv",
         "plan_replay_generated_seeds_21_30_pads_condim4_2f85.csv",
+        "plan_replay_hard_seeds_31_45_tee_corner_hole_pads_condim4_2f85.csv",
+        "plan_replay_hard_seeds_31_45_bars_chamfer_rungs_pads_condim4_2f85.csv",
     ]);
-    assert_eq!(all.len(), 193);
+    assert_eq!(all.len(), 297);
     let t = tally(&all);
-    // 185 kept that lift; none refused that fails: every plan the check refuses lifts with
-    // torsional pads (the flagged hand holes, 120–185 N, and panel_27), so its refusals are all
+    // 283 kept that lift; none refused that fails: every plan the check refuses lifts with
+    // torsional pads (the flagged hand holes, 118–185 N, and panel_27), so its refusals are all
     // on the cautious side there. The one plan it keeps that fails, l_corner_11, lifts at
     // condim 3 (49.6 mm, 0.3°) and tilts 7.1° here, its supportive gripper on one side.
-    assert_eq!((t.refused, t.kept, t.cautious.len()), (0, 185, 0));
+    assert_eq!((t.refused, t.kept, t.cautious.len()), (0, 283, 0));
     assert_eq!(
         t.departures,
         [
@@ -187,6 +190,12 @@ fn the_carry_check_against_pads_with_torsion() {
             "hand_hole_12 plan 0: not carried, lifts",
             "l_corner_11 plan 0: carried, fails",
             "panel_27 plan 0: not carried, lifts",
+            "hand_hole_33 plan 0: not carried, lifts",
+            "hand_hole_39 plan 0: not carried, lifts",
+            "hand_hole_40 plan 0: not carried, lifts",
+            "hand_hole_41 plan 0: not carried, lifts",
+            "hand_hole_42 plan 0: not carried, lifts",
+            "hand_hole_43 plan 0: not carried, lifts",
         ]
     );
 }
