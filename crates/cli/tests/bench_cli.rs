@@ -1,5 +1,6 @@
-//! `pregrasp bench plan` reports cold (a fresh `pregrasp plan` process per run) and warm (runs
-//! in one process after a warm-up) side by side (issue 50).
+//! `pregrasp bench plan` reports cold (a fresh `pregrasp plan` process per run), warm (runs in
+//! one process after a warm-up) and known (the part's knowledge kept between those runs too)
+//! side by side (issue 50).
 
 mod common;
 
@@ -28,9 +29,10 @@ fn bench_plan_reports_cold_processes_and_warm_runs() {
         ms(&report["cold"]["stages"]["total"]),
     );
     let warm_total = ms(&report["stages"]["total"]);
+    let known_total = ms(&report["known"]["stages"]["total"]);
     // The whole process holds the plan it times; every stage took some time.
     assert!(process > cold_total && cold_total > 0.0, "{report}");
-    assert!(warm_total > 0.0, "{report}");
+    assert!(warm_total > 0.0 && known_total > 0.0, "{report}");
     for stage in ["axes", "grips", "poses", "paths", "total"] {
         assert!(
             ms(&report["cold"]["stages"][stage]) > 0.0,
@@ -41,7 +43,9 @@ fn bench_plan_reports_cold_processes_and_warm_runs() {
     let text = pregrasp(dir.path(), &args);
     let stdout = String::from_utf8_lossy(&text.stdout);
     assert!(
-        stdout.contains("cold median / p95") && stdout.contains("process"),
+        stdout.contains("cold median / p95")
+            && stdout.contains("known median / p95")
+            && stdout.contains("process"),
         "{stdout}"
     );
     assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none());

@@ -272,3 +272,28 @@ fn replans_reusing_the_parts_knowledge_are_the_replans_from_scratch() {
     };
     assert_eq!(json(&PlanOptions::default()), json(&known));
 }
+
+/// A whole plan with the part's knowledge handed in (`bench plan`'s "known" runs: every hold
+/// the pipeline tries, the chair side's three among them) is the plan made from scratch, byte
+/// for byte but timing, and so is a second plan with the same knowledge, its closings all
+/// remembered by then.
+#[test]
+fn plans_with_the_part_known_are_the_plans_from_scratch() {
+    use pregrasp_planner::context::PartKnowledge;
+    use std::sync::Arc;
+    for name in ["chair_side", "shelf_side", "stool_side"] {
+        let (scene, mesh, _) = example(name);
+        let known = PlanOptions {
+            known: Some(Arc::new(PartKnowledge::new(&scene, &mesh).unwrap())),
+            ..PlanOptions::default()
+        };
+        let json = |options: &PlanOptions| {
+            let mut f = plan(&scene, &mesh, options, &|_| {}, &|| {}).unwrap().file;
+            f.timing_ms.clear();
+            f.to_json()
+        };
+        let fresh = json(&PlanOptions::default());
+        assert_eq!(fresh, json(&known), "{name}");
+        assert_eq!(fresh, json(&known), "{name}: again");
+    }
+}

@@ -137,11 +137,16 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
             let stat = |(m, p): (f64, f64)| json!({ "median_ms": m, "p95_ms": p });
             let stages: serde_json::Map<String, serde_json::Value> = summary
                 .iter()
-                .map(|(n, m, p)| (n.to_string(), stat((*m, *p))))
+                .map(|(n, [m, p, ..])| (n.to_string(), stat((*m, *p))))
+                .collect();
+            let known: serde_json::Map<String, serde_json::Value> = summary
+                .iter()
+                .map(|(n, [.., m, p])| (n.to_string(), stat((*m, *p))))
                 .collect();
             let mut report = json!({ "scene": scene.display().to_string(), "runs": runs,
                                      "threads": pool.current_num_threads(), "status": status,
-                                     "stages": stages });
+                                     "stages": stages,
+                                     "known": { "runs": runs, "stages": known } });
             if let Some(cold) = &cold {
                 let cold_stages: serde_json::Map<String, serde_json::Value> = PLAN_STAGES
                     .iter()
@@ -155,22 +160,26 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
         } else {
             println!(
                 "{}: {} runs on {} thread(s), status {}; cold: a fresh process per run, warm: \
-                 runs in one process after a warm-up",
+                 runs in one process after a warm-up, known: the part's geometry and closings \
+                 kept between those runs too",
                 scene.display(),
                 runs,
                 pool.current_num_threads(),
                 status
             );
             println!(
-                "  {:<9} {:>21} | {:>21}",
-                "", "cold median / p95", "warm median / p95"
+                "  {:<9} {:>21} | {:>21} | {:>21}",
+                "", "cold median / p95", "warm median / p95", "known median / p95"
             );
             let blank = format!("{:>21}", "");
             if let Some(cold) = &cold {
                 let (m, p) = cold.process();
-                println!("  {:<9} {m:8.2} / {p:8.2} ms | {blank}", "process");
+                println!(
+                    "  {:<9} {m:8.2} / {p:8.2} ms | {blank} | {blank}",
+                    "process"
+                );
             }
-            for (name, median, p95) in &summary {
+            for (name, [median, p95, known, known_p95]) in &summary {
                 let indent = if ["rot", "lines", "transit", "recheck", "hold"].contains(name) {
                     "  "
                 } else {
@@ -185,7 +194,10 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
                     }
                     _ => blank.clone(),
                 };
-                println!("  {label:<9} {cold_cell} | {median:8.2} / {p95:8.2} ms");
+                println!(
+                    "  {label:<9} {cold_cell} | {median:8.2} / {p95:8.2} ms | \
+                     {known:8.2} / {known_p95:8.2} ms"
+                );
             }
         }
     }
@@ -201,12 +213,13 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// A stage's name, median and p95 (ms).
-type StageTime = (&'static str, f64, f64);
+/// A stage's name and its median and p95 (ms), warm and with the part known:
+/// `[warm median, warm p95, known median, known p95]`.
+type StageTime = (&'static str, [f64; 4]);
 
-/// `runs` timed plans of one scene (after a warm-up): its status, the time loading the scene
-/// and mesh took (once: `load`, median = p95), and per stage of [`PLAN_STAGES`], the median
-/// and p95 (ms).
+/// `runs` timed plans of one scene (after a warm-up), twice: warm (a new part every run) and
+/// with the part's knowledge kept. Its status, the time loading the scene and mesh took (once:
+/// `load`, median = p95), and per stage of [`PLAN_STAGES`], the medians and p95s (ms).
 fn plan_one(
     path: &std::path::Path,
     runs: usize,
@@ -222,27 +235,55 @@ fn plan_one(
         .with_context(|| format!("{}: object.mesh", path.display()))?
         .mesh;
     let load_ms = loading.elapsed().as_secs_f64() * 1e3;
-    let mut samples: Vec<Vec<f64>> = vec![Vec::with_capacity(runs); PLAN_STAGES.len()];
+    // Warm: a new part every run, the process's caches kept. Known: the part's knowledge
+    // (its geometry, hull and every closing asked, object frame) kept between runs as well,
+    // what a cell replanning one part or a batch of copies of it has.
+    let known = PlanOptions {
+        known: Some(std::sync::Arc::new(
+            pregrasp_planner::context::PartKnowledge::new(&scene, &mesh)?,
+        )),
+        ..PlanOptions::default()
+    };
     let mut status = String::new();
-    for run in 0..=runs {
-        let report =
-            pool.install(|| plan_auto(&scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {}))?;
-        status = report.file.status.to_string();
-        if run > 0 {
-            for (k, stage) in PLAN_STAGES.iter().enumerate() {
-                samples[k].push(report.file.timing_ms.get(*stage).copied().unwrap_or(0.0));
+    // Each way's samples and its last plan file, timing aside.
+    let mut timed = |options: &PlanOptions| -> anyhow::Result<(Vec<Vec<f64>>, String)> {
+        let mut samples: Vec<Vec<f64>> = vec![Vec::with_capacity(runs); PLAN_STAGES.len()];
+        let mut file = String::new();
+        for run in 0..=runs {
+            let report = pool.install(|| plan_auto(&scene, &mesh, options, &|_| {}, &|| {}))?;
+            status = report.file.status.to_string();
+            if run > 0 {
+                for (k, stage) in PLAN_STAGES.iter().enumerate() {
+                    samples[k].push(report.file.timing_ms.get(*stage).copied().unwrap_or(0.0));
+                }
             }
+            let mut plan = report.file;
+            plan.timing_ms.clear();
+            file = plan.to_json();
         }
-    }
+        Ok((samples, file))
+    };
+    let (mut warm, warm_file) = timed(&PlanOptions::default())?;
+    let (mut with_known, known_file) = timed(&known)?;
+    anyhow::ensure!(
+        warm_file == known_file,
+        "{}: the plan with the part known differs from the plan without it (a bug: please report it)",
+        path.display()
+    );
     let stat = |v: &mut Vec<f64>| -> (f64, f64) {
         v.sort_by(f64::total_cmp);
         (quantile(v, 0.5), quantile(v, 0.95))
     };
-    let mut summary: Vec<StageTime> = vec![("load", load_ms, load_ms)];
-    summary.extend(PLAN_STAGES.iter().zip(samples.iter_mut()).map(|(name, v)| {
-        let (median, p95) = stat(v);
-        (*name, median, p95)
-    }));
+    let mut summary: Vec<StageTime> = vec![("load", [load_ms; 4])];
+    summary.extend(
+        PLAN_STAGES
+            .iter()
+            .zip(warm.iter_mut().zip(with_known.iter_mut()))
+            .map(|(name, (w, k))| {
+                let ((wm, wp), (km, kp)) = (stat(w), stat(k));
+                (*name, [wm, wp, km, kp])
+            }),
+    );
     Ok((status, summary))
 }
 
