@@ -25,7 +25,8 @@
 //! made again here from its family and seed. A second test holds it to the six hard families
 //! (`plan_replay_hard_seeds_1_15_*_2f85.csv`, `…_16_25_…`, `…_26_30_…` and `…_31_45_…`, 315
 //! plans), which were not replayed before; a third to the replay with torsional friction at
-//! the pads (`…_pads_condim4_…`, 297 plans), which the truth tables leave out.
+//! the pads (`…_pads_condim4_…`, 297 plans), which the truth tables leave out; a fourth to
+//! the hard seeds 31–45 on UR10e arms (`…_ur10e_…`, 118 plans).
 
 mod common;
 
@@ -153,6 +154,37 @@ fn the_carry_check_on_the_hard_families() {
             "hand_hole_20 plan 0: carried, fails",
             "hand_hole_22 plan 0: not carried, lifts",
             "hand_hole_28 plan 0: not carried, lifts",
+            "hand_hole_33 plan 0: not carried, lifts",
+            "hand_hole_40 plan 0: not carried, lifts",
+            "hand_hole_41 plan 0: not carried, lifts",
+            "hand_hole_43 plan 0: not carried, lifts",
+            "chamfered_32 plan 0: carried, fails",
+        ]
+    );
+}
+
+/// The same check on other arms: the hard seeds 31–45 with both robots' `model` set to
+/// `"ur10e"` (the same grasps and bases), planned and replayed whole at 235 N by the planner of
+/// 1c8e5ae (`plan_replay_hard_seeds_31_45_*_ur10e_2f85.csv`: all 90 parts plan, the four the
+/// UR5e cannot reach among them). The verdicts are the UR5e's on the same parts.
+#[test]
+fn the_carry_check_on_ur10e_arms() {
+    let all: Vec<_> = replayed_plans(&[
+        "plan_replay_hard_seeds_31_45_tee_corner_hole_ur10e_2f85.csv",
+        "plan_replay_hard_seeds_31_45_bars_chamfer_rungs_ur10e_2f85.csv",
+    ])
+    .into_iter()
+    .map(|mut r| {
+        r.insert("arm_model".into(), "ur10e".into());
+        r
+    })
+    .collect();
+    assert_eq!(all.len(), 118);
+    let t = tally(&all);
+    assert_eq!((t.refused, t.kept, t.cautious.len()), (2, 111, 0));
+    assert_eq!(
+        t.departures,
+        [
             "hand_hole_33 plan 0: not carried, lifts",
             "hand_hole_40 plan 0: not carried, lifts",
             "hand_hole_41 plan 0: not carried, lifts",

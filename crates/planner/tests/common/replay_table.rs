@@ -50,7 +50,12 @@ pub fn scene_of(row: &HashMap<String, String>) -> (Scene, Mesh) {
         return super::scenes::example_files(&row["example"]);
     }
     let seed: u64 = row["seed"].parse().unwrap();
-    super::scenes::generated_files(Family::from_name(family).unwrap(), seed)
+    let family = Family::from_name(family).unwrap();
+    // A table of the scenes with other arms says which (the test adds the column).
+    match row.get("arm_model") {
+        Some(model) => super::scenes::generated_files_with_arms(family, seed, model),
+        None => super::scenes::generated_files(family, seed),
+    }
 }
 
 /// `scene` with the power grasps the planner plans with, as its plan file gives them: seated on

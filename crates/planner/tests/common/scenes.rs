@@ -22,6 +22,17 @@ pub fn example_files(name: &str) -> (Scene, Mesh) {
     (scene, mesh)
 }
 
+/// [`generated_files`] with both robots' `model` set to `model` (a UR: `"ur10e"`, say), as
+/// the other-arm sweeps edit the written scenes.
+pub fn generated_files_with_arms(family: Family, seed: u64, model: &str) -> (Scene, Mesh) {
+    let g = generated_scene(&generate(family, seed));
+    let path = format!("generated/{}.toml", g.stem);
+    let text = g
+        .scene_toml
+        .replace("model = \"ur5e\"", &format!("model = \"{model}\""));
+    (Scene::from_str(&text, Path::new(&path)).unwrap(), g.mesh)
+}
+
 /// The generated part of `family` and `seed` (`pregrasp example generate`): its scene, read as
 /// `generated/<stem>.toml`, and its mesh.
 pub fn generated_files(family: Family, seed: u64) -> (Scene, Mesh) {
