@@ -25,23 +25,27 @@ pub fn example_files(name: &str) -> (Scene, Mesh) {
 /// [`generated_files`] with both robots' `model` set to `model` (a UR: `"ur10e"`, say), as
 /// the other-arm sweeps edit the written scenes.
 pub fn generated_files_with_arms(family: Family, seed: u64, model: &str) -> (Scene, Mesh) {
-    let g = generated_scene(&generate(family, seed));
-    let path = format!("generated/{}.toml", g.stem);
-    let text = g
-        .scene_toml
-        .replace("model = \"ur5e\"", &format!("model = \"{model}\""));
-    (Scene::from_str(&text, Path::new(&path)).unwrap(), g.mesh)
+    generated_files_edited(family, seed, |text| {
+        text.replace("model = \"ur5e\"", &format!("model = \"{model}\""))
+    })
 }
 
 /// The generated part of `family` and `seed` (`pregrasp example generate`): its scene, read as
 /// `generated/<stem>.toml`, and its mesh.
 pub fn generated_files(family: Family, seed: u64) -> (Scene, Mesh) {
+    generated_files_edited(family, seed, |text| text)
+}
+
+/// [`generated_files`] with the scene's text passed through `edit` before it is read.
+fn generated_files_edited(
+    family: Family,
+    seed: u64,
+    edit: impl FnOnce(String) -> String,
+) -> (Scene, Mesh) {
     let g = generated_scene(&generate(family, seed));
     let path = format!("generated/{}.toml", g.stem);
-    (
-        Scene::from_str(&g.scene_toml, Path::new(&path)).unwrap(),
-        g.mesh,
-    )
+    let text = edit(g.scene_toml);
+    (Scene::from_str(&text, Path::new(&path)).unwrap(), g.mesh)
 }
 
 /// The scene text with its `[grasps]` table replaced by `mode = "auto"` and `extra` lines.
