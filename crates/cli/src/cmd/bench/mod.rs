@@ -245,7 +245,7 @@ fn plan_one(
         ..PlanOptions::default()
     };
     let mut status = String::new();
-    // Each way's samples and its last plan file, timing aside.
+    // Each way's samples and its last run's plan file, timing aside.
     let mut timed = |options: &PlanOptions| -> anyhow::Result<(Vec<Vec<f64>>, String)> {
         let mut samples: Vec<Vec<f64>> = vec![Vec::with_capacity(runs); PLAN_STAGES.len()];
         let mut file = String::new();
@@ -257,9 +257,11 @@ fn plan_one(
                     samples[k].push(report.file.timing_ms.get(*stage).copied().unwrap_or(0.0));
                 }
             }
-            let mut plan = report.file;
-            plan.timing_ms.clear();
-            file = plan.to_json();
+            if run == runs {
+                let mut plan = report.file;
+                plan.timing_ms.clear();
+                file = plan.to_json();
+            }
         }
         Ok((samples, file))
     };
