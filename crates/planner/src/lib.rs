@@ -34,6 +34,7 @@ mod halves;
 pub mod hold;
 pub mod hold_kind;
 mod no_plan;
+pub mod open_fingers;
 mod outcome;
 pub mod output;
 pub mod paths;

@@ -20,6 +20,17 @@
 //! where the scene's did (a bar's junction with another, where an open finger would meet it,
 //! stops the slide short of it).
 //!
+//! Where together they do not slide the whole way — one of them beside the end of its hole,
+//! say, with little or nowhere to go — they are also slid one at a time ([`slide_alone`]): the
+//! one that stops sooner stays at its largest shift that held (or where it is), and the other
+//! slides by the shift [`shift_alone`] that brings the line nearest the centre of mass, the
+//! largest of [`ALONE_SHARES`] of it at which it still holds its bar; then the first, likewise,
+//! beside it. Both must keep the link clearance on their straight approaches
+//! ([`OpenFingers::approach_clear`]): a narrow bar beside a hole leaves a short window
+//! (hand_hole_42's left grasp carries the part 28–68 mm down its bar, and 88 mm down its pad
+//! meets the hole's end on the approach). The pipeline tries this second way after every
+//! hold's grasps slid together (`pipeline::plan`).
+//!
 //! Frames: grasps and the centre of mass in the object frame; the slide is
 //! `grasp · Translation(0, s, 0)`.
 
@@ -29,15 +40,42 @@ use pregrasp_io::scene::Scene;
 use pregrasp_physics::HoldKind;
 
 use crate::closings::each_arm;
+use crate::context::PLANNING_MARGIN;
 use crate::hold_kind::squeezes;
+use crate::open_fingers::OpenFingers;
 use crate::seat::{closing, thickness_at};
+use pregrasp_model::timeline::CONTACT_ZONE;
 
 /// Shares of the shifts tried, largest first.
 pub const SLIDE_SHARES: [f64; 4] = [1.0, 0.75, 0.5, 0.25];
+/// Shares of a one grasp's shift tried where it slides alone ([`shift_alone`]), largest
+/// first: finer than [`SLIDE_SHARES`], as the bar's window is short.
+pub const ALONE_SHARES: [f64; 8] = [1.0, 0.875, 0.75, 0.625, 0.5, 0.375, 0.25, 0.125];
 /// Longest slide (m) of one grasp: farther, the grasp is on another part of the part.
 pub const MAX_SLIDE: f64 = 0.25;
 /// Shortest slide (m) worth a second plan.
 pub const MIN_SLIDE: f64 = 0.005;
+
+/// The grasps slid by `s`, where the centre of mass `com` projects on the line through them
+/// (`t`: 0 at grasp 0, 1 at grasp 1), the residual `r` from that point to `com`, and each
+/// grasp's weight `1 − t`, `t` times its `y` axis (how a unit slide of it moves that point);
+/// `None` when the grasps coincide.
+fn line_residual(
+    power: &[Isometry3<f64>; 2],
+    com: &Point3<f64>,
+    s: [f64; 2],
+) -> Option<(Vector3<f64>, [Vector3<f64>; 2])> {
+    let slid = slid(power, s);
+    let (p0, p1) = (slid[0].translation.vector, slid[1].translation.vector);
+    let l = p1 - p0;
+    if l.norm_squared() < 1e-12 {
+        return None;
+    }
+    let t = (com.coords - p0).dot(&l) / l.norm_squared();
+    let r = com.coords - (p0 + l * t);
+    let u = slid.map(|g| g.rotation * Vector3::y());
+    Some((r, [u[0] * (1.0 - t), u[1] * t]))
+}
 
 /// The shifts (m) of `power[0]` and `power[1]` along their `y` axes that put `com` on the line
 /// through them (see the module documentation); `None` when the grasps coincide or the bars
@@ -45,23 +83,41 @@ pub const MIN_SLIDE: f64 = 0.005;
 pub fn shifts_to_centre(power: &[Isometry3<f64>; 2], com: &Point3<f64>) -> Option<[f64; 2]> {
     let mut s = [0.0; 2];
     for _ in 0..8 {
-        let slid = slid(power, s);
-        let (p0, p1) = (slid[0].translation.vector, slid[1].translation.vector);
-        let l = p1 - p0;
-        if l.norm_squared() < 1e-12 {
-            return None;
-        }
-        let t = (com.coords - p0).dot(&l) / l.norm_squared();
-        let r = com.coords - (p0 + l * t);
-        let u = slid.map(|g| g.rotation * Vector3::y());
-        let a = Matrix3x2::from_columns(&[u[0] * (1.0 - t), u[1] * t]);
-        let ds = a.pseudo_inverse(1e-9).ok()? * r;
+        let (r, a) = line_residual(power, com, s)?;
+        let ds = Matrix3x2::from_columns(&a).pseudo_inverse(1e-9).ok()? * r;
         s = [s[0] + ds[0], s[1] + ds[1]];
         if ds.norm() < 1e-9 {
             break;
         }
     }
     s.iter().all(|x| x.is_finite()).then_some(s)
+}
+
+/// The shift (m) of `power[k]` alone along its `y` axis, the other grasp slid by `other`, that
+/// brings the line through them nearest the centre of mass `com` (object frame): with `r` and
+/// `a_k` (grasp `k`'s column) as in [`shifts_to_centre`], the least-squares step
+/// `a_k · r / |a_k|²`, repeated on the moved grasp until it settles (at most 8 times). `None`
+/// when the grasps coincide or grasp `k`'s bar runs along the line.
+pub fn shift_alone(
+    power: &[Isometry3<f64>; 2],
+    com: &Point3<f64>,
+    k: usize,
+    other: f64,
+) -> Option<f64> {
+    let mut s = [other; 2];
+    s[k] = 0.0;
+    for _ in 0..8 {
+        let (r, a) = line_residual(power, com, s)?;
+        if a[k].norm_squared() < 1e-12 {
+            return None;
+        }
+        let ds = a[k].dot(&r) / a[k].norm_squared();
+        s[k] += ds;
+        if ds.abs() < 1e-9 {
+            break;
+        }
+    }
+    s[k].is_finite().then_some(s[k])
 }
 
 /// Longest moment arm (m) of the part's weight about the line through the power grasps at
@@ -117,32 +173,158 @@ pub fn shifts_worth_trying(scene: &Scene, com: &Point3<f64>) -> Option<[f64; 2]>
     (MIN_SLIDE..=MAX_SLIDE).contains(&longest).then_some(full)
 }
 
-/// `scene` with its power grasps slid by the largest share of `full` (m, from
-/// [`shifts_worth_trying`]) at which both still hold their bars, and the shifts made; `None`
-/// when a gripper is not a 2F-85 or no share keeps both grasps on their bars.
-pub fn slid_scene(
+/// The power grasps slid together (see the module documentation): the largest common share
+/// of the shifts at which both hold their bars, and where each held alone.
+#[derive(Clone, Debug)]
+pub struct Together {
+    /// The shifts (m) of the largest share at which both hold, if any.
+    pub shifts: Option<[f64; 2]>,
+    /// The whole shifts (from [`shifts_worth_trying`]).
+    full: [f64; 2],
+    /// Per share tried above `shifts` (largest first), the shifts where each grasp held.
+    held: Vec<[Option<[f64; 2]>; 2]>,
+    /// Whether each scene closing squeezed its bar.
+    squeezed: [bool; 2],
+}
+
+impl Together {
+    /// Whether the grasps slid the whole way: the line through them passes the centre of mass.
+    pub fn whole(&self) -> bool {
+        self.shifts == Some(self.full.map(rounded))
+    }
+
+    /// Grasp `k`'s largest shift that held (alone or with the other), or 0.
+    fn kept(&self, k: usize) -> f64 {
+        self.held
+            .iter()
+            .find_map(|h| h[k])
+            .or(self.shifts)
+            .map_or(0.0, |s| s[k])
+    }
+}
+
+/// The scene's power grasps slid together by the shares of `full` (m, from
+/// [`shifts_worth_trying`]), the largest first, until both still hold their bars; `None` when
+/// a gripper is not a 2F-85.
+pub fn slide_together(
     scene: &Scene,
     part: &ObjectGeometry,
     arms: &[ArmModel; 2],
     full: [f64; 2],
-) -> Option<(Scene, [f64; 2])> {
+) -> Option<Together> {
     if arms.iter().any(|a| a.gripper.robotiq().is_none()) {
         return None;
     }
     let power = &scene.grasps.power;
     // The scene's closings, once for every share; each arm's beside the other's.
     let squeezed = each_arm(|k| squeezes(closing_kind(part, &arms[k], &power[k])));
-    SLIDE_SHARES.iter().find_map(|share| {
-        // Rounded to 0.1 mm: the plan file says how far each grasp moved.
-        let s = full.map(|x| (x * share * 1e4).round() / 1e4);
+    let mut held = Vec::with_capacity(SLIDE_SHARES.len());
+    for share in SLIDE_SHARES {
+        let s = full.map(|x| rounded(x * share));
         let to = slid(power, s);
-        let holds = each_arm(|k| still_holds(part, &arms[k], squeezed[k], &to[k])) == [true; 2];
-        holds.then(|| {
-            let mut slid_scene = scene.clone();
-            slid_scene.grasps.power = to;
-            (slid_scene, s)
-        })
+        let holds = each_arm(|k| still_holds(part, &arms[k], squeezed[k], &to[k]));
+        if holds == [true; 2] {
+            return Some(Together {
+                shifts: Some(s),
+                full,
+                held,
+                squeezed,
+            });
+        }
+        held.push(holds.map(|h| h.then_some(s)));
+    }
+    Some(Together {
+        shifts: None,
+        full,
+        held,
+        squeezed,
     })
+}
+
+/// The power grasps slid one at a time where they do not slide the whole way together (see the
+/// module documentation): the shifts (m) that leave the weight the shortest arm about the line
+/// through them, both grasps on their bars with their straight approaches clear; `None` where
+/// no such slide differs from `together`'s.
+pub fn slide_alone(
+    scene: &Scene,
+    part: &ObjectGeometry,
+    arms: &[ArmModel; 2],
+    com: &Point3<f64>,
+    together: &Together,
+) -> Option<[f64; 2]> {
+    if together.whole() {
+        return None;
+    }
+    let power = &scene.grasps.power;
+    let squeezed = together.squeezed;
+    let clear = |k: usize, s: f64| approach_clear(scene, part, &arms[k], &slid(power, [s; 2])[k]);
+    let holds = |k: usize, s: f64| {
+        let to = slid(power, [s; 2])[k];
+        still_holds(part, &arms[k], squeezed[k], &to) && clear(k, s)
+    };
+    let arm = |s: [f64; 2]| weight_arm(&scene.object.pose, &slid(power, s), com);
+    // Where the other grasp stays: its largest shift that held with its approach clear.
+    let stays = |k: usize| {
+        let shares = together
+            .held
+            .iter()
+            .filter_map(|h| h[k])
+            .chain(together.shifts);
+        shares.map(|s| s[k]).find(|&s| clear(k, s)).unwrap_or(0.0)
+    };
+    let mut order = [0, 1];
+    order.sort_by(|&a, &b| together.kept(b).abs().total_cmp(&together.kept(a).abs()));
+    let mut best: Option<(f64, [f64; 2])> = None;
+    for k in order {
+        // Beside the first grasp's own slide, where it found one.
+        let other = best.map_or_else(|| stays(1 - k), |(_, s)| s[1 - k]);
+        let Some(alone) = shift_alone(power, com, k, other) else {
+            continue;
+        };
+        let alone = alone.clamp(-MAX_SLIDE, MAX_SLIDE);
+        let found = ALONE_SHARES.iter().find_map(|share| {
+            let mut s = [other; 2];
+            s[k] = rounded(alone * share);
+            let shorter = best.is_none_or(|(a, _)| arm(s) < a);
+            (shorter && s[k].abs() >= MIN_SLIDE && holds(k, s[k])).then_some(s)
+        });
+        if let Some(s) = found {
+            best = Some((arm(s), s));
+        }
+    }
+    best.map(|(_, s)| s)
+        .filter(|&s| Some(s) != together.shifts && s.iter().any(|x| x.abs() >= MIN_SLIDE))
+}
+
+/// `scene` with its power grasps slid by `s` (m) along their bars.
+pub fn slid_scene(scene: &Scene, s: [f64; 2]) -> Scene {
+    let mut slid_scene = scene.clone();
+    slid_scene.grasps.power = slid(&scene.grasps.power, s);
+    slid_scene
+}
+
+/// A shift rounded to 0.1 mm: the plan file says how far each grasp moved.
+fn rounded(x: f64) -> f64 {
+    (x * 1e4).round() / 1e4
+}
+
+/// Whether `arm`'s open hand keeps the link clearance from the part on the straight approach
+/// to the power grasp `grasp` (object frame) outside its contact zone
+/// ([`OpenFingers::approach_clear`]).
+fn approach_clear(
+    scene: &Scene,
+    part: &ObjectGeometry,
+    arm: &ArmModel,
+    grasp: &Isometry3<f64>,
+) -> bool {
+    let p = &scene.planner;
+    let flange = grasp * arm.gripper.power_point().inverse();
+    OpenFingers::of(&arm.gripper).approach_clear(
+        part.trimesh(),
+        &flange,
+        [CONTACT_ZONE, p.approach_distance],
+        p.link_clearance + PLANNING_MARGIN,
+    )
 }
 
 #[cfg(test)]
@@ -192,6 +374,30 @@ mod tests {
         // 0.05 m towards it (the grasps' y axes point along the object's −y); the line's slope
         // moves where the centre of mass projects on it.
         assert!(s.iter().all(|x| (x - 0.05).abs() < 1e-3), "{s:?}");
+    }
+
+    /// One grasp alone: with the other held (its shift `other`), the line through the grasps
+    /// passes the centre of mass halfway between them when `½ s₀ + ½ s₁` is the offset, so
+    /// `s₀ = 2 · 0.05 − s₁`; the moved grasp's shift alone, whichever it is.
+    #[test]
+    fn one_grasp_alone_moves_the_line_by_its_share() {
+        let down = UnitQuaternion::from_euler_angles(std::f64::consts::PI, 0.0, 0.0);
+        let power = [
+            Isometry3::from_parts(Translation3::new(0.0, 0.25, 0.01), down),
+            Isometry3::from_parts(Translation3::new(0.8, 0.25, 0.01), down),
+        ];
+        let com = Point3::new(0.4, 0.20, 0.01);
+        for (k, other) in [(0, 0.0), (0, 0.02), (1, 0.0), (1, -0.03)] {
+            let s = shift_alone(&power, &com, k, other).unwrap();
+            assert!(
+                (s - (0.1 - other)).abs() < 1e-9,
+                "grasp {k} beside {other}: {s}"
+            );
+            let mut both = [other; 2];
+            both[k] = s;
+            let arm = weight_arm(&Isometry3::identity(), &slid(&power, both), &com);
+            assert!(arm < 1e-9, "{arm}");
+        }
     }
 
     /// Bars along the line through the grasps cannot move it: no shifts.

@@ -19,7 +19,7 @@
 //!   a torque about its own normal: hundreds of newtons); the margin is the smallest
 //!   barycentric coordinate.
 
-use nalgebra::{Isometry3, Point2, Point3, Translation3, Vector3};
+use nalgebra::{Isometry3, Point2, Point3, Vector3};
 use parry3d_f64::shape::TriMesh;
 use pregrasp_collision::distance::segment_segment_sq;
 use pregrasp_collision::{
@@ -30,9 +30,9 @@ use pregrasp_io::scene::Scene;
 use pregrasp_physics::MassProperties;
 use pregrasp_robot::Joints;
 
-use super::fingers::OpenFingers;
 use crate::axes::RotationAxisCandidate;
 use crate::context::{distinct_ik, FINE_PLANNING_MARGIN, PLANNING_MARGIN};
+use crate::open_fingers::OpenFingers;
 use pregrasp_model::timeline::CONTACT_ZONE;
 
 /// How far (m) the nearer power grasp must rise for the fingers to close under the bar (the
@@ -121,11 +121,12 @@ impl<'a> GraspTests<'a> {
             }
         }
         let p = &self.scene.planner;
-        let (zone, far) = (CONTACT_ZONE.min(p.approach_distance), p.approach_distance);
-        let clear = [zone, 0.5 * (zone + far), far].iter().all(|&h| {
-            let back = flange * Translation3::new(0.0, 0.0, -h);
-            open.clear_by(self.part, &back, p.link_clearance + PLANNING_MARGIN)
-        });
+        let clear = open.approach_clear(
+            self.part,
+            &flange,
+            [CONTACT_ZONE, p.approach_distance],
+            p.link_clearance + PLANNING_MARGIN,
+        );
         (true, clear)
     }
 

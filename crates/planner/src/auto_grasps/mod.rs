@@ -12,7 +12,7 @@
 //!    the master's power grasp (both are held at once), with the fingertips
 //!    [`SUPPORT_TIP_HEIGHT`] above the support. Power grasps sit at mid-height, fingers across
 //!    the bar, from above.
-//!    Only sites the fully open hand fits around (the real finger geometry, [`fingers`], and
+//!    Only sites the fully open hand fits around (the real finger geometry, [`crate::open_fingers`], and
 //!    the whole hand, palm included, nowhere more than 0.5 mm inside the whole part along the
 //!    last 20 mm of the approach) take a grasp. A set loses rank for material near its power
 //!    grasps' sites along the bar ([`JUNCTION_WEIGHT`]): sites away from junctions first.
@@ -28,7 +28,6 @@
 
 pub mod bars;
 pub mod cheap;
-pub mod fingers;
 pub mod hand;
 
 use std::cell::RefCell;

@@ -17,7 +17,7 @@
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::{Isometry3, Translation3, Vector3};
 use parry3d_f64::query::{closest_points, intersection_test, ClosestPoints};
 use parry3d_f64::shape::{ConvexPolyhedron, Cuboid, TriMesh};
 use pregrasp_robot::{Gripper, GripperState, Primitive};
@@ -147,5 +147,27 @@ impl OpenFingers {
     /// No open link, palm included, within `d` of the part.
     pub fn clear_by(&self, part: &TriMesh, flange_in_object: &Isometry3<f64>, d: f64) -> bool {
         self.within(part, flange_in_object, d, true).is_none()
+    }
+
+    /// Whether the straight approach to the grasp with the flange at `flange_in_object` keeps
+    /// `clearance` (m) from the part outside its contact zone: the open hand [`clear_by`]
+    /// that much where the zone ends (`zone` back along the flange's `z`), at the stand-off
+    /// (`stand_off` back) and half way — the line the pipeline will build and check.
+    ///
+    /// [`clear_by`]: OpenFingers::clear_by
+    pub fn approach_clear(
+        &self,
+        part: &TriMesh,
+        flange_in_object: &Isometry3<f64>,
+        [zone, stand_off]: [f64; 2],
+        clearance: f64,
+    ) -> bool {
+        let zone = zone.min(stand_off);
+        [zone, 0.5 * (zone + stand_off), stand_off]
+            .iter()
+            .all(|&h| {
+                let back = flange_in_object * Translation3::new(0.0, 0.0, -h);
+                self.clear_by(part, &back, clearance)
+            })
     }
 }
