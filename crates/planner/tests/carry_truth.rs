@@ -25,9 +25,10 @@
 //! (`plan_replay_panels_fingertips_2f85.csv`, `[planner] power_hold = "fingertips"`), each part
 //! made again here from its family and seed. A second test holds it to the six hard families
 //! (`plan_replay_hard_seeds_1_15_*_2f85.csv`, `…_16_25_…`, `…_26_30_…`, `…_31_45_…` and
-//! `…_46_55_…`, 388 plans), which were not replayed before; a third to the replay with torsional friction at
-//! the pads (`…_pads_condim4_…`, 297 plans), which the truth tables leave out; a fourth to
-//! the hard seeds 31–45 on UR10e arms (`…_ur10e_…`, 118 plans).
+//! `…_46_55_…`, 388 plans), which were not replayed before; a third to the replay with
+//! torsional friction at the pads (`…_pads_condim4_…`, 297 plans), which the truth tables
+//! leave out; a fourth to the hard seeds 31–45 on UR10e and UR16e arms (`…_ur10e_…`,
+//! `…_ur16e_…`, 118 plans each).
 
 mod common;
 
@@ -163,24 +164,35 @@ fn the_carry_check_on_the_hard_families() {
 /// `"ur10e"` (the same grasps and bases), planned and replayed whole at 235 N by the planner of
 /// 1c8e5ae (`plan_replay_hard_seeds_31_45_*_ur10e_2f85.csv`: all 90 parts plan, the four the
 /// UR5e cannot reach among them; the T-junctions', L-corners' and hand holes' table again at
-/// 57c3e38, six hand holes' plans slid one at a time). The verdicts are the UR5e's on the same
-/// parts.
+/// 57c3e38, six hand holes' plans slid one at a time), and set to `"ur16e"`, by the planner of
+/// b49741e (`…_ur16e_2f85.csv`: all 90 plan, 118 plans). The verdicts are the UR5e's on the
+/// same parts: chamfered_32's first plan creeps in the master's pinch on all three arms.
 #[test]
-fn the_carry_check_on_ur10e_arms() {
-    let all: Vec<_> = replayed_plans(&[
-        "plan_replay_hard_seeds_31_45_tee_corner_hole_ur10e_2f85.csv",
-        "plan_replay_hard_seeds_31_45_bars_chamfer_rungs_ur10e_2f85.csv",
-    ])
-    .into_iter()
-    .map(|mut r| {
-        r.insert("arm_model".into(), "ur10e".into());
-        r
-    })
-    .collect();
-    assert_eq!(all.len(), 118);
-    let t = tally(&all);
-    assert_eq!((t.refused, t.kept, t.cautious.len()), (0, 117, 0));
-    assert_eq!(t.departures, ["chamfered_32 plan 0: carried, fails"]);
+fn the_carry_check_on_other_arms() {
+    for model in ["ur10e", "ur16e"] {
+        let all: Vec<_> = replayed_plans(&[
+            &format!("plan_replay_hard_seeds_31_45_tee_corner_hole_{model}_2f85.csv"),
+            &format!("plan_replay_hard_seeds_31_45_bars_chamfer_rungs_{model}_2f85.csv"),
+        ])
+        .into_iter()
+        .map(|mut r| {
+            r.insert("arm_model".into(), model.into());
+            r
+        })
+        .collect();
+        assert_eq!(all.len(), 118, "{model}");
+        let t = tally(&all);
+        assert_eq!(
+            (t.refused, t.kept, t.cautious.len()),
+            (0, 117, 0),
+            "{model}"
+        );
+        assert_eq!(
+            t.departures,
+            ["chamfered_32 plan 0: carried, fails"],
+            "{model}"
+        );
+    }
 }
 
 /// The same check against the whole-plan replay with torsional friction at the pads
