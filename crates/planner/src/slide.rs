@@ -48,7 +48,7 @@ use pregrasp_model::timeline::CONTACT_ZONE;
 
 /// Shares of the shifts tried, largest first.
 pub const SLIDE_SHARES: [f64; 4] = [1.0, 0.75, 0.5, 0.25];
-/// Shares of a one grasp's shift tried where it slides alone ([`shift_alone`]), largest
+/// Shares of one grasp's shift tried where it slides alone ([`shift_alone`]), largest
 /// first: finer than [`SLIDE_SHARES`], as the bar's window is short.
 pub const ALONE_SHARES: [f64; 8] = [1.0, 0.875, 0.75, 0.625, 0.5, 0.375, 0.25, 0.125];
 /// Longest slide (m) of one grasp: farther, the grasp is on another part of the part.

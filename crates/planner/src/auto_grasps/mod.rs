@@ -12,9 +12,9 @@
 //!    the master's power grasp (both are held at once), with the fingertips
 //!    [`SUPPORT_TIP_HEIGHT`] above the support. Power grasps sit at mid-height, fingers across
 //!    the bar, from above.
-//!    Only sites the fully open hand fits around (the real finger geometry, [`crate::open_fingers`], and
-//!    the whole hand, palm included, nowhere more than 0.5 mm inside the whole part along the
-//!    last 20 mm of the approach) take a grasp. A set loses rank for material near its power
+//!    Only sites the fully open hand fits around (the real finger geometry,
+//!    [`crate::open_fingers`], and the whole hand, palm included, nowhere more than 0.5 mm
+//!    inside the whole part along the last 20 mm of the approach) take a grasp. A set loses rank for material near its power
 //!    grasps' sites along the bar ([`JUNCTION_WEIGHT`]): sites away from junctions first.
 //! 3. Cheap ranking ([`cheap`]): sets by how many cheap tests they fail — IK at P_init, the
 //!    open fingers' approach clearance, the pinch's balance (centre of mass inside the
