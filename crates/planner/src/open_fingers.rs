@@ -66,10 +66,7 @@ impl OpenFingers {
             let (frame, pieces) = match (pieces.get(k).copied().flatten(), frames.get(k)) {
                 (Some(p), Some(frame)) => (
                     *frame,
-                    p.pieces
-                        .iter()
-                        .filter_map(|v| ConvexPolyhedron::from_convex_hull(v))
-                        .collect(),
+                    p.pieces.iter().filter_map(|v| polyhedron(v)).collect(),
                 ),
                 // An exact box (the 2F-85's housing), in the flange frame.
                 _ => {
@@ -80,12 +77,7 @@ impl OpenFingers {
                             nalgebra::Point3::new(s(1) * h.x, s(2) * h.y, s(4) * h.z)
                         })
                         .collect();
-                    (
-                        pose,
-                        ConvexPolyhedron::from_convex_hull(&corners)
-                            .into_iter()
-                            .collect(),
-                    )
+                    (pose, polyhedron(&corners).into_iter().collect())
                 }
             };
             links.push(Link {
@@ -99,6 +91,7 @@ impl OpenFingers {
         });
         OpenFingers { links }
     }
+
     /// Whether `shape` at `pose` comes within `d` of the part (`d = 0`: touches it).
     fn near(
         part: &TriMesh,
@@ -170,4 +163,12 @@ impl OpenFingers {
                 self.clear_by(part, &back, clearance)
             })
     }
+}
+
+/// The convex polyhedron of `points`: parry's `ConvexPolyhedron::from_convex_hull`, its hull
+/// from the baked table where it holds them ([`pregrasp_collision::baked_hulls`]: the 2F-85's
+/// pieces cost about 38 M instructions to hull, a one-shot plan's first open hand).
+fn polyhedron(points: &[nalgebra::Point3<f64>]) -> Option<ConvexPolyhedron> {
+    let (vertices, faces) = pregrasp_collision::baked_hulls::convex_hull(points)?;
+    ConvexPolyhedron::from_convex_mesh(vertices, &faces)
 }

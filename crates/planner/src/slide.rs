@@ -258,9 +258,10 @@ pub fn slide_alone(
     let power = &scene.grasps.power;
     let squeezed = together.squeezed;
     let clear = |k: usize, s: f64| approach_clear(scene, part, &arms[k], &slid(power, [s; 2])[k]);
+    // The approach first: a closing costs more.
     let holds = |k: usize, s: f64| {
         let to = slid(power, [s; 2])[k];
-        still_holds(part, &arms[k], squeezed[k], &to) && clear(k, s)
+        clear(k, s) && still_holds(part, &arms[k], squeezed[k], &to)
     };
     let arm = |s: [f64; 2]| weight_arm(&scene.object.pose, &slid(power, s), com);
     // Where the other grasp stays: its largest shift that held with its approach clear.
