@@ -27,8 +27,8 @@
 //! (`plan_replay_hard_seeds_1_15_*_2f85.csv`, `…_16_25_…`, `…_26_30_…`, `…_31_45_…` and
 //! `…_46_55_…`, 388 plans), which were not replayed before; a third to the replay with
 //! torsional friction at the pads (`…_pads_condim4_…`, 297 plans), which the truth tables
-//! leave out; a fourth to the hard seeds 31–45 on UR10e and UR16e arms (`…_ur10e_…`,
-//! `…_ur16e_…`, 118 plans each).
+//! leave out; a fourth to the hard seeds 31–45 on UR10e, UR16e and UR5 arms (`…_ur10e_…`,
+//! `…_ur16e_…`, 118 plans each; `…_ur5_…`, 89 plans).
 
 mod common;
 
@@ -164,27 +164,37 @@ fn the_carry_check_on_the_hard_families() {
 /// `"ur10e"` (the same grasps and bases), planned and replayed whole at 235 N by the planner of
 /// 1c8e5ae (`plan_replay_hard_seeds_31_45_*_ur10e_2f85.csv`: all 90 parts plan, the four the
 /// UR5e cannot reach among them; the T-junctions', L-corners' and hand holes' table again at
-/// 57c3e38, six hand holes' plans slid one at a time), and set to `"ur16e"`, by the planner of
-/// b49741e (`…_ur16e_2f85.csv`: all 90 plan, 118 plans). The verdicts are the UR5e's on the
-/// same parts: chamfered_32's first plan creeps in the master's pinch on all three arms.
+/// 57c3e38, six hand holes' plans slid one at a time), set to `"ur16e"`, by the planner of
+/// b49741e (`…_ur16e_2f85.csv`: all 90 plan, 118 plans), and set to `"ur5"`, by that of
+/// d4b4b1d (`…_ur5_2f85.csv`: 76 plan, 89 plans; the others' support grasps or `sup1`'s
+/// approach are beyond its reach). The verdicts are the UR5e's on the same parts:
+/// chamfered_32's first plan creeps in the master's pinch on all four arms.
 #[test]
 fn the_carry_check_on_other_arms() {
-    for model in ["ur10e", "ur16e"] {
-        let all: Vec<_> = replayed_plans(&[
-            &format!("plan_replay_hard_seeds_31_45_tee_corner_hole_{model}_2f85.csv"),
-            &format!("plan_replay_hard_seeds_31_45_bars_chamfer_rungs_{model}_2f85.csv"),
-        ])
-        .into_iter()
-        .map(|mut r| {
-            r.insert("arm_model".into(), model.into());
-            r
-        })
-        .collect();
-        assert_eq!(all.len(), 118, "{model}");
+    let tables = |model: &str| {
+        if model == "ur5" {
+            vec!["plan_replay_hard_seeds_31_45_ur5_2f85.csv".to_string()]
+        } else {
+            ["tee_corner_hole", "bars_chamfer_rungs"]
+                .map(|f| format!("plan_replay_hard_seeds_31_45_{f}_{model}_2f85.csv"))
+                .to_vec()
+        }
+    };
+    for (model, rows, kept) in [("ur10e", 118, 117), ("ur16e", 118, 117), ("ur5", 89, 88)] {
+        let names = tables(model);
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let all: Vec<_> = replayed_plans(&names)
+            .into_iter()
+            .map(|mut r| {
+                r.insert("arm_model".into(), model.into());
+                r
+            })
+            .collect();
+        assert_eq!(all.len(), rows, "{model}");
         let t = tally(&all);
         assert_eq!(
             (t.refused, t.kept, t.cautious.len()),
-            (0, 117, 0),
+            (0, kept, 0),
             "{model}"
         );
         assert_eq!(
