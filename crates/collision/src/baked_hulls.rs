@@ -140,6 +140,15 @@ pub fn convex_hull(points: &[P]) -> Option<HullFaces> {
     parry3d_f64::transformation::try_convex_hull(points).ok()
 }
 
+/// parry's `ConvexPolyhedron::from_convex_hull(points)` (its `try_convex_hull`, then
+/// `from_convex_mesh`), the hull from the baked table where it holds the points
+/// ([`convex_hull`]): the same polyhedron, without the quickhull (the 2F-85's open-hand pieces
+/// cost about 38 M instructions to hull).
+pub fn convex_polyhedron(points: &[P]) -> Option<parry3d_f64::shape::ConvexPolyhedron> {
+    let (vertices, faces) = convex_hull(points)?;
+    parry3d_f64::shape::ConvexPolyhedron::from_convex_mesh(vertices, &faces)
+}
+
 /// From now on every hull comes from parry and is recorded (the table's test: call it before
 /// anything is hulled).
 #[doc(hidden)]

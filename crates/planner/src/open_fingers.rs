@@ -20,6 +20,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use nalgebra::{Isometry3, Translation3, Vector3};
 use parry3d_f64::query::{closest_points, intersection_test, ClosestPoints};
 use parry3d_f64::shape::{ConvexPolyhedron, Cuboid, TriMesh};
+use pregrasp_collision::baked_hulls::convex_polyhedron;
 use pregrasp_robot::{Gripper, GripperState, Primitive};
 
 /// One open link: its box and pieces, placed in the flange frame G.
@@ -66,7 +67,10 @@ impl OpenFingers {
             let (frame, pieces) = match (pieces.get(k).copied().flatten(), frames.get(k)) {
                 (Some(p), Some(frame)) => (
                     *frame,
-                    p.pieces.iter().filter_map(|v| polyhedron(v)).collect(),
+                    p.pieces
+                        .iter()
+                        .filter_map(|v| convex_polyhedron(v))
+                        .collect(),
                 ),
                 // An exact box (the 2F-85's housing), in the flange frame.
                 _ => {
@@ -77,7 +81,7 @@ impl OpenFingers {
                             nalgebra::Point3::new(s(1) * h.x, s(2) * h.y, s(4) * h.z)
                         })
                         .collect();
-                    (pose, polyhedron(&corners).into_iter().collect())
+                    (pose, convex_polyhedron(&corners).into_iter().collect())
                 }
             };
             links.push(Link {
@@ -163,12 +167,4 @@ impl OpenFingers {
                 self.clear_by(part, &back, clearance)
             })
     }
-}
-
-/// The convex polyhedron of `points`: parry's `ConvexPolyhedron::from_convex_hull`, its hull
-/// from the baked table where it holds them ([`pregrasp_collision::baked_hulls`]: the 2F-85's
-/// pieces cost about 38 M instructions to hull, a one-shot plan's first open hand).
-fn polyhedron(points: &[nalgebra::Point3<f64>]) -> Option<ConvexPolyhedron> {
-    let (vertices, faces) = pregrasp_collision::baked_hulls::convex_hull(points)?;
-    ConvexPolyhedron::from_convex_mesh(vertices, &faces)
 }

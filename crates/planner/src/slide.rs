@@ -257,12 +257,12 @@ pub fn slide_alone(
     }
     let power = &scene.grasps.power;
     let squeezed = together.squeezed;
-    let clear = |k: usize, s: f64| approach_clear(scene, part, &arms[k], &slid(power, [s; 2])[k]);
+    // Grasp `k` slid by `s` along its bar.
+    let at = |k: usize, s: f64| power[k] * Translation3::new(0.0, s, 0.0);
+    let clear = |k: usize, s: f64| approach_clear(scene, part, &arms[k], &at(k, s));
     // The approach first: a closing costs more.
-    let holds = |k: usize, s: f64| {
-        let to = slid(power, [s; 2])[k];
-        clear(k, s) && still_holds(part, &arms[k], squeezed[k], &to)
-    };
+    let holds =
+        |k: usize, s: f64| clear(k, s) && still_holds(part, &arms[k], squeezed[k], &at(k, s));
     let arm = |s: [f64; 2]| weight_arm(&scene.object.pose, &slid(power, s), com);
     // Where the other grasp stays: its largest shift that held with its approach clear.
     let stays = |k: usize| {

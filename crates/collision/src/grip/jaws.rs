@@ -11,11 +11,11 @@ use std::sync::Arc;
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use parry3d_f64::query::{self, ShapeCastOptions};
-use parry3d_f64::shape::ConvexPolyhedron;
 use pregrasp_robot::{ClosingKind, GripperState, JawGripper};
 
 use super::sweep::{Frame, LinkPoints, Swept};
 use super::{Grip, GripFailure};
+use crate::baked_hulls::convex_polyhedron;
 use crate::object::ObjectGeometry;
 
 /// Closing travel (m of gap) below which a touch counts as touching already open.
@@ -45,7 +45,7 @@ pub(super) fn close_jaws(
         let at = flange_in_object * open_frames[k];
         for part in jaws.jaw_parts(k) {
             for piece in &part.pieces.pieces {
-                let Some(poly) = ConvexPolyhedron::from_convex_hull(piece) else {
+                let Some(poly) = convex_polyhedron(piece) else {
                     continue;
                 };
                 let options = ShapeCastOptions {
