@@ -237,9 +237,11 @@ pub(crate) fn run_clarabel(
     run_clarabel_with(a, b, cones, true)
 }
 
-/// [`run_clarabel`] without the iterative refinement of each step's linear solve: about 30 %
-/// fewer instructions, for an answer read to the newton (the carry check's), not to the last
-/// digit (the pinch's, which the plan file writes).
+/// [`run_clarabel`] without the iterative refinement of each step's linear solve, and to a
+/// tolerance of 1e-8 instead of 1e-11: for an answer read to the newton (the carry check's),
+/// not to the last digit (the pinch's, which the plan file writes). Without the refinement a
+/// solve takes about 30 % fewer instructions; the looser tolerance saves about a tenth of the
+/// rest (the chair side's cone programs: 23.4 → 21.4 M).
 pub(crate) fn run_clarabel_unrefined(
     a: &CscMatrix<f64>,
     b: &[f64],
@@ -259,11 +261,13 @@ fn run_clarabel_with(
     let p = CscMatrix::zeros((nvar, nvar));
     let mut q = vec![0.0; nvar];
     q[0] = 1.0;
+    // Unrefined answers are read to the newton: 1e-8 of the load is far below that.
+    let tol = if refine { 1e-11 } else { 1e-8 };
     let settings = DefaultSettingsBuilder::default()
         .verbose(false)
-        .tol_gap_abs(1e-11)
-        .tol_gap_rel(1e-11)
-        .tol_feas(1e-11)
+        .tol_gap_abs(tol)
+        .tol_gap_rel(tol)
+        .tol_feas(tol)
         .iterative_refinement_enable(refine)
         .max_iter(200)
         .build()
