@@ -146,7 +146,12 @@ pub fn weight_arm(p_obj: &Isometry3<f64>, power: &[Isometry3<f64>; 2], com: &Poi
 
 /// `power` slid by `s` along each grasp's `y` axis.
 pub fn slid(power: &[Isometry3<f64>; 2], s: [f64; 2]) -> [Isometry3<f64>; 2] {
-    [0, 1].map(|k| power[k] * Translation3::new(0.0, s[k], 0.0))
+    [0, 1].map(|k| slid_one(&power[k], s[k]))
+}
+
+/// `grasp` slid by `s` (m) along its `y` axis, its bar.
+fn slid_one(grasp: &Isometry3<f64>, s: f64) -> Isometry3<f64> {
+    grasp * Translation3::new(0.0, s, 0.0)
 }
 
 /// How `arm`'s closing ends at the power grasp `grasp` (object frame), if it closes on the part.
@@ -257,8 +262,7 @@ pub fn slide_alone(
     }
     let power = &scene.grasps.power;
     let squeezed = together.squeezed;
-    // Grasp `k` slid by `s` along its bar.
-    let at = |k: usize, s: f64| power[k] * Translation3::new(0.0, s, 0.0);
+    let at = |k: usize, s: f64| slid_one(&power[k], s);
     let clear = |k: usize, s: f64| approach_clear(scene, part, &arms[k], &at(k, s));
     // The approach first: a closing costs more.
     let holds =

@@ -14,8 +14,9 @@
 //!    the bar, from above.
 //!    Only sites the fully open hand fits around (the real finger geometry,
 //!    [`crate::open_fingers`], and the whole hand, palm included, nowhere more than 0.5 mm
-//!    inside the whole part along the last 20 mm of the approach) take a grasp. A set loses rank for material near its power
-//!    grasps' sites along the bar ([`JUNCTION_WEIGHT`]): sites away from junctions first.
+//!    inside the whole part along the last 20 mm of the approach) take a grasp. A set loses
+//!    rank for material near its power grasps' sites along the bar ([`JUNCTION_WEIGHT`]):
+//!    sites away from junctions first.
 //! 3. Cheap ranking ([`cheap`]): sets by how many cheap tests they fail — IK at P_init, the
 //!    open fingers' approach clearance, the pinch's balance (centre of mass inside the
 //!    triangle of the axis' ends and G_s) — then by the axis' S_rot plus the power grasps'
