@@ -14,14 +14,13 @@
 //!
 //! Each link's box (grown by `d`) is tested first; the pieces only where it meets the part.
 
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::Arc;
 
 use nalgebra::{Isometry3, Translation3, Vector3};
 use parry3d_f64::query::{closest_points, intersection_test, ClosestPoints};
 use parry3d_f64::shape::{ConvexPolyhedron, Cuboid, TriMesh};
 use pregrasp_collision::baked_hulls::convex_polyhedron;
-use pregrasp_robot::{Gripper, GripperState, Primitive};
+use pregrasp_robot::{Gripper, GripperState, PerShape, Primitive};
 
 /// One open link: its box and pieces, placed in the flange frame G.
 struct Link {
@@ -42,17 +41,8 @@ pub struct OpenFingers {
 impl OpenFingers {
     /// The open hand of `gripper`, built once per gripper shape ([`Gripper::shape_key`]).
     pub fn of(gripper: &Gripper) -> Arc<OpenFingers> {
-        static HANDS: OnceLock<Mutex<HashMap<String, Arc<OpenFingers>>>> = OnceLock::new();
-        let hands = HANDS.get_or_init(Default::default);
-        let key = gripper.shape_key().to_string();
-        if let Some(hand) = hands.lock().ok().and_then(|h| h.get(&key).cloned()) {
-            return hand;
-        }
-        let hand = Arc::new(Self::build(gripper));
-        if let Ok(mut h) = hands.lock() {
-            h.entry(key).or_insert_with(|| hand.clone());
-        }
-        hand
+        static HANDS: PerShape<Arc<OpenFingers>> = PerShape::new();
+        HANDS.get_or_build(gripper, |g| Arc::new(Self::build(g)))
     }
 
     fn build(gripper: &Gripper) -> OpenFingers {

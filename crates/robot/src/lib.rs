@@ -34,8 +34,8 @@ pub use fingers::{
 };
 pub use fk::UrKinematics;
 pub use gripper::{
-    Gripper, Gripper2F85, GripperState, JawError, JawFace, JawGripper, JawPart, GRIPPER_FRAME,
-    ROBOTIQ_2F85_GRIP_FORCE,
+    Gripper, Gripper2F85, GripperState, JawError, JawFace, JawGripper, JawPart, PerShape,
+    GRIPPER_FRAME, ROBOTIQ_2F85_GRIP_FORCE,
 };
 pub use ik::{joint_distance, IkSolutions, IK_RESIDUAL_TOL};
 pub use linkage::{FingerConfig, FingerLinkage, LinkageLimits, PlanarPose, FINGER_LINKS};

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use nalgebra::Isometry3;
-use pregrasp_robot::{Gripper, LinkShape};
+use pregrasp_robot::{Gripper, LinkShape, PerShape};
 
 use crate::closing::robotiq_finger_hull;
 use crate::shape::Bounded;
@@ -15,38 +15,28 @@ use super::posed::place;
 
 /// The exact pieces of the gripper's shapes (shared by every arm with that gripper).
 pub(super) fn gripper_tight(gripper: &Gripper) -> Arc<Vec<Option<Tight>>> {
-    type ByGripper = BTreeMap<String, Arc<Vec<Option<Tight>>>>;
-    static TIGHT: OnceLock<Mutex<ByGripper>> = OnceLock::new();
-    let cache = TIGHT.get_or_init(Default::default);
-    let key = gripper.shape_key();
-    if let Some(t) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(key) {
-        return t.clone();
-    }
-    // The 2F-85's finger links get the hulls the closing uses (see `robotiq_finger_hull`), set
-    // now: built lazily, the first query's thread would decide which of two equal hulls is
-    // built, and the baked table (`baked_hulls`) would hold one or the other by timing.
-    let robotiq = gripper.robotiq().is_some();
-    let statics = gripper.static_count();
-    let tight: Arc<Vec<Option<Tight>>> = Arc::new(
-        gripper
-            .shape_pieces()
-            .into_iter()
-            .enumerate()
-            .map(|(k, p)| {
-                let t = p.and_then(Tight::new)?;
-                Some(match k.checked_sub(statics) {
-                    Some(j) if robotiq => t.with_hull(robotiq_finger_hull(j)),
-                    _ => t,
+    static TIGHT: PerShape<Arc<Vec<Option<Tight>>>> = PerShape::new();
+    TIGHT.get_or_build(gripper, |gripper| {
+        // The 2F-85's finger links get the hulls the closing uses (see `robotiq_finger_hull`),
+        // set now: built lazily, the first query's thread would decide which of two equal hulls
+        // is built, and the baked table (`baked_hulls`) would hold one or the other by timing.
+        let robotiq = gripper.robotiq().is_some();
+        let statics = gripper.static_count();
+        Arc::new(
+            gripper
+                .shape_pieces()
+                .into_iter()
+                .enumerate()
+                .map(|(k, p)| {
+                    let t = p.and_then(Tight::new)?;
+                    Some(match k.checked_sub(statics) {
+                        Some(j) if robotiq => t.with_hull(robotiq_finger_hull(j)),
+                        _ => t,
+                    })
                 })
-            })
-            .collect(),
-    );
-    cache
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .entry(key.to_string())
-        .or_insert(tight)
-        .clone()
+                .collect(),
+        )
+    })
 }
 
 /// A sphere around the gripper at every opening: centre on the flange axis, radius covering
@@ -54,25 +44,14 @@ pub(super) fn gripper_tight(gripper: &Gripper) -> Arc<Vec<Option<Tight>>> {
 /// between them (the fingers move less than that between neighbouring samples' spheres).
 pub(super) fn gripper_sphere(gripper: &Gripper) -> (nalgebra::Point3<f64>, f64) {
     // The shapes (not the precision and power points) decide it.
-    type Sphere = (nalgebra::Point3<f64>, f64);
-    static SPHERE: OnceLock<Mutex<BTreeMap<String, Sphere>>> = OnceLock::new();
-    let cache = SPHERE.get_or_init(Default::default);
-    let key = gripper.shape_key();
+    static SPHERE: PerShape<(nalgebra::Point3<f64>, f64)> = PerShape::new();
     if gripper.robotiq().is_some() {
         return (
             GRIPPER_SPHERE_CENTER,
             f64::from_bits(ROBOTIQ_2F85_SPHERE_RADIUS),
         );
     }
-    if let Some(s) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(key) {
-        return *s;
-    }
-    let sphere = gripper_sphere_of(gripper);
-    cache
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .insert(key.to_string(), sphere);
-    sphere
+    SPHERE.get_or_build(gripper, gripper_sphere_of)
 }
 
 /// The centre of every gripper's sphere (flange frame).

@@ -13,11 +13,10 @@
 //! along its own `z` and the part stands still, so the open hand `s` back from the grasp is at
 //! `flange_in_object · Translation(0, 0, −s)`: the approach is a property of the grasp alone.
 
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::Arc;
 
 use nalgebra::{Isometry3, Point3, Translation3};
-use pregrasp_robot::{Gripper, GripperState, Primitive};
+use pregrasp_robot::{Gripper, GripperState, PerShape, Primitive};
 
 use crate::inside::{box_at_outside, box_outside, depth_in_part_along, ConvexSolid, FreeBox};
 use crate::object::ObjectGeometry;
@@ -55,17 +54,8 @@ pub struct OpenHand {
 impl OpenHand {
     /// The open hand of `gripper`, built once per gripper shape ([`Gripper::shape_key`]).
     pub fn of(gripper: &Gripper) -> Arc<OpenHand> {
-        static HANDS: OnceLock<Mutex<HashMap<String, Arc<OpenHand>>>> = OnceLock::new();
-        let hands = HANDS.get_or_init(Default::default);
-        let key = gripper.shape_key().to_string();
-        if let Some(hand) = hands.lock().ok().and_then(|h| h.get(&key).cloned()) {
-            return hand;
-        }
-        let hand = Arc::new(OpenHand::build(gripper));
-        if let Ok(mut h) = hands.lock() {
-            h.entry(key).or_insert_with(|| hand.clone());
-        }
-        hand
+        static HANDS: PerShape<Arc<OpenHand>> = PerShape::new();
+        HANDS.get_or_build(gripper, |g| Arc::new(OpenHand::build(g)))
     }
 
     fn build(gripper: &Gripper) -> OpenHand {

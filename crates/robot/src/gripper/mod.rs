@@ -13,9 +13,11 @@ use crate::fingers::FingerPair;
 use crate::links::{ArmGeometry, ConvexPieces, LinkShape, Primitive};
 
 mod jaws;
+mod per_shape;
 mod robotiq;
 
 pub use jaws::{JawError, JawFace, JawGripper, JawPart};
+pub use per_shape::PerShape;
 pub use robotiq::Gripper2F85;
 
 /// The Robotiq 2F-85's rated grip force range (N), `docs/hardware-facts.md`.
