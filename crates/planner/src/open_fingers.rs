@@ -12,11 +12,12 @@
 //! - [`OpenFingers::clear_by`]: every piece of the hand, palm included, at least `d` from the
 //!   part: the straight approach outside its contact zone must keep the cell's link clearance.
 //!
-//! Each link's box (grown by `d`) is tested first; the pieces only where it meets the part.
+//! Each link's box (grown by `d`) is tested first; the pieces only where it meets the part
+//! (and they are built the first time it does).
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
-use nalgebra::{Isometry3, Translation3, Vector3};
+use nalgebra::{Isometry3, Point3, Translation3, Vector3};
 use parry3d_f64::query::{closest_points, intersection_test, ClosestPoints};
 use parry3d_f64::shape::{ConvexPolyhedron, Cuboid, TriMesh};
 use pregrasp_collision::baked_hulls::convex_polyhedron;
@@ -30,7 +31,21 @@ struct Link {
     box_pose: Isometry3<f64>,
     half: Vector3<f64>,
     pose: Isometry3<f64>,
-    pieces: Vec<ConvexPolyhedron>,
+    /// The pieces' points; their solids are built the first time the link's box is near the
+    /// part (most links' boxes settle every query).
+    points: Vec<Vec<Point3<f64>>>,
+    pieces: OnceLock<Vec<ConvexPolyhedron>>,
+}
+
+impl Link {
+    fn pieces(&self) -> &[ConvexPolyhedron] {
+        self.pieces.get_or_init(|| {
+            self.points
+                .iter()
+                .filter_map(|v| convex_polyhedron(v))
+                .collect()
+        })
+    }
 }
 
 /// The open hand's links in G (built once per gripper shape).
@@ -54,24 +69,18 @@ impl OpenFingers {
             let Primitive::Cuboid { pose, half_extents } = primitive else {
                 return;
             };
-            let (frame, pieces) = match (pieces.get(k).copied().flatten(), frames.get(k)) {
-                (Some(p), Some(frame)) => (
-                    *frame,
-                    p.pieces
-                        .iter()
-                        .filter_map(|v| convex_polyhedron(v))
-                        .collect(),
-                ),
+            let (frame, points) = match (pieces.get(k).copied().flatten(), frames.get(k)) {
+                (Some(p), Some(frame)) => (*frame, p.pieces.to_vec()),
                 // An exact box (the 2F-85's housing), in the flange frame.
                 _ => {
                     let h = half_extents;
                     let corners: Vec<_> = (0..8)
                         .map(|c| {
                             let s = |b: usize| if c & b == 0 { -1.0 } else { 1.0 };
-                            nalgebra::Point3::new(s(1) * h.x, s(2) * h.y, s(4) * h.z)
+                            Point3::new(s(1) * h.x, s(2) * h.y, s(4) * h.z)
                         })
                         .collect();
-                    (pose, convex_polyhedron(&corners).into_iter().collect())
+                    (pose, vec![corners])
                 }
             };
             links.push(Link {
@@ -80,10 +89,19 @@ impl OpenFingers {
                 box_pose: pose,
                 half: half_extents,
                 pose: frame,
-                pieces,
+                points,
+                pieces: OnceLock::new(),
             });
         });
         OpenFingers { links }
+    }
+
+    /// Builds every link's pieces now rather than when a query first needs them (the baked
+    /// hull table's test records them all).
+    pub fn prepare(&self) {
+        for link in &self.links {
+            link.pieces();
+        }
     }
 
     /// Whether `shape` at `pose` comes within `d` of the part (`d = 0`: touches it).
@@ -118,7 +136,7 @@ impl OpenFingers {
                 continue;
             }
             let at = flange_in_object * link.pose;
-            if link.pieces.iter().any(|p| Self::near(part, &at, p, d)) {
+            if link.pieces().iter().any(|p| Self::near(part, &at, p, d)) {
                 return Some(link.name);
             }
         }

@@ -59,7 +59,7 @@ fn plan_the_examples_and_a_part_of_each_family() -> usize {
         ..PlanOptions::default()
     };
     // The open hand's pieces (the auto grasps' and the one-at-a-time slide's approach test).
-    let _ = pregrasp_planner::open_fingers::OpenFingers::of(&pregrasp_robot::Gripper::default());
+    pregrasp_planner::open_fingers::OpenFingers::of(&pregrasp_robot::Gripper::default()).prepare();
     let mut planned = 0;
     for name in ["chair_side", "shelf_side", "stool_side"] {
         let (scene, mesh) = example_files(name);
