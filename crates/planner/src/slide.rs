@@ -18,15 +18,16 @@
 //! of them ([`SLIDE_SHARES`], largest first) is kept where both slid grasps still hold their
 //! bar: the line along the approach still crosses material, and the closing still squeezes
 //! where the scene's did (a bar's junction with another, where an open finger would meet it,
-//! stops the slide short of it).
+//! stops the slide short of it), and both open hands keep the link clearance on their straight
+//! approaches ([`OpenFingers::approach_clear`]).
 //!
 //! Where together they do not slide the whole way — one of them beside the end of its hole,
 //! say, with little or nowhere to go — they are also slid one at a time ([`slide_alone`]): the
 //! one that stops sooner stays at its largest shift that held (or where it is), and the other
 //! slides by the shift [`shift_alone`] that brings the line nearest the centre of mass, the
 //! largest of [`ALONE_SHARES`] of it at which it still holds its bar; then the first, likewise,
-//! beside it. Both must keep the link clearance on their straight approaches
-//! ([`OpenFingers::approach_clear`]): a narrow bar beside a hole leaves a short window
+//! beside it. Both must keep the link clearance on their straight approaches here too: a
+//! narrow bar beside a hole leaves a short window
 //! (hand_hole_42's left grasp carries the part 28–68 mm down its bar, and 88 mm down its pad
 //! meets the hole's end on the approach). The pipeline tries this second way after every
 //! hold's grasps slid together (`pipeline::plan`).
@@ -186,7 +187,8 @@ pub struct Together {
     pub shifts: Option<[f64; 2]>,
     /// The whole shifts (from [`shifts_worth_trying`]).
     full: [f64; 2],
-    /// Per share tried above `shifts` (largest first), the shifts where each grasp held.
+    /// Per share tried above `shifts` (largest first), the shifts where each grasp held (its bar
+    /// squeezed, its approach clear).
     held: Vec<[Option<[f64; 2]>; 2]>,
     /// Whether each scene closing squeezed its bar.
     squeezed: [bool; 2],
@@ -209,8 +211,8 @@ impl Together {
 }
 
 /// The scene's power grasps slid together by the shares of `full` (m, from
-/// [`shifts_worth_trying`]), the largest first, until both still hold their bars; `None` when
-/// a gripper is not a 2F-85.
+/// [`shifts_worth_trying`]), the largest first, until both still hold their bars with their
+/// straight approaches clear; `None` when a gripper is not a 2F-85.
 pub fn slide_together(
     scene: &Scene,
     part: &ObjectGeometry,
@@ -227,7 +229,10 @@ pub fn slide_together(
     for share in SLIDE_SHARES {
         let s = full.map(|x| rounded(x * share));
         let to = slid(power, s);
-        let holds = each_arm(|k| still_holds(part, &arms[k], squeezed[k], &to[k]));
+        let holds = each_arm(|k| {
+            approach_clear(scene, part, &arms[k], &to[k])
+                && still_holds(part, &arms[k], squeezed[k], &to[k])
+        });
         if holds == [true; 2] {
             return Some(Together {
                 shifts: Some(s),
@@ -268,21 +273,13 @@ pub fn slide_alone(
     let holds =
         |k: usize, s: f64| clear(k, s) && still_holds(part, &arms[k], squeezed[k], &at(k, s));
     let arm = |s: [f64; 2]| weight_arm(&scene.object.pose, &slid(power, s), com);
-    // Where the other grasp stays: its largest shift that held with its approach clear.
-    let stays = |k: usize| {
-        let shares = together
-            .held
-            .iter()
-            .filter_map(|h| h[k])
-            .chain(together.shifts);
-        shares.map(|s| s[k]).find(|&s| clear(k, s)).unwrap_or(0.0)
-    };
     let mut order = [0, 1];
     order.sort_by(|&a, &b| together.kept(b).abs().total_cmp(&together.kept(a).abs()));
     let mut best: Option<(f64, [f64; 2])> = None;
     for k in order {
-        // Beside the first grasp's own slide, where it found one.
-        let other = best.map_or_else(|| stays(1 - k), |(_, s)| s[1 - k]);
+        // Beside the first grasp's own slide, where it found one; else where the other grasp
+        // stays: its largest shift that held (with its approach clear) sliding together.
+        let other = best.map_or_else(|| together.kept(1 - k), |(_, s)| s[1 - k]);
         let Some(alone) = shift_alone(power, com, k, other) else {
             continue;
         };
