@@ -94,13 +94,15 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
     // and the panels held at the fingertips whatever the check says: 327 rows, 87 more of
     // seeds 36–45 replayed by the planner of 1c8e5ae (all 87 lift), 44 of seeds 46–50 by
     // that of 57c3e38 (all 44 lift), 42 of seeds 51–55 by that of bf6ca39 (all 42 lift) and
-    // 43 of seeds 56–60 by that of b1c5596 (42 lift), 543 rows: 3 + 535 agree (panel_12 and
-    // panel_18 held at the fingertips, whose pads' pinch needs more than the 2F-85's 235 N and
-    // whose grasps do not slide far enough to carry: rose 34.8 and 39.4 mm; panel_60, 8.36 kg
-    // on 20 mm bars, whose pinches need 2 × 267 N: rose 36.1 mm), 5 lift below the force the
-    // plan sets (the examples at their pinch's force), none departs. (panel_27, whose
-    // pinch at the fingertips the check flagged at 2 × 128 N and which lifted, plans with its
-    // grasps slid one at a time since 57c3e38 and lifts, 48.6 mm; so do panel_8 and panel_20
+    // 43 of seeds 56–60 by that of b1c5596 (42 lift; seeds 26–35 and 41–55 replayed again by
+    // that of dd3804f, five panels slid otherwise, all lifting), 543 rows: 3 + 535 agree
+    // (panel_12 and panel_18 held at the fingertips, whose pads' pinch needs more than the
+    // 2F-85's 235 N and whose grasps do not slide far enough to carry: rose 34.8 and 39.4 mm;
+    // panel_60, 8.36 kg on 20 mm bars, whose pinches need 2 × 267 N: rose 36.1 mm), 5 lift
+    // below the force the plan sets (the examples at their pinch's force), none departs.
+    // (panel_27, whose pinch at the fingertips the check flagged at 2 × 128 N and which
+    // lifted, plans with its grasps slid one at a time since 57c3e38 and lifts, 48.6 mm, slid
+    // together since dd3804f, 48.4 mm; so do panel_8 and panel_20
     // held at the fingertips, which failed before, rising 34.9 and 42.3 mm. h_frame_25 and
     // h_frame_27, which rose 45.0 and 44.4 mm held 164 and 160 mm off their grasps' line, plan
     // slid and lift, 49 mm. panel_18, carried by wraps that held any moment, rose 42.4 mm and
