@@ -2,6 +2,7 @@
 
 import json
 import pathlib
+import re
 import time
 
 import pytest
@@ -94,6 +95,66 @@ def test_bad_input_names_the_file(tmp_path):
         pregrasp.simulate(not_json)
     with pytest.raises(pregrasp.SimulationError, match="no plan 5"):
         pregrasp.simulate({"plans": [{"segments": []}]}, plan_index=5)
+
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def xarm(tmp_path_factory):
+    """The stool example planned with two UFACTORY xArm6 (data/robots/xarm6.urdf) where the UR5e stand, 10 cm
+    nearer the part, as crates/planner/tests/non_ur_arms.rs plans it; the scene names the description by a path
+    relative to itself, and the plan file is written elsewhere."""
+    pytest.importorskip("mujoco", reason='the sim extra: pip install "./python[sim]"')
+    folder = tmp_path_factory.mktemp("xarm")
+    scene = pathlib.Path(pregrasp.write_examples(folder / "cell", only="stool_side")[0])
+    (scene.parent / "robots").symlink_to(REPO / "data" / "robots", target_is_directory=True)
+    text = scene.read_text().replace('model = "ur5e"', 'urdf = "robots/xarm6.urdf"')
+    text = text.replace("[0.000, 0.450, 0.000]", "[0.1, 0.35, 0.0]").replace("[0.000, -0.450, 0.000]",
+                                                                          "[0.1, -0.35, 0.0]")
+    text = re.sub(r"start = \[[^\]]*\]", "start = [0.0, -0.5, -0.8, 0.0, 1.3, 0.0]", text)
+    described = scene.parent / "stool_xarm6.toml"
+    described.write_text(text)
+    path = folder / "plans" / "stool_xarm6.json"
+    path.parent.mkdir()
+    pregrasp.plan(str(described)).write(str(path))
+    return path, json.loads(path.read_text())
+
+
+def test_a_described_arm_is_placed_by_its_own_description(xarm):
+    """The replay's URDF kinematics (pregrasp.sim.arms, not the planner's) put each gripper where the plan's grasps
+    are: the supportive tool at G_s where sup1 ends, the master's at its power grasp where mas1 ends."""
+    from pregrasp.sim.arms import arm_fk
+    from pregrasp.sim.geometry import pose_T
+    path, doc = xarm
+    plan = doc["plans"][0]
+    robots = {r["name"]: r for r in doc["robots"]}
+    assert {r["model"] for r in robots.values()} == {"urdf"}
+    segs = {s["name"]: s for s in plan["segments"]}
+
+    def tool(arm, seg, point):
+        r = robots[arm]
+        return pose_T(r["base"]) @ arm_fk(r, doc, path)(segs[seg]["points"][-1]["q"]) @ pose_T(r[point])
+
+    g_s = pose_T(segs["rot"]["points"][0]["object_pose"]) @ pose_T(doc["grasps"]["support"])
+    at_g_s = tool(plan["supportive"], "sup1", "precision_point")
+    master = [r["name"] for r in doc["robots"]].index(plan["master"])
+    g_p = pose_T(plan["object_goal_pose"]) @ pose_T(doc["grasps"]["power"][master])
+    at_g_p = tool(plan["master"], "mas1", "power_point")
+    for got, want in ((at_g_s, g_s), (at_g_p, g_p)):
+        assert abs(got - want).max() < 1e-6
+
+
+def test_a_described_arm_is_replayed(xarm):
+    path, doc = xarm
+    r = pregrasp.simulate(path)
+    assert [s.name for s in r.segments] == SEGMENTS
+    assert r.verdict.passed, r.summary()
+    # a gripper the replay does not model is refused by name
+    jaws = json.loads(json.dumps(doc))
+    jaws["robots"][0]["gripper"] = "urdf"
+    with pytest.raises(pregrasp.SimulationError, match="the replay models the Robotiq 2F-85 only"):
+        pregrasp.simulate(jaws)
 
 
 def test_the_model_ships_with_its_licence():

@@ -127,7 +127,8 @@ def replay_file(plan_path, plan_indices, power_forces, src, a, log):
                            a.dt, a.noslip, pad_condim=a.pads_condim)
             force, from_plan = segment_forces(plan, pinch, pf)
             rec, _ = run_plan(sc, doc, plan, force, lift=LIFT, slow=a.slow,
-                              fk_check=lambda model, q: fk_check(a.pregrasp, model, q), log=log)
+                              fk_check=lambda model, q: fk_check(a.pregrasp, model, q), log=log,
+                              plan_path=plan_path)
             rec["grip_force_from_plan"] = from_plan
             log(f"  {time.time() - t0:.1f} s wall, {rec['t_sim']:.1f} s simulated")
             rows.append({"example": example, "plan": k, "candidate": plan["candidate"], "mass": mass,

@@ -192,6 +192,8 @@ def simulate(plan: Union[str, "os.PathLike[str]", dict, Any], lift: float = 0.05
     both arms' Robotiq 2F-85 grippers follow the planned flange poses through sup1 (the pinch closes), rot, mas1
     (the master's power grasp closes), the supportive gripper opens, sup2 (its power grasp closes); then both rise
     `lift` m together and hold 1 s. The same replay as tools/gripper_truth/plan_replay.py (the truth tables).
+    Flange poses: a UR arm's DH kinematics, or a described arm's joint chain read from its URDF (`pregrasp.sim.arms`,
+    the file found as the scene named it); a plan whose arm carries its description's own gripper is refused.
 
     Forces (N): `pinch_force` for sup1, `power_force` for mas1 and sup2; when None, each closing segment's own
     `grip_force`, else the plan's `physics.grip_force_recommended`. `mesh_root` / `mesh`: where the part's mesh is
@@ -228,14 +230,20 @@ def simulate(plan: Union[str, "os.PathLike[str]", dict, Any], lift: float = 0.05
         import mujoco  # noqa: F401
     except ImportError:
         raise SimulationError('MuJoCo is not installed: pip install "pregrasp[sim]" (or pip install mujoco)') from None
+    from .arms import ArmError, placed_arms
     from .part import mass_properties
     from .run import run_plan
     from .scene import PlanScene
+    try:
+        arms = placed_arms(doc, path)
+    except ArmError as e:
+        raise SimulationError(f"{where}: {e}") from None
     tri, meshes, _ = prepare_part(doc, resolve_mesh(doc, path, mesh_root, mesh))
     forces = _forces(p, pinch_force, power_force)
     scene = PlanScene(Path(model) if model else MODEL, doc, meshes, mass_properties(tri, float(mass)),
                       ph.get("mu_pad", 0.8), ph.get("mu_support", 0.4), dt, noslip, pad_condim=pad_condim)
-    rec, trace = run_plan(scene, doc, p, {n: f for n, (f, _) in forces.items()}, lift=lift, slow=slow)
+    rec, trace = run_plan(scene, doc, p, {n: f for n, (f, _) in forces.items()}, lift=lift, slow=slow,
+                          arms=arms)
     return _result(doc, p, plan_index, lift, forces, rec, trace, time.time() - t0)
 
 

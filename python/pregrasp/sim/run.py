@@ -6,7 +6,8 @@ import math
 import mujoco
 import numpy as np
 
-from .geometry import dh_fk, inv, pose_T, rot_angle
+from .arms import placed_arms
+from .geometry import DH, inv, pose_T, rot_angle
 from .scene import TAU_OPEN, TIP_POINT
 from .verdict import LIFT, verdict
 
@@ -47,18 +48,22 @@ def moved(Ta, Tb, com):
             math.degrees(rot_angle(Tb[:3, :3], Ta[:3, :3])))
 
 
-def run_plan(scene, doc, plan, force, lift=LIFT, slow=1.0, fk_check=None, log=None):
+def run_plan(scene, doc, plan, force, lift=LIFT, slow=1.0, fk_check=None, log=None, plan_path=None, arms=None):
     """Replays `plan` (a dict of doc["plans"]) in `scene` with the closing forces `force` (N, keys sup1, mas1, sup2).
-    `fk_check(model, q)` -> (m, rad) compares dh_fk with another FK at three points of every segment (None: not
-    checked). Returns (record, trace): the record as the truth tables' rows have it, and per segment the part's
-    pose at its start and end (the supportive gripper's opening counts to sup2)."""
+    `fk_check(model, q)` -> (m, rad) compares dh_fk with another FK at three points of every segment of a UR arm
+    (None: not checked). The arms' flange poses come from `arms` (name -> fk(q), `arms.placed_arms`), else are placed
+    here (a described arm's file found from the scene's folder, or `plan_path`'s). Returns (record, trace): the
+    record as the truth tables' rows have it, and per segment the part's pose at its start and end (the supportive
+    gripper's opening counts to sup2). Raises arms.ArmError for an arm the replay cannot place or a gripper it does
+    not model."""
     m, d = scene.m, scene.d
     dt = m.opt.timestep
     robots = {r["name"]: r for r in doc["robots"]}
     role = {plan["supportive"]: "sup", plan["master"]: "mas"}
     q = {n: np.array(r["start"], float) for n, r in robots.items()}
     base = {n: pose_T(r["base"]) for n, r in robots.items()}
-    flange = lambda n, qq: base[n] @ dh_fk(robots[n]["model"], qq)
+    fk = arms if arms is not None else placed_arms(doc, plan_path)
+    flange = lambda n, qq: base[n] @ fk[n](qq)
     tau = {"sup": TAU_OPEN, "mas": TAU_OPEN}
     lift_plan = doc.get("planner", {}).get("lift", 0.0) or 0.0
     for n in robots:
@@ -98,7 +103,7 @@ def run_plan(scene, doc, plan, force, lift=LIFT, slow=1.0, fk_check=None, log=No
         pts = seg["points"]
         ts = np.array([p["t"] for p in pts]) * slow
         qs = np.array([p["q"] for p in pts])
-        if fk_check:
+        if fk_check and robots[n_arm]["model"] in DH:
             for p in (pts[0], pts[len(pts) // 2], pts[-1]):
                 e = fk_check(robots[n_arm]["model"], p["q"])
                 fk_err[0], fk_err[1] = max(fk_err[0], e[0]), max(fk_err[1], e[1])
@@ -227,7 +232,8 @@ def run_plan(scene, doc, plan, force, lift=LIFT, slow=1.0, fk_check=None, log=No
                    "kind_end": {"mas": kind("mas", segs["mas1"].get("grip_width")),
                                 "sup": kind("sup", segs["sup2"].get("grip_width"))},
                    "N_end": {"mas": scene.contacts("mas"), "sup": scene.contacts("sup")}}
-    if fk_check:
+    # Only UR arms are checked (`pregrasp kin fk` knows them alone): none, no record.
+    if fk_check and any(r["model"] in DH for r in robots.values()):
         rec["fk_check_max"] = {"pos": fk_err[0], "rad": fk_err[1]}
     rec.update(verdict(rec, lift))
     if log:
