@@ -29,7 +29,8 @@
 //! `…_46_55_…`, `…_56_60_…` and `…_61_65_…`, 457 plans), which were not replayed before; a
 //! third to the replay with torsional friction at the pads (`…_pads_condim4_…`, 409 plans),
 //! which the truth tables leave out; a fourth to the hard seeds 31–45 on UR10e, UR16e and UR5
-//! arms (`…_ur10e_…`, `…_ur16e_…`, 118 plans each; `…_ur5_…`, 89 plans).
+//! arms (`…_ur10e_…`, `…_ur16e_…`, 118 plans each; `…_ur5_…`, 89 plans); a fifth to seeds 56–60
+//! on Franka FR3 arms (`…_fr3_…`, 42 plans).
 
 mod common;
 
@@ -218,6 +219,27 @@ fn the_carry_check_on_other_arms() {
             "{model}"
         );
     }
+}
+
+/// The same check on an arm that is not a UR: seeds 56–60 of the six families with a Franka FR3
+/// for each UR5e (its description, elbow joint held at 0, the 2F-85 kept, the bases 0.1 m nearer
+/// the part: `common::scenes::fr3_for_ur5e`), planned and replayed whole at 235 N by the planner
+/// of 6e42508 (`plan_replay_generated_seeds_56_60_fr3_2f85.csv`: 29 of 30 parts plan, as with
+/// the UR5e, 42 plans). The verdicts are the UR5e's: panel_60 refused (2 × 267 N) and failing,
+/// the 41 others kept and lifting.
+#[test]
+fn the_carry_check_on_fr3_arms() {
+    let all: Vec<_> = replayed_plans(&["plan_replay_generated_seeds_56_60_fr3_2f85.csv"])
+        .into_iter()
+        .map(|mut r| {
+            r.insert("arm_model".into(), "fr3".into());
+            r
+        })
+        .collect();
+    assert_eq!(all.len(), 42);
+    let t = tally(&all);
+    assert_eq!((t.refused, t.kept, t.cautious.len()), (1, 41, 0));
+    assert!(t.departures.is_empty(), "{:#?}", t.departures);
 }
 
 /// The same check against the whole-plan replay with torsional friction at the pads

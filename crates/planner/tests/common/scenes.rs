@@ -25,9 +25,39 @@ pub fn example_files(name: &str) -> (Scene, Mesh) {
 /// [`generated_files`] with both robots' `model` set to `model` (a UR: `"ur10e"`, say), as
 /// the other-arm sweeps edit the written scenes.
 pub fn generated_files_with_arms(family: Family, seed: u64, model: &str) -> (Scene, Mesh) {
+    if model == "fr3" {
+        return generated_files_edited(family, seed, fr3_for_ur5e);
+    }
     generated_files_edited(family, seed, |text| {
         text.replace("model = \"ur5e\"", &format!("model = \"{model}\""))
     })
+}
+
+/// A generated scene's text with a Franka FR3 (`data/robots/fr3.urdf`, elbow joint `fr3_joint3`
+/// held at 0, its "ready" posture as the start) for each UR5e, the bases 0.1 m nearer the part
+/// (x = 0.1), the 2F-85 kept: the scenes of `plan_replay_generated_seeds_56_60_fr3_2f85`.
+pub fn fr3_for_ur5e(text: String) -> String {
+    let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/robots/fr3.urdf");
+    let urdf = urdf.canonicalize().expect("data/robots/fr3.urdf");
+    let arm = format!(
+        "urdf = {:?}\ntool_link = \"fr3_link8\"\nhold = {{ fr3_joint3 = 0.0 }}",
+        urdf.display().to_string()
+    );
+    let mut out = String::new();
+    for line in text.lines() {
+        let line = if line.trim() == "model = \"ur5e\"" {
+            arm.clone()
+        } else if line.starts_with("base = { xyz = [0.000, ") {
+            line.replacen("[0.000, ", "[0.100, ", 1)
+        } else if line.starts_with("start = ") {
+            "start = [0.0, -0.7854, -2.3562, 0.0, 1.5708, 0.7854]".to_string()
+        } else {
+            line.to_string()
+        };
+        out.push_str(&line);
+        out.push('\n');
+    }
+    out
 }
 
 /// The generated part of `family` and `seed` (`pregrasp example generate`): its scene, read as
