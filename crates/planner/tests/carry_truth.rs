@@ -30,7 +30,7 @@
 //! third to the replay with torsional friction at the pads (`…_pads_condim4_…`, 409 plans),
 //! which the truth tables leave out; a fourth to the hard seeds 31–45 on UR10e, UR16e and UR5
 //! arms (`…_ur10e_…`, `…_ur16e_…`, 118 plans each; `…_ur5_…`, 89 plans); a fifth to seeds 56–60
-//! on Franka FR3 arms (`…_fr3_…`, 42 plans).
+//! on Franka FR3 and UFACTORY xArm6 arms (`…_fr3_…`, 42 plans; `…_xarm6_…`, 31).
 
 mod common;
 
@@ -221,25 +221,33 @@ fn the_carry_check_on_other_arms() {
     }
 }
 
-/// The same check on an arm that is not a UR: seeds 56–60 of the six families with a Franka FR3
-/// for each UR5e (its description, elbow joint held at 0, the 2F-85 kept, the bases 0.1 m nearer
-/// the part: `common::scenes::fr3_for_ur5e`), planned and replayed whole at 235 N by the planner
-/// of 6e42508 (`plan_replay_generated_seeds_56_60_fr3_2f85.csv`: 29 of 30 parts plan, as with
-/// the UR5e, 42 plans). The verdicts are the UR5e's: panel_60 refused (2 × 267 N) and failing,
-/// the 41 others kept and lifting.
+/// The same check on arms that are not URs: seeds 56–60 of the six families with a Franka FR3
+/// (its description, elbow joint held at 0) or a UFACTORY xArm6 for each UR5e, the 2F-85 kept
+/// (`common::scenes::described_arm`), planned and replayed whole at 235 N by the planners of
+/// 6e42508 (`plan_replay_generated_seeds_56_60_fr3_2f85.csv`: 29 of 30 parts plan, as with the
+/// UR5e, 42 plans) and ddebae7 (`…_xarm6_…`: 24 plan, the others' support grasps beyond the
+/// xArm6's 0.7 m reach, 31 plans). The verdicts are the UR5e's: panel_60 refused (2 × 267 N)
+/// and failing, the others kept and lifting.
 #[test]
-fn the_carry_check_on_fr3_arms() {
-    let all: Vec<_> = replayed_plans(&["plan_replay_generated_seeds_56_60_fr3_2f85.csv"])
-        .into_iter()
-        .map(|mut r| {
-            r.insert("arm_model".into(), "fr3".into());
-            r
-        })
-        .collect();
-    assert_eq!(all.len(), 42);
-    let t = tally(&all);
-    assert_eq!((t.refused, t.kept, t.cautious.len()), (1, 41, 0));
-    assert!(t.departures.is_empty(), "{:#?}", t.departures);
+fn the_carry_check_on_described_arms() {
+    for (model, rows, kept) in [("fr3", 42, 41), ("xarm6", 31, 30)] {
+        let table = format!("plan_replay_generated_seeds_56_60_{model}_2f85.csv");
+        let all: Vec<_> = replayed_plans(&[&table])
+            .into_iter()
+            .map(|mut r| {
+                r.insert("arm_model".into(), model.into());
+                r
+            })
+            .collect();
+        assert_eq!(all.len(), rows, "{model}");
+        let t = tally(&all);
+        assert_eq!(
+            (t.refused, t.kept, t.cautious.len()),
+            (1, kept, 0),
+            "{model}"
+        );
+        assert!(t.departures.is_empty(), "{model}: {:#?}", t.departures);
+    }
 }
 
 /// The same check against the whole-plan replay with torsional friction at the pads

@@ -25,32 +25,67 @@ pub fn example_files(name: &str) -> (Scene, Mesh) {
 /// [`generated_files`] with both robots' `model` set to `model` (a UR: `"ur10e"`, say), as
 /// the other-arm sweeps edit the written scenes.
 pub fn generated_files_with_arms(family: Family, seed: u64, model: &str) -> (Scene, Mesh) {
-    if model == "fr3" {
-        return generated_files_edited(family, seed, fr3_for_ur5e);
+    if let Some(arm) = described_arm(model) {
+        return generated_files_edited(family, seed, |text| in_place_of_ur5e(&text, &arm));
     }
     generated_files_edited(family, seed, |text| {
         text.replace("model = \"ur5e\"", &format!("model = \"{model}\""))
     })
 }
 
-/// A generated scene's text with a Franka FR3 (`data/robots/fr3.urdf`, elbow joint `fr3_joint3`
-/// held at 0, its "ready" posture as the start) for each UR5e, the bases 0.1 m nearer the part
-/// (x = 0.1), the 2F-85 kept: the scenes of `plan_replay_generated_seeds_56_60_fr3_2f85`.
-pub fn fr3_for_ur5e(text: String) -> String {
-    let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/robots/fr3.urdf");
-    let urdf = urdf.canonicalize().expect("data/robots/fr3.urdf");
-    let arm = format!(
-        "urdf = {:?}\ntool_link = \"fr3_link8\"\nhold = {{ fr3_joint3 = 0.0 }}",
-        urdf.display().to_string()
-    );
+/// An arm from `data/robots/` put in place of a generated scene's UR5e: its keys, its start and
+/// where its bases stand (`[x, ±y, 0]`).
+pub struct DescribedArm {
+    keys: String,
+    start: &'static str,
+    base: [&'static str; 2],
+}
+
+/// The described arms of the other-arm sweeps of generated parts, the 2F-85 kept on each:
+/// `"fr3"`, the Franka FR3 (elbow joint `fr3_joint3` held at 0, its "ready" posture, the bases
+/// 0.1 m nearer the part), and `"xarm6"`, the UFACTORY xArm6 (the bases also 0.1 m nearer the
+/// middle, for its 0.7 m reach), as `crates/planner/tests/non_ur_arms.rs` places them.
+pub fn described_arm(model: &str) -> Option<DescribedArm> {
+    let urdf = |file: &str| {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../data/robots")
+            .join(file);
+        format!(
+            "{:?}",
+            path.canonicalize().expect(file).display().to_string()
+        )
+    };
+    match model {
+        "fr3" => Some(DescribedArm {
+            keys: format!(
+                "urdf = {}\ntool_link = \"fr3_link8\"\nhold = {{ fr3_joint3 = 0.0 }}",
+                urdf("fr3.urdf")
+            ),
+            start: "[0.0, -0.7854, -2.3562, 0.0, 1.5708, 0.7854]",
+            base: ["0.100", "0.450"],
+        }),
+        "xarm6" => Some(DescribedArm {
+            keys: format!("urdf = {}", urdf("xarm6.urdf")),
+            start: "[0.0, -0.5, -0.8, 0.0, 1.3, 0.0]",
+            base: ["0.100", "0.350"],
+        }),
+        _ => None,
+    }
+}
+
+/// A generated scene's text with `arm` for each UR5e (which stand at `[0, ±0.45, 0]`).
+pub fn in_place_of_ur5e(text: &str, arm: &DescribedArm) -> String {
+    let [x, y] = arm.base;
     let mut out = String::new();
     for line in text.lines() {
         let line = if line.trim() == "model = \"ur5e\"" {
-            arm.clone()
-        } else if line.starts_with("base = { xyz = [0.000, ") {
-            line.replacen("[0.000, ", "[0.100, ", 1)
+            arm.keys.clone()
+        } else if line == "base = { xyz = [0.000, 0.450, 0.000] }" {
+            format!("base = {{ xyz = [{x}, {y}, 0.000] }}")
+        } else if line == "base = { xyz = [0.000, -0.450, 0.000] }" {
+            format!("base = {{ xyz = [{x}, -{y}, 0.000] }}")
         } else if line.starts_with("start = ") {
-            "start = [0.0, -0.7854, -2.3562, 0.0, 1.5708, 0.7854]".to_string()
+            format!("start = {}", arm.start)
         } else {
             line.to_string()
         };
