@@ -272,9 +272,8 @@ fn the_carry_check_against_pads_with_torsion() {
     let t = tally(&all);
     // 404 kept that lift; none refused that fails: the four plans the check refuses lift with
     // torsional pads (hand_hole_1, hand_hole_10, hand_hole_59 and panel_60, 120, 185, 198 and
-    // 267 N; the
-    // other flagged hand holes and panel_27 plan with their grasps slid one at a time since
-    // 57c3e38, their rows replayed again), so its refusals are on the cautious side there.
+    // 267 N; the other flagged hand holes and panel_27 plan with their grasps slid one at a time
+    // since 57c3e38, their rows replayed again), so its refusals are on the cautious side there.
     // The one plan it keeps that fails, l_corner_11, lifts at condim 3 (49.6 mm, 0.3°) and
     // tilts 7.1° here, its supportive gripper on one side. hand_hole_58, which the check
     // carries at 116.4 N and which slips 4.8° in both grips at condim 3, lifts here (50.2 mm,

@@ -22,8 +22,9 @@ pub fn example_files(name: &str) -> (Scene, Mesh) {
     (scene, mesh)
 }
 
-/// [`generated_files`] with both robots' `model` set to `model` (a UR: `"ur10e"`, say), as
-/// the other-arm sweeps edit the written scenes.
+/// [`generated_files`] with both robots' `model` set to `model` (a UR: `"ur10e"`, say), or a
+/// described arm in place of each UR5e ([`described_arm`]), as the other-arm sweeps edit the
+/// written scenes.
 pub fn generated_files_with_arms(family: Family, seed: u64, model: &str) -> (Scene, Mesh) {
     if let Some(arm) = described_arm(model) {
         return generated_files_edited(family, seed, |text| in_place_of_ur5e(&text, &arm));
