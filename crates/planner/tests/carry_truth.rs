@@ -199,13 +199,7 @@ fn the_carry_check_on_other_arms() {
     for (model, rows, kept) in [("ur10e", 118, 117), ("ur16e", 118, 117), ("ur5", 89, 88)] {
         let names = tables(model);
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        let all: Vec<_> = replayed_plans(&names)
-            .into_iter()
-            .map(|mut r| {
-                r.insert("arm_model".into(), model.into());
-                r
-            })
-            .collect();
+        let all = replayed_on_arms(&names, model);
         assert_eq!(all.len(), rows, "{model}");
         let t = tally(&all);
         assert_eq!(
@@ -232,13 +226,7 @@ fn the_carry_check_on_other_arms() {
 fn the_carry_check_on_described_arms() {
     for (model, rows, kept) in [("fr3", 42, 41), ("xarm6", 31, 30)] {
         let table = format!("plan_replay_generated_seeds_56_60_{model}_2f85.csv");
-        let all: Vec<_> = replayed_plans(&[&table])
-            .into_iter()
-            .map(|mut r| {
-                r.insert("arm_model".into(), model.into());
-                r
-            })
-            .collect();
+        let all = replayed_on_arms(&[&table], model);
         assert_eq!(all.len(), rows, "{model}");
         let t = tally(&all);
         assert_eq!(
@@ -254,9 +242,8 @@ fn the_carry_check_on_described_arms() {
 /// (`plan_sweep.py --pads-condim 4`: each pad contact point also resists a twist up to
 /// μ_pad × 11.6 mm × its normal force), the plans of the hard seeds 1–15, of seeds 21–30 and
 /// 56–60 and of the hard seeds 31–45 and 56–65 replayed again (`…_pads_condim4_2f85.csv`, 409
-/// plans):
-/// how far the check's verdicts hang on the replay's pad model (docs/physics.md, "The pads'
-/// torsion in the whole-plan replay").
+/// plans): how far the check's verdicts hang on the replay's pad model (docs/physics.md, "The
+/// pads' torsion in the whole-plan replay").
 #[test]
 fn the_carry_check_against_pads_with_torsion() {
     let all = replayed_plans(&[
@@ -289,6 +276,21 @@ fn the_carry_check_against_pads_with_torsion() {
             "panel_60 plan 0: not carried, lifts",
         ]
     );
+}
+
+/// [`replayed_plans`] of tables whose scenes had other arms, each row marked with `model` (the
+/// `arm_model` that `common::replay_table::scene_of` makes its scene again with).
+fn replayed_on_arms(
+    tables: &[&str],
+    model: &str,
+) -> Vec<std::collections::HashMap<String, String>> {
+    replayed_plans(tables)
+        .into_iter()
+        .map(|mut r| {
+            r.insert("arm_model".into(), model.into());
+            r
+        })
+        .collect()
 }
 
 /// The rows of `tables` that replayed a plan (not the parts that got none).
