@@ -1,9 +1,12 @@
 //! Will the power grasps carry the part? The carry check ([`pregrasp_physics::carry`]) of a
 //! candidate's final state: the part at P_obj held by both arms' power grasps as their real
 //! closings hold it ([`crate::context::Grips`]), lifted. It depends on P_obj alone, so it runs
-//! once Algorithm 2 has found the pose, before any motion is planned: with `[physics]
-//! reject_uncarried` a candidate whose grasps cannot carry the part gets no paths; without it
-//! its plan says so in `physics.warnings`.
+//! once Algorithm 2 has found the pose, before any motion is planned. A candidate whose grasps
+//! need more than the gripper's largest force to carry the part ([`Uncarried::beyond_gripper`])
+//! is refused with `[physics] reject` (the default); one that carries it only without the
+//! safety factor, or that no force carries, is kept and its plan says so in
+//! `physics.warnings`, unless `[physics] reject_uncarried` refuses it too (before any motion is
+//! planned).
 //!
 //! The check decides *whether* the power grasps can carry the part; they close (`mas1`, `sup2`)
 //! at the gripper's largest force, not at `safety_factor ×` its minimum. Replayed at that
@@ -92,6 +95,23 @@ impl fmt::Display for Uncarried {
                 word(kinds[0]),
                 word(kinds[1])
             ),
+        }
+    }
+}
+
+impl Uncarried {
+    /// Whether the smallest grip force that carries the part is more than the gripper's
+    /// largest, margin or not. The planner refuses such a candidate with `[physics] reject`
+    /// (the default). One that falls short only by the safety factor is kept, flagged, unless
+    /// `[physics] reject_uncarried`; so is one that no force carries ([`Uncarried::NoForce`]):
+    /// that verdict is the contact model's, which has no way to balance the load, and it
+    /// knows a description's gripper less well than the 2F-85 (no measured pad patches).
+    pub fn beyond_gripper(&self) -> bool {
+        match *self {
+            Uncarried::NeedsMoreForce {
+                minimum, max_force, ..
+            } => minimum > max_force,
+            Uncarried::NoForce { .. } => false,
         }
     }
 }

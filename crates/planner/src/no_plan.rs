@@ -76,26 +76,36 @@ pub(crate) fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) ->
             ),
         };
     }
-    let unheld = outcomes.iter().find_map(|o| match o {
-        CandidateOutcome::Unheld { reason, .. } => Some(reason),
-        _ => None,
+    // The first candidate the physics refused, for its rotation's hold or for its carry.
+    let refused = outcomes.iter().find(|o| {
+        matches!(
+            o,
+            CandidateOutcome::Unheld { .. } | CandidateOutcome::Uncarried { .. }
+        )
     });
-    if let Some(reason) = unheld {
-        return format!(
-            "no planned rotation holds the part (best candidate: {reason}); measure the mass and \
-             friction and set them in [physics], or set [physics] reject = false to keep such plans"
-        );
-    }
-    let uncarried = outcomes.iter().find_map(|o| match o {
-        CandidateOutcome::Uncarried { reason, .. } => Some(reason),
-        _ => None,
-    });
-    if let Some(reason) = uncarried {
-        return format!(
-            "the power grasps cannot lift the part at any P_obj (best candidate: {reason}); place \
-             them on bars the fingers can squeeze, nearer the centre of mass, or set [physics] \
-             reject_uncarried = false to keep such plans"
-        );
+    match refused {
+        Some(CandidateOutcome::Unheld { reason, .. }) => {
+            return format!(
+                "no planned rotation holds the part (best candidate: {reason}); measure the mass \
+                 and friction and set them in [physics], or set [physics] reject = false to keep \
+                 such plans"
+            );
+        }
+        Some(CandidateOutcome::Uncarried { reason, .. }) => {
+            // Power grasps short of the safety factor alone are refused by `reject_uncarried`;
+            // those beyond the gripper's force by `reject`.
+            let key = if reason.beyond_gripper() {
+                "reject"
+            } else {
+                "reject_uncarried"
+            };
+            return format!(
+                "the power grasps cannot lift the part at any P_obj (best candidate: {reason}); \
+                 place them on bars the fingers can squeeze, nearer the centre of mass, or set \
+                 [physics] {key} = false to keep such plans"
+            );
+        }
+        _ => {}
     }
     let first = outcomes.iter().find_map(|o| match o {
         CandidateOutcome::NoPath { failure, .. } => Some(failure),

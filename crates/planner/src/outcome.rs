@@ -21,7 +21,8 @@ pub enum CandidateOutcome {
         /// The grip check's `physics` object of the plan, when it ran.
         physics: Option<Box<PhysicsJson>>,
         /// The carry check of its final state, when it ran: the forces the power grasps close
-        /// with, or why none lifts the part (kept without `[physics] reject_uncarried`).
+        /// with, or why none lifts the part with the safety factor (kept without `[physics]
+        /// reject_uncarried`; or any reason, with `reject = false`).
         carry: Option<Result<CarryForces, Uncarried>>,
         check: Option<FailedRule>,
         /// How close a grasping gripper comes to the support along the plan (m), from the
@@ -35,8 +36,10 @@ pub enum CandidateOutcome {
         pose: PowerGraspPose,
         reason: Unheld,
     },
-    /// Algorithm 2 found a pose, but the power grasps cannot carry the part there
-    /// (`[physics] reject_uncarried`; [`crate::carry`]): no motion was planned.
+    /// Algorithm 2 found a pose, but the power grasps cannot carry the part there: not at the
+    /// gripper's largest force (`[physics] reject`), or not with the safety factor or by no
+    /// force at all (`[physics] reject_uncarried`; [`crate::carry`]). Motions were planned only where the verdict was
+    /// not known before them, and are dropped.
     Uncarried {
         pose: PowerGraspPose,
         reason: Uncarried,
@@ -72,7 +75,7 @@ impl CandidateOutcome {
         )
     }
 
-    /// Refused for its carry: by `[physics] reject_uncarried`, or a valid plan whose power
+    /// Refused for its carry ([`CandidateOutcome::Uncarried`]), or a valid plan whose power
     /// grasps the carry check finds cannot carry the part.
     pub fn carry_refused(&self) -> bool {
         match self {

@@ -172,9 +172,10 @@ pub struct PowerGripForces {
 
 /// The grip forces of the power grasps of the plan of `pose`, written as `mas1`'s and `sup2`'s
 /// `grip_force`: what the carry check of its final state sets ([`crate::carry`]: each
-/// gripper's largest force), also where no force carries the part (a plan kept without
-/// `[physics] reject_uncarried`, flagged in its `physics.warnings`); none where the check could
-/// not run (a part without mass properties: the exports then use their own setting).
+/// gripper's largest force), also where the part is carried only without the safety factor
+/// or by no force (a plan kept without `[physics] reject_uncarried`, flagged in its
+/// `physics.warnings`), or beyond that force (kept with `reject = false`); none where the check
+/// could not run (a part without mass properties: the exports then use their own setting).
 pub fn power_grip_forces(
     ctx: &PlanningContext,
     pose: &PowerGraspPose,

@@ -390,23 +390,28 @@ fn tally(all: &[std::collections::HashMap<String, String>]) -> Tally {
 }
 
 /// panel_12 (11.3 kg) held at the fingertips (`[planner] power_hold = "fingertips"`): the
-/// pads' pinch needs 314 N, 628 N with the safety factor, more than the 2F-85's 235 N, and
-/// sliding the grasps does not help (the replay: rise 34.8 of 50 mm, tilted 9.3°). Its plan says so in
-/// `physics.warnings`, and with `[physics] reject_uncarried` it has no plan, for that reason.
-/// By default (`"auto"`) the planner makes its plan with the wraps, which carry it (the replay:
-/// it lifts). (panel_8 was this test's part until grasps slid one at a time: its pinches then
-/// carry it; h_frame_19 before it, until grasps held at the fingertips were centred on their
-/// bars; the shelf side before that.)
+/// pads' pinch needs 314 N, more than the 2F-85's 235 N before any safety factor, and sliding
+/// the grasps does not help (the replay: rise 34.8 of 50 mm, tilted 9.3°). It has no plan, for
+/// that reason (`[physics] reject`); with `reject = false` its plan says so in
+/// `physics.warnings`. By default (`"auto"`) the planner makes its plan with the wraps, which
+/// carry it (the replay: it lifts). hand_hole_1's pinches need 2 × 120 N, 240 N with the safety
+/// factor: within the gripper's force, short of the margin, so its plan is kept and flagged,
+/// and `[physics] reject_uncarried` refuses it (it lifts in the replay: rise 49.3 mm). (panel_8
+/// was this test's part until grasps slid one at a time: its pinches then carry it; h_frame_19
+/// before it, until grasps held at the fingertips were centred on their bars; the shelf side
+/// before that.)
 #[test]
 fn uncarried_plans_are_flagged_or_refused() {
     use pregrasp_io::scene::PowerHold;
     use pregrasp_planner::pipeline::{plan, PlanOptions};
-    let row = [("family", "panel"), ("seed", "12")]
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .into();
-    let (mut scene, mesh) = scene_of(&row);
-    let run = |scene: &Scene| {
-        plan(scene, &mesh, &PlanOptions::default(), &|_| {}, &|| {})
+    let scene_of_part = |family: &str, seed: &str| {
+        let row = [("family", family), ("seed", seed)]
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .into();
+        scene_of(&row)
+    };
+    let run = |scene: &Scene, mesh: &pregrasp_geometry::Mesh| {
+        plan(scene, mesh, &PlanOptions::default(), &|_| {}, &|| {})
             .unwrap()
             .file
     };
@@ -416,18 +421,32 @@ fn uncarried_plans_are_flagged_or_refused() {
             warnings.iter().any(|w| w.starts_with("carry: "))
         })
     };
-    let wrapped = run(&scene);
+    let (mut scene, mesh) = scene_of_part("panel", "12");
+    let wrapped = run(&scene, &mesh);
     assert!(!wrapped.plans.is_empty() && wrapped.grasps.seated.is_some());
     assert!(!carry_warned(&wrapped));
     scene.planner.power_hold = PowerHold::Fingertips;
-    let kept = run(&scene);
-    assert!(!kept.plans.is_empty() && kept.grasps.fingertips.is_some());
-    assert!(carry_warned(&kept));
+    let refused = run(&scene, &mesh);
+    assert!(refused.plans.is_empty() && refused.grasps.fingertips.is_some());
+    let reason = refused.reason.unwrap();
+    assert!(reason.contains("more than the gripper's 235 N"), "{reason}");
+    assert!(reason.contains("set [physics] reject = false"), "{reason}");
+    scene.physics.reject = false;
+    let kept = run(&scene, &mesh);
+    assert!(!kept.plans.is_empty() && carry_warned(&kept));
+    // Short of the safety factor alone: kept and flagged, unless `reject_uncarried`.
+    let (mut scene, mesh) = scene_of_part("hand_hole", "1");
+    let flagged = run(&scene, &mesh);
+    assert!(!flagged.plans.is_empty() && carry_warned(&flagged));
     scene.physics.reject_uncarried = true;
-    let refused = run(&scene);
+    let refused = run(&scene, &mesh);
     assert!(refused.plans.is_empty());
     let reason = refused.reason.unwrap();
     assert!(reason.contains("more than the gripper's 235 N"), "{reason}");
+    assert!(
+        reason.contains("set [physics] reject_uncarried = false"),
+        "{reason}"
+    );
     // The chair side carries: the flag changes nothing there (one plan: its second candidate
     // hangs on the pads' twist, `physics::twist`).
     let (mut scene, mesh) = example_files("chair_side");

@@ -260,11 +260,12 @@ pub struct PhysicsParams {
     /// pads holds, in [0, 1]; 1 turns the rule off.
     pub max_twist_arm: Option<f64>,
     /// `reject` (default true): the planner rejects a candidate whose rotation the gripper
-    /// cannot hold or that slides at the support. `false` keeps such plans and only reports.
+    /// cannot hold or that slides at the support, or whose power grasps cannot lift the part at
+    /// the gripper's largest force (the carry check). `false` keeps such plans and only reports.
     pub reject: bool,
     /// `reject_uncarried` (default false): the planner also rejects a candidate whose power
-    /// grasps cannot lift the part (the carry check). `false` keeps such plans and says so in
-    /// their `physics.warnings`.
+    /// grasps lift the part only without the safety factor, or that no force lifts. `false`
+    /// keeps such plans and says so in their `physics.warnings`.
     pub reject_uncarried: bool,
 }
 

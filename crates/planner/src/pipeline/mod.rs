@@ -401,7 +401,7 @@ enum Pass {
 }
 
 /// Whether no candidate's plan carries the part, and the carry check is why: some candidate
-/// is refused by it (`[physics] reject_uncarried`) or planned with power grasps it finds
+/// is refused by it ([`CandidateOutcome::Uncarried`]) or planned with power grasps it finds
 /// cannot carry the part.
 fn uncarried(outcomes: &[CandidateOutcome]) -> bool {
     outcomes.iter().any(CandidateOutcome::carry_refused)

@@ -177,17 +177,26 @@ pub(super) fn plan_grasps_as_given(
     let hold_check = HoldCheck::new(scene, mesh, hull);
     let carry_check = hold_check.carry_check(&ctx);
     let reject_uncarried = scene.physics.reject && scene.physics.reject_uncarried;
+    // Power grasps that cannot carry the part at the gripper's largest force are refused with
+    // `[physics] reject`; those short of the safety factor alone with `reject_uncarried`.
+    let refusal = |carry: &Option<Result<CarryForces, Uncarried>>| match *carry {
+        Some(Err(why)) if scene.physics.reject && (reject_uncarried || why.beyond_gripper()) => {
+            Some(why)
+        }
+        _ => None,
+    };
     // `known`: the carry check's verdict at this pose where a probe has it already.
     let evaluate = |candidate: &RotationAxisCandidate, pose: PowerGraspPose, known: Option<_>| {
-        // The carry check needs P_obj alone: with `[physics] reject_uncarried` it runs first,
-        // and a candidate whose power grasps cannot lift the part gets no motions; without it,
-        // only for a candidate that gets them (its verdict is then only written).
+        // The carry check needs P_obj alone: where its verdict is known, or with `[physics]
+        // reject_uncarried`, it comes first, and a candidate it refuses gets no motions;
+        // otherwise it is asked only of a candidate that gets them.
         let carry_of =
             |pose: &PowerGraspPose| known.unwrap_or_else(|| carry_check.check(&pose.p_obj));
+        let first = reject_uncarried || known.is_some();
         let mut carry = None;
-        if reject_uncarried {
+        if first {
             carry = carry_of(&pose);
-            if let Some(Err(reason)) = carry {
+            if let Some(reason) = refusal(&carry) {
                 progress();
                 return CandidateOutcome::Uncarried { pose, reason };
             }
@@ -211,8 +220,12 @@ pub(super) fn plan_grasps_as_given(
             Ok((path, physics)) => {
                 let pinch = physics.as_ref().and_then(|p| p.grip_force_recommended);
                 let id = (candidate.id, candidate.score);
-                if !reject_uncarried {
+                if !first {
                     carry = carry_of(&pose);
+                    if let Some(reason) = refusal(&carry) {
+                        progress();
+                        return CandidateOutcome::Uncarried { pose, reason };
+                    }
                 }
                 let plan = output::plan(&ctx, id, &pose, &path, pinch, carry.as_ref());
                 let (check, closest_grasp_to_support) = match &checker {
