@@ -92,8 +92,8 @@ pub(crate) fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) ->
             );
         }
         Some(CandidateOutcome::Uncarried { reason, .. }) => {
-            // Power grasps short of the safety factor alone are refused by `reject_uncarried`;
-            // those beyond the gripper's force by `reject`.
+            // Power grasps beyond the gripper's force are refused by `reject`; those short of
+            // the safety factor, or that no force carries, by `reject_uncarried`.
             let key = if reason.beyond_gripper() {
                 "reject"
             } else {

@@ -38,8 +38,8 @@ pub enum CandidateOutcome {
     },
     /// Algorithm 2 found a pose, but the power grasps cannot carry the part there: not at the
     /// gripper's largest force (`[physics] reject`), or not with the safety factor or by no
-    /// force at all (`[physics] reject_uncarried`; [`crate::carry`]). Motions were planned only where the verdict was
-    /// not known before them, and are dropped.
+    /// force at all (`[physics] reject_uncarried`; [`crate::carry`]). Motions were planned only
+    /// where the verdict was not known before them, and are dropped.
     Uncarried {
         pose: PowerGraspPose,
         reason: Uncarried,

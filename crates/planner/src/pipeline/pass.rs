@@ -178,7 +178,8 @@ pub(super) fn plan_grasps_as_given(
     let carry_check = hold_check.carry_check(&ctx);
     let reject_uncarried = scene.physics.reject && scene.physics.reject_uncarried;
     // Power grasps that cannot carry the part at the gripper's largest force are refused with
-    // `[physics] reject`; those short of the safety factor alone with `reject_uncarried`.
+    // `[physics] reject`; those short of the safety factor, or that no force carries, with
+    // `reject_uncarried` ([`Uncarried::beyond_gripper`]).
     let refusal = |carry: &Option<Result<CarryForces, Uncarried>>| match *carry {
         Some(Err(why)) if scene.physics.reject && (reject_uncarried || why.beyond_gripper()) => {
             Some(why)
