@@ -188,7 +188,10 @@ fn the_carry_check_on_the_hard_families() {
 /// b49741e (`…_ur16e_2f85.csv`: all 90 plan, 118 plans), and set to `"ur5"`, by that of
 /// d4b4b1d (`…_ur5_2f85.csv`: 76 plan, 89 plans; the others' support grasps or `sup1`'s
 /// approach are beyond its reach). The verdicts are the UR5e's on the same parts:
-/// chamfered_32's first plan creeps in the master's pinch on all four arms.
+/// chamfered_32's first plan creeps in the master's pinch on all four arms. And seeds 61–70 of
+/// the six families on UR10e arms, generated after the model was set, planned by dcee438 and
+/// replayed (`plan_replay_generated_seeds_61_70_ur10e_2f85.csv`: all 60 parts plan, frame_65
+/// among them, 98 plans, all lift): every one kept, lifting.
 #[test]
 fn the_carry_check_on_other_arms() {
     let tables = |model: &str| {
@@ -217,6 +220,14 @@ fn the_carry_check_on_other_arms() {
             "{model}"
         );
     }
+    let all = replayed_on_arms(
+        &["plan_replay_generated_seeds_61_70_ur10e_2f85.csv"],
+        "ur10e",
+    );
+    assert_eq!(all.len(), 98);
+    let t = tally(&all);
+    assert_eq!((t.refused, t.kept, t.cautious.len()), (0, 98, 0));
+    assert!(t.departures.is_empty(), "{:#?}", t.departures);
 }
 
 /// The same check on arms that are not URs: seeds 56–60 of the six families with a Franka FR3
