@@ -203,31 +203,19 @@ fn the_carry_check_on_other_arms() {
                 .to_vec()
         }
     };
+    let creeps = ["chamfered_32 plan 0: carried, fails"];
     for (model, rows, kept) in [("ur10e", 118, 117), ("ur16e", 118, 117), ("ur5", 89, 88)] {
         let names = tables(model);
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        let all = replayed_on_arms(&names, model);
-        assert_eq!(all.len(), rows, "{model}");
-        let t = tally(&all);
-        assert_eq!(
-            (t.refused, t.kept, t.cautious.len()),
-            (0, kept, 0),
-            "{model}"
-        );
-        assert_eq!(
-            t.departures,
-            ["chamfered_32 plan 0: carried, fails"],
-            "{model}"
-        );
+        agrees_on_arms(&names, model, rows, (0, kept), &creeps);
     }
-    let all = replayed_on_arms(
+    agrees_on_arms(
         &["plan_replay_generated_seeds_61_70_ur10e_2f85.csv"],
         "ur10e",
+        98,
+        (0, 98),
+        &[],
     );
-    assert_eq!(all.len(), 98);
-    let t = tally(&all);
-    assert_eq!((t.refused, t.kept, t.cautious.len()), (0, 98, 0));
-    assert!(t.departures.is_empty(), "{:#?}", t.departures);
 }
 
 /// The same check on arms that are not URs: seeds 56–60 of the six families with a Franka FR3
@@ -241,15 +229,7 @@ fn the_carry_check_on_other_arms() {
 fn the_carry_check_on_described_arms() {
     for (model, rows, kept) in [("fr3", 42, 41), ("xarm6", 31, 30)] {
         let table = format!("plan_replay_generated_seeds_56_60_{model}_2f85.csv");
-        let all = replayed_on_arms(&[&table], model);
-        assert_eq!(all.len(), rows, "{model}");
-        let t = tally(&all);
-        assert_eq!(
-            (t.refused, t.kept, t.cautious.len()),
-            (1, kept, 0),
-            "{model}"
-        );
-        assert!(t.departures.is_empty(), "{model}: {:#?}", t.departures);
+        agrees_on_arms(&[&table], model, rows, (1, kept), &[]);
     }
 }
 
@@ -295,19 +275,32 @@ fn the_carry_check_against_pads_with_torsion() {
     );
 }
 
-/// [`replayed_plans`] of tables whose scenes had other arms, each row marked with `model` (the
-/// `arm_model` that `common::replay_table::scene_of` makes its scene again with).
-fn replayed_on_arms(
+/// The check on [`replayed_plans`] of tables whose scenes had other arms, each row marked with
+/// `model` (the `arm_model` that `common::replay_table::scene_of` makes its scene again with),
+/// held to the table: `rows` plans, `refused` and `kept` agreeing, none on the cautious side,
+/// and exactly `departures`.
+fn agrees_on_arms(
     tables: &[&str],
     model: &str,
-) -> Vec<std::collections::HashMap<String, String>> {
-    replayed_plans(tables)
+    rows: usize,
+    (refused, kept): (usize, usize),
+    departures: &[&str],
+) {
+    let all: Vec<_> = replayed_plans(tables)
         .into_iter()
         .map(|mut r| {
             r.insert("arm_model".into(), model.into());
             r
         })
-        .collect()
+        .collect();
+    assert_eq!(all.len(), rows, "{model}");
+    let t = tally(&all);
+    assert_eq!(
+        (t.refused, t.kept, t.cautious.len()),
+        (refused, kept, 0),
+        "{model}"
+    );
+    assert_eq!(t.departures, departures, "{model}");
 }
 
 /// The rows of `tables` that replayed a plan (not the parts that got none).
