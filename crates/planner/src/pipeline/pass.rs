@@ -38,6 +38,12 @@ pub(super) struct Built {
     pub(super) arms: Arc<[ArmModel; 2]>,
 }
 
+/// Algorithm 2's answer for one candidate: its pose, or why it has none.
+type PoseOutcome = Result<PowerGraspPose, PoseRejection>;
+
+/// The carry check's verdict at one pose (`None`: it could not run).
+type CarryVerdict = Option<Result<CarryForces, Uncarried>>;
+
 /// [`plan`] with the scene's power grasps (seated by `rule`, [`crate::seat`]), not slid; and
 /// the part's collision geometry and the arm models it planned with (`built` when given, else
 /// the known part's geometry, else built here), for a second plan of the same mesh. With
@@ -134,15 +140,31 @@ pub(super) fn plan_grasps_as_given(
             .as_ref()
             .is_none_or(|only| only.contains(&c.id))
     };
-    // Every candidate gets an outcome below, whatever happens here: ranking reads them all.
-    let poses: Vec<Option<Result<PowerGraspPose, PoseRejection>>> = if start_problem.is_some() {
-        candidates.iter().map(|_| None).collect()
-    } else {
-        candidates
-            .par_iter()
-            .map(|c| wanted(c).then(|| object_pose_for_power_grasp(&ctx, c)))
-            .collect()
-    };
+    // One hull for the whole plan: Algorithm 1's, for the checker's lowest points and the
+    // grip check's support contacts (none when the mesh has no hull: each falls back alike).
+    let hull = (!axes.hull.vertices.is_empty()).then_some(&axes.hull.vertices[..]);
+    let hold_check = HoldCheck::new(scene, mesh, hull);
+    let carry_check = hold_check.carry_check(&ctx);
+    // Every candidate gets an outcome below, whatever happens here: ranking reads them all. A
+    // probe asks the carry check of each pose Algorithm 2 finds (a small cone program, about
+    // 0.15 ms) as soon as it is found, beside the other candidates' poses; the candidates
+    // planned later reuse the verdicts.
+    let (poses, carries): (Vec<Option<PoseOutcome>>, Vec<Option<CarryVerdict>>) =
+        if start_problem.is_some() {
+            candidates.iter().map(|_| (None, None)).unzip()
+        } else {
+            candidates
+                .par_iter()
+                .map(|c| {
+                    let pose = wanted(c).then(|| object_pose_for_power_grasp(&ctx, c));
+                    let carry = match &pose {
+                        Some(Ok(pose)) if probe => Some(carry_check.check(&pose.p_obj)),
+                        _ => None,
+                    };
+                    (pose, carry)
+                })
+                .unzip()
+        };
     let t_poses = t1.elapsed();
 
     let t2 = Instant::now();
@@ -167,15 +189,10 @@ pub(super) fn plan_grasps_as_given(
             .collect();
         h
     };
-    // One hull for the whole plan: Algorithm 1's, for the checker's lowest points and the
-    // grip check's support contacts (none when the mesh has no hull: each falls back alike).
-    let hull = (!axes.hull.vertices.is_empty()).then_some(&axes.hull.vertices[..]);
     let part = ctx.world.part();
     let set = plan_set(scene, &candidates);
     let checker =
         PlanChecker::sharing_models(&set, mesh, ctx.world.arms(), part, Some(&ctx.grips), hull);
-    let hold_check = HoldCheck::new(scene, mesh, hull);
-    let carry_check = hold_check.carry_check(&ctx);
     let reject_uncarried = scene.physics.reject && scene.physics.reject_uncarried;
     // Power grasps that cannot carry the part at the gripper's largest force are refused with
     // `[physics] reject`; those short of the safety factor, or that no force carries, with
@@ -280,19 +297,6 @@ pub(super) fn plan_grasps_as_given(
     // none of them gets a plan: the pass would be uncarried. Their outcomes are kept for the
     // waves below, which take them where they come to those candidates.
     let mut early: Vec<Option<CandidateOutcome>> = outcomes.iter().map(|_| None).collect();
-    // A probe asks the carry check of every pending pose (each a small cone program, about
-    // 0.25 ms), in parallel; the candidates planned later reuse the verdicts.
-    let mut carries: Vec<Option<Option<Result<CarryForces, Uncarried>>>> =
-        outcomes.iter().map(|_| None).collect();
-    if probe {
-        let verdicts: Vec<_> = pending
-            .par_iter()
-            .map(|(_, pose)| carry_check.check(&pose.p_obj))
-            .collect();
-        for ((k, _), verdict) in pending.iter().zip(verdicts) {
-            carries[*k] = Some(verdict);
-        }
-    }
     let verdict = |k: usize| carries[k].as_ref().map(|v| v.as_ref().map(|r| r.is_ok()));
     let all_known = pending
         .iter()
