@@ -270,6 +270,11 @@ pub fn min_carry_force(problem: &CarryProblem) -> Result<CarryOutcome, SolverErr
             );
         }
     }
+    // No force of any size balances a load outside the span of the hands' wrenches: the
+    // cone program would only find that out after its iterations.
+    if !load_in_span(&ri, &ci, &vals, n) {
+        return Ok(CarryOutcome::CannotCarry);
+    }
     let a = clarabel::algebra::CscMatrix::new_from_triplets(row, n, ri, ci, vals);
     let Some(solution) = run_clarabel_unrefined(&a, &b, &cones)? else {
         return Ok(CarryOutcome::CannotCarry);
@@ -278,6 +283,46 @@ pub fn min_carry_force(problem: &CarryProblem) -> Result<CarryOutcome, SolverErr
     Ok(CarryOutcome::Carried(Carry {
         grip_force: load * x[0].max(0.0),
     }))
+}
+
+/// Smallest eigenvalue of `A·Aᵀ`, relative to its largest, that still counts as a direction the
+/// hands' wrenches span.
+const SPAN_EIGEN: f64 = 1e-10;
+
+/// Least distance of the load from that span, in units of the load, past which the load is
+/// surely outside it; nearer, the cone program decides.
+const SPAN_RESIDUAL: f64 = 1e-6;
+
+/// Whether the load `(ẑ, 0)` (equality rows `0..6` of the program's matrix, given as
+/// triplets, `n` columns) may lie in the span of the hands' wrenches, every column taken with
+/// any sign and size.
+///
+/// Every variable's bound is a multiple of a hand's squeeze `N_g ≤ N` (or none), except a caged
+/// hand's (at most [`CAGED_SQUEEZE`]) and a one-sided hand's (none): so the wrenches the hands
+/// can give lie in that span, and a load outside it cannot be carried by any grip force. With
+/// `A` the 6 × `n` equality block, the load's part outside the span is its projection on the
+/// eigenvectors of the symmetric 6 × 6 `A·Aᵀ` whose eigenvalues vanish. Two pinches whose
+/// closing axes are parallel give no force along that axis, for instance: a part tilted so its
+/// weight has a part along it is not carried.
+fn load_in_span(ri: &[usize], ci: &[usize], vals: &[f64], n: usize) -> bool {
+    let mut a = nalgebra::DMatrix::<f64>::zeros(6, n);
+    for ((&r, &c), &v) in ri.iter().zip(ci).zip(vals) {
+        if r < 6 {
+            a[(r, c)] = v;
+        }
+    }
+    let gram = nalgebra::Matrix6::from_fn(|i, j| a.row(i).dot(&a.row(j)));
+    let eigen = gram.symmetric_eigen();
+    let largest = eigen.eigenvalues.amax();
+    if largest <= 0.0 {
+        return false;
+    }
+    let load = nalgebra::Vector6::new(0.0, 0.0, 1.0, 0.0, 0.0, 0.0);
+    let outside: f64 = (0..6)
+        .filter(|&i| eigen.eigenvalues[i] < SPAN_EIGEN * largest)
+        .map(|i| eigen.eigenvectors.column(i).dot(&load).powi(2))
+        .sum();
+    outside.sqrt() <= SPAN_RESIDUAL
 }
 
 /// The squeeze line `x` (from the first contact to the second; the grasp's `x` if they meet)

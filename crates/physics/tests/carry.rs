@@ -165,3 +165,52 @@ fn the_force_scales_with_the_weight() {
     ));
     assert!(close(three, 3.0 * one), "{one} {three}");
 }
+
+/// `p` with both hands and the centre of mass turned by `angle` (rad) about `axis` through the
+/// origin: the part tilted in the hands' frame, the weight still along world −z.
+fn turned(p: &CarryProblem, axis: Vector3<f64>, angle: f64) -> CarryProblem {
+    let r = Isometry3::rotation(axis.normalize() * angle);
+    CarryProblem {
+        com: r * p.com,
+        holds: p.holds.map(|h| PowerHold {
+            frame: r * h.frame,
+            squeeze: h.squeeze.map(|s| r * s),
+            ..h
+        }),
+        ..*p
+    }
+}
+
+#[test]
+fn parallel_pinches_hold_no_weight_along_their_closing_axis() {
+    // Both hands pinch along world x. Their pads press with one squeeze each, equal and
+    // opposite, so no hand pushes along x: tilt the part about the bars (y) and the weight's
+    // part along x, load·sin α, has nothing to rest on, whatever the grip force.
+    let level = problem([0.0; 3], Vector3::y(), HoldKind::Pinch, WEIGHT);
+    assert!(close(force(&level), load(WEIGHT) / (4.0 * MU)));
+    for deg in [0.5_f64, 5.0, 30.0] {
+        let tilted = turned(&level, Vector3::y(), deg.to_radians());
+        assert_eq!(
+            min_carry_force(&tilted).unwrap(),
+            CarryOutcome::CannotCarry,
+            "{deg}°"
+        );
+        // The same tilt about the line through the hands (x) keeps the weight across the
+        // closing axis: the pads carry it as before.
+        let about_x = turned(&level, Vector3::x(), deg.to_radians());
+        assert!(close(force(&about_x), force(&level)), "{deg}°");
+    }
+    // A hand closing across the other's axis pushes along it: tilted, the pair carries.
+    let mut crossed = level;
+    let quarter = Isometry3::rotation(Vector3::z() * std::f64::consts::FRAC_PI_2);
+    let at = Isometry3::translation(0.2, 0.0, 0.0);
+    crossed.holds[1] = PowerHold {
+        frame: at * quarter * at.inverse() * crossed.holds[1].frame,
+        squeeze: crossed.holds[1]
+            .squeeze
+            .map(|s| at * quarter * at.inverse() * s),
+        ..crossed.holds[1]
+    };
+    let tilted = turned(&crossed, Vector3::y(), 5.0_f64.to_radians());
+    assert!(force(&tilted).is_finite());
+}
