@@ -99,6 +99,10 @@ impl fmt::Display for Uncarried {
     }
 }
 
+/// The carry check's verdict at one P_obj ([`CarryCheck::check`]): the forces that carry the
+/// part, or why none does; `None` where nothing is known to check with.
+pub type CarryVerdict = Option<Result<CarryForces, Uncarried>>;
+
 impl Uncarried {
     /// Whether the smallest grip force that carries the part is more than the gripper's
     /// largest, margin or not. The planner refuses such a candidate with `[physics] reject`
@@ -161,7 +165,7 @@ impl CarryCheck {
 
     /// The forces that carry the part at `p_obj`, or why none within the grippers' range
     /// does. `None` when nothing is known to check with.
-    pub fn check(&self, p_obj: &Isometry3<f64>) -> Option<Result<CarryForces, Uncarried>> {
+    pub fn check(&self, p_obj: &Isometry3<f64>) -> CarryVerdict {
         let (weight, com) = self.part?;
         let [Some(a), Some(b)] = self.holds else {
             return None;

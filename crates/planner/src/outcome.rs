@@ -4,7 +4,7 @@
 use pregrasp_io::plan_file::PhysicsJson;
 use pregrasp_model::Plan;
 
-use crate::carry::{CarryForces, Uncarried};
+use crate::carry::{CarryVerdict, Uncarried};
 use crate::paths::IntegratedPath;
 use crate::poses::{PoseRejection, PowerGraspPose};
 use crate::rejection::{FailedRule, PathFailure, Unheld};
@@ -23,7 +23,7 @@ pub enum CandidateOutcome {
         /// The carry check of its final state, when it ran: the forces the power grasps close
         /// with, or why none lifts the part with the safety factor (kept without `[physics]
         /// reject_uncarried`; or any reason, with `reject = false`).
-        carry: Option<Result<CarryForces, Uncarried>>,
+        carry: CarryVerdict,
         check: Option<FailedRule>,
         /// How close a grasping gripper comes to the support along the plan (m), from the
         /// same check.

@@ -15,7 +15,7 @@ use rayon::prelude::*;
 
 use super::{CandidateOutcome, Pass, PlanOptions, PlanReport};
 use crate::axes::{rotation_axis_candidates_with_hull, AxesResult, RotationAxisCandidate};
-use crate::carry::{CarryForces, Uncarried};
+use crate::carry::CarryVerdict;
 use crate::check::PlanChecker;
 use crate::clock::Stage;
 use crate::context::{PartKnowledge, PlanningContext};
@@ -40,9 +40,6 @@ pub(super) struct Built {
 
 /// Algorithm 2's answer for one candidate: its pose, or why it has none.
 type PoseOutcome = Result<PowerGraspPose, PoseRejection>;
-
-/// The carry check's verdict at one pose (`None`: it could not run).
-type CarryVerdict = Option<Result<CarryForces, Uncarried>>;
 
 /// [`plan`] with the scene's power grasps (seated by `rule`, [`crate::seat`]), not slid; and
 /// the part's collision geometry and the arm models it planned with (`built` when given, else
@@ -197,7 +194,7 @@ pub(super) fn plan_grasps_as_given(
     // Power grasps that cannot carry the part at the gripper's largest force are refused with
     // `[physics] reject`; those short of the safety factor, or that no force carries, with
     // `reject_uncarried` ([`Uncarried::beyond_gripper`]).
-    let refusal = |carry: &Option<Result<CarryForces, Uncarried>>| match *carry {
+    let refusal = |carry: &CarryVerdict| match *carry {
         Some(Err(why)) if scene.physics.reject && (reject_uncarried || why.beyond_gripper()) => {
             Some(why)
         }
