@@ -126,11 +126,15 @@ pub const FINGERTIP_STEP: f64 = 0.002;
 /// rounding), where the real fingers push the bar by that much until both pads squeeze.
 pub const CENTRE_REACH: f64 = 0.002;
 
-/// How many depths a grasp held at the fingertips tries (the precision point and 2, 4, 6 mm
+/// How many depths a grasp held at the fingertips tries (the precision point and 2, 4 mm
 /// nearer the palm): on 12 caged masters the replay pulled bars held 16–22 mm nearer the palm
 /// than the precision point in by up to 7.7 mm, and squeezed 11 held 4 mm from it (6 at 10 mm)
-/// with the full force, without moving the part.
-pub const FINGERTIP_TRIES: usize = 4;
+/// with the full force, without moving the part. The nearer the palm the pads meet the bar,
+/// the more the 2F-85's fingers curl at 235 N (a 54 × 19 mm bar fixed in MuJoCo: tips 1.2, 1.6
+/// and 2.2 mm nearer than the pads at 2.5, 4.5 and 6.5 mm short of the precision point); at
+/// 6 mm the whole-plan replay saw frame_80's master (1.83 kg) curl under its bar and pry the
+/// pinched part up 5.2° (`docs/physics.md`, "Fingertip holds no deeper than 4 mm").
+pub const FINGERTIP_TRIES: usize = 3;
 
 /// Which power grasps move, and how far: the planner's is [`SeatRule::PLANNER`]; the replay
 /// sweeps that set its numbers used others.
