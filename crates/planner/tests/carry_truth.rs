@@ -133,9 +133,9 @@ fn the_carry_check_agrees_with_the_replay_both_ways() {
 /// 71–75 by that of d5ce54f (29 of 30 plan, 35 plans, 34 lift, `…_71_75_…`) and seeds 76–80
 /// and 81–85 by that of 8ddb338 (29 and 28 of 30 plan, 35 and 32 plans, all lift,
 /// `…_76_80_…`, `…_81_85_…`; the tables holding chamfered_42, chamfered_71 and l_corner_11,
-/// whose plans it changed, replayed again); the T-junctions', L-corners' and hand holes' tables of seeds 1–45 replayed again at 57c3e38,
-/// which slides grasps one at a time (17 hand holes' plans changed, every other row the same
-/// to the last digit). The check agrees on 586 rows (2 refused that fail, 584 kept that
+/// whose plans it changed, replayed again); the T-junctions', L-corners' and hand holes'
+/// tables of seeds 1–45 replayed again at 57c3e38, which slides grasps one at a time (17 hand
+/// holes' plans changed, every other row the same to the last digit). The check agrees on 586 rows (2 refused that fail, 584 kept that
 /// lift) and departs on 8, named in docs/physics.md ("Grasps slid one at a time", "Seeds
 /// 51–55 and hard seeds 56–60", "Seeds 71–75"):
 /// - not carried, lifting (the cautious side): hand_hole_1, whose grasps slide too little to
@@ -277,10 +277,10 @@ fn the_carry_check_against_pads_with_torsion() {
     // since 57c3e38, their rows replayed again), so its refusals are on the cautious side there.
     // l_corner_11, which it kept and which tilted 7.1° here, its supportive gripper on one
     // side, holds that grasp at the scene's depth since 8ddb338 (no fingertip hold 6 mm short)
-    // and lifts (49.9 mm, 0.03°). hand_hole_58, which the check
-    // carries at 116.4 N and which slips 4.8° in both grips at condim 3, lifts here (50.2 mm,
-    // 0.04°): the check's pads are soft fingers, as condim 4's; so does hand_hole_72, which
-    // fails at condim 3 (48.9 mm, 0.17°).
+    // and lifts (49.9 mm, 0.03°). hand_hole_58, which the check carries at 116.4 N and which
+    // slips 4.8° in both grips at condim 3, lifts here (50.2 mm, 0.04°): the check's pads are
+    // soft fingers, as condim 4's; so does hand_hole_72, which fails at condim 3 (48.9 mm,
+    // 0.17°).
     assert_eq!((t.refused, t.kept, t.cautious.len()), (0, 612, 0));
     assert_eq!(
         t.departures,
