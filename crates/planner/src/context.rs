@@ -10,7 +10,7 @@ use pregrasp_geometry::{ConvexHull, Mesh};
 use pregrasp_io::scene::Scene;
 use pregrasp_model::PadContact;
 use pregrasp_motion::{JointSpace, MotionValidator};
-use pregrasp_robot::{wrap_angle, ArmKinematics, GripperState, Joints};
+use pregrasp_robot::{ArmKinematics, GripperState, Joints};
 
 use crate::clock::StageClock;
 pub use crate::closings::{grips, pad_contact, support_closings, Grips, KnownClosings};
@@ -444,23 +444,11 @@ impl IkSet {
 }
 
 /// One configuration per geometrically distinct IK solution (at most 8): of the ±2π variants
-/// the joint limits allow, the one nearest to `seed`. The variants share one geometry, so
-/// collision-checking one of each is enough. Sorted by distance to `seed`.
+/// the joint limits allow, the one nearest to `seed` ([`ArmKinematics::ik_distinct`]). The
+/// variants share one geometry, so collision-checking one of each is enough. Sorted by
+/// distance to `seed`.
 pub fn distinct_ik(kin: &dyn ArmKinematics, flange: &Isometry3<f64>, seed: &Joints) -> Vec<Joints> {
-    let mut seen: Vec<Joints> = Vec::new();
-    kin.ik(flange, seed)
-        .into_iter()
-        .filter(|q| {
-            let wrapped = q.map(wrap_angle);
-            let new = !seen
-                .iter()
-                .any(|s| (0..6).all(|j| (s[j] - wrapped[j]).abs() < 1e-9));
-            if new {
-                seen.push(wrapped);
-            }
-            new
-        })
-        .collect()
+    kin.ik_distinct(flange, seed)
 }
 
 /// The two arm models of a scene, in world.

@@ -1,4 +1,5 @@
-//! Kinematics speed: FK of all link frames, FK of the flange, all analytic IK solutions.
+//! Kinematics speed: FK of all link frames, FK of the flange, all analytic IK solutions (raw,
+//! nearest, every ±2π alternate, one per distinct solution).
 
 use std::hint::black_box;
 
@@ -22,6 +23,9 @@ fn kinematics(c: &mut Criterion) {
     });
     c.bench_function("ik_all_alternates_ur5e", |b| {
         b.iter(|| kin.ik(black_box(&pose), black_box(&q)))
+    });
+    c.bench_function("ik_distinct_ur5e", |b| {
+        b.iter(|| kin.ik_distinct(black_box(&pose), black_box(&q)))
     });
 }
 

@@ -42,6 +42,13 @@ pub trait ArmKinematics: Send + Sync + std::fmt::Debug {
     /// joint limits, sorted by joint distance to `seed` (nearest first).
     fn ik(&self, flange: &Isometry3<f64>, seed: &Joints) -> Vec<Joints>;
 
+    /// One solution per geometrically distinct one (angles equal modulo 2π): of each, the
+    /// variant nearest to `seed`, in [`ArmKinematics::ik`]'s order. The variants share one
+    /// geometry, so collision-checking one of each is enough.
+    fn ik_distinct(&self, flange: &Isometry3<f64>, seed: &Joints) -> Vec<Joints> {
+        crate::distinct_solutions(self.ik(flange, seed))
+    }
+
     /// The solution on `seed`'s branch (a small motion from `seed` continues it), if any.
     fn ik_nearest(&self, flange: &Isometry3<f64>, seed: &Joints) -> Option<Joints>;
 
@@ -102,6 +109,10 @@ impl ArmKinematics for UrKinematics {
 
     fn ik(&self, flange: &Isometry3<f64>, seed: &Joints) -> Vec<Joints> {
         UrKinematics::ik(self, flange, seed)
+    }
+
+    fn ik_distinct(&self, flange: &Isometry3<f64>, seed: &Joints) -> Vec<Joints> {
+        UrKinematics::ik_distinct(self, flange, seed)
     }
 
     fn ik_nearest(&self, flange: &Isometry3<f64>, seed: &Joints) -> Option<Joints> {

@@ -30,6 +30,13 @@ use crate::model::Joints;
 /// rotation.
 pub const IK_RESIDUAL_TOL: f64 = 1e-9;
 
+/// How much larger (rad²) a joint's squared distance to the seed may be than its nearest
+/// alternate's and still rank first in a sum of six ([`UrKinematics::ik_distinct`]): far above
+/// the sum's rounding (about 1e-13 for six terms up to (3π)²). Two alternates 2π apart differ
+/// in their squares by 4π·|v − seed ∓ π|, within this slack only for a seed 1e-10 rad from
+/// half a turn away, where both are kept and ranked.
+const TIE_SLACK: f64 = 1e-9;
+
 /// Below this `|sin q5|` the wrist is treated as singular and q6 is taken from the hint.
 const WRIST_SINGULAR_EPS: f64 = 1e-10;
 
@@ -224,16 +231,63 @@ impl UrKinematics {
                 all.push((joint_distance(&q, seed), q));
             }
         }
-        all.sort_by(|(da, qa), (db, qb)| {
-            da.total_cmp(db).then_with(|| {
-                qa.iter()
-                    .zip(qb.iter())
-                    .map(|(a, b)| a.total_cmp(b))
-                    .find(|o| o.is_ne())
-                    .unwrap_or(std::cmp::Ordering::Equal)
-            })
-        });
+        all.sort_by(by_distance_then_joints);
         all.into_iter().map(|(_, q)| q).collect()
+    }
+
+    /// One configuration per geometrically distinct solution: of each analytic solution's
+    /// ±2π alternates within the limits, the one nearest to `seed`, sorted as
+    /// [`UrKinematics::ik`] sorts. The same list, bit for bit, as [`distinct_solutions`] of
+    /// [`UrKinematics::ik`] (whose first variant of each solution is its nearest), without
+    /// enumerating the alternates: the squared distance separates per joint, so only the
+    /// alternates within `TIE_SLACK` (1e-9 rad²) of a joint's nearest can be first; their
+    /// combinations (one, but at a seed half a turn from a solution) are ranked as `ik` ranks
+    /// them. At most a few candidates per solution where `ik` sorts up to 8 · 3⁶.
+    pub fn ik_distinct(&self, flange: &Isometry3<f64>, seed: &Joints) -> Vec<Joints> {
+        let limits = self.model().joint_limits();
+        let raw = self.ik_raw_with_q6_hint(flange, seed[5]);
+        let mut nearest: Vec<(f64, Joints)> = Vec::with_capacity(raw.len());
+        for sol in raw.iter() {
+            // Per joint, the alternates that may be first: within TIE_SLACK of the nearest.
+            let near: [Alternates; 6] = std::array::from_fn(|j| {
+                let all = Alternates::new(sol[j], limits[j]);
+                let d = |v: f64| (v - seed[j]) * (v - seed[j]);
+                let min = all.vals[..all.len]
+                    .iter()
+                    .map(|&v| d(v))
+                    .fold(f64::INFINITY, f64::min);
+                let mut kept = Alternates {
+                    vals: [0.0; 3],
+                    len: 0,
+                };
+                for &v in &all.vals[..all.len] {
+                    if d(v) <= min + TIE_SLACK {
+                        kept.vals[kept.len] = v;
+                        kept.len += 1;
+                    }
+                }
+                kept
+            });
+            let count: usize = near.iter().map(|a| a.len).product();
+            let mut best: Option<(f64, Joints)> = None;
+            for mut idx in 0..count {
+                let mut q = [0.0; 6];
+                for j in 0..6 {
+                    q[j] = near[j].vals[idx % near[j].len];
+                    idx /= near[j].len;
+                }
+                let candidate = (joint_distance(&q, seed), q);
+                if best
+                    .as_ref()
+                    .is_none_or(|b| by_distance_then_joints(&candidate, b).is_lt())
+                {
+                    best = Some(candidate);
+                }
+            }
+            nearest.extend(best);
+        }
+        nearest.sort_by(by_distance_then_joints);
+        distinct_solutions(nearest.into_iter().map(|(_, q)| q))
     }
 
     /// The solution closest to `seed` (same branch continuation), if any: the first element
@@ -262,6 +316,42 @@ impl UrKinematics {
         }
         best.map(|(_, q)| q)
     }
+}
+
+/// The order of [`UrKinematics::ik`]: by distance to the seed, ties by lexicographic joint
+/// order.
+fn by_distance_then_joints(
+    (da, qa): &(f64, Joints),
+    (db, qb): &(f64, Joints),
+) -> std::cmp::Ordering {
+    da.total_cmp(db).then_with(|| {
+        qa.iter()
+            .zip(qb.iter())
+            .map(|(a, b)| a.total_cmp(b))
+            .find(|o| o.is_ne())
+            .unwrap_or(std::cmp::Ordering::Equal)
+    })
+}
+
+/// Of `solutions` in order, the first of each geometrically distinct one: a solution whose
+/// angles, wrapped to (−π, π], all lie within 1e-9 rad of an earlier kept one's is dropped.
+/// Applied to a list sorted by distance to a seed, it keeps each solution's nearest ±2π
+/// variant.
+pub fn distinct_solutions(solutions: impl IntoIterator<Item = Joints>) -> Vec<Joints> {
+    let mut seen: Vec<Joints> = Vec::new();
+    solutions
+        .into_iter()
+        .filter(|q| {
+            let wrapped = q.map(wrap_angle);
+            let new = !seen
+                .iter()
+                .any(|s| (0..6).all(|j| (s[j] - wrapped[j]).abs() < 1e-9));
+            if new {
+                seen.push(wrapped);
+            }
+            new
+        })
+        .collect()
 }
 
 /// Euclidean distance between two joint vectors (rad).

@@ -37,7 +37,7 @@ pub use gripper::{
     Gripper, Gripper2F85, GripperState, JawError, JawFace, JawGripper, JawPart, PerShape,
     GRIPPER_FRAME, ROBOTIQ_2F85_GRIP_FORCE,
 };
-pub use ik::{joint_distance, IkSolutions, IK_RESIDUAL_TOL};
+pub use ik::{distinct_solutions, joint_distance, IkSolutions, IK_RESIDUAL_TOL};
 pub use linkage::{FingerConfig, FingerLinkage, LinkageLimits, PlanarPose, FINGER_LINKS};
 pub use links::{
     arm_geometry, fitted_links_of, point_cylinder_distance, ArmGeometry, Capsule, ConvexPieces,

@@ -4,7 +4,7 @@
 mod common;
 
 use common::{angle_gap, assert_solutions_exact, pose_error};
-use pregrasp_robot::{joint_distance, Joints, UrKinematics, UrModel};
+use pregrasp_robot::{distinct_solutions, joint_distance, Joints, UrKinematics, UrModel};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -126,6 +126,48 @@ fn ik_respects_limits_and_sorts_by_distance_to_seed() {
             assert_eq!(nearest, all[0]);
         }
     }
+}
+
+/// `ik_distinct` (each solution's nearest alternate, chosen per joint) is exactly the first
+/// variant of each solution in `ik`'s full sorted list, bit for bit — on random seeds, on seeds
+/// half a turn from a solution's joint (where two alternates tie), and at the wrist
+/// singularity.
+#[test]
+fn ik_distinct_is_the_first_variant_of_each_solution() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let (mut ties, mut solved) = (0, 0);
+    for model in UrModel::ALL {
+        let kin = UrKinematics::new(model);
+        for i in 0..400 {
+            let mut q = random_q(&mut rng, model);
+            if i % 10 == 0 {
+                q[4] = 0.0; // the wrist singularity
+            }
+            let pose = kin.fk(&q);
+            let mut seed = random_q(&mut rng, model);
+            if i % 4 == 1 {
+                // Half a turn from a raw solution's joints: the alternates q ± 2π tie.
+                let raw = kin.ik_raw_with_q6_hint(&pose, seed[5]);
+                if let Some(s) = raw.iter().next() {
+                    for j in 0..6 {
+                        seed[j] = s[j] + std::f64::consts::PI;
+                    }
+                    ties += 1;
+                }
+            }
+            let expected = distinct_solutions(kin.ik(&pose, &seed));
+            let got = kin.ik_distinct(&pose, &seed);
+            let bits =
+                |v: &[Joints]| -> Vec<[u64; 6]> { v.iter().map(|q| q.map(f64::to_bits)).collect() };
+            assert_eq!(bits(&got), bits(&expected), "{model} q={q:?} seed={seed:?}");
+            assert!(got.len() <= 8);
+            solved += usize::from(!got.is_empty());
+        }
+    }
+    assert!(
+        ties > 400 && solved > 1900,
+        "{ties} ties, {solved} solved of 2000"
+    );
 }
 
 #[test]
