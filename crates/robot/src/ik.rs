@@ -221,15 +221,7 @@ impl UrKinematics {
         let mut all: Vec<(f64, Joints)> = Vec::new();
         for sol in raw.iter() {
             let alts: [Alternates; 6] = std::array::from_fn(|j| Alternates::new(sol[j], limits[j]));
-            let count: usize = alts.iter().map(|a| a.len).product();
-            for mut idx in 0..count {
-                let mut q = [0.0; 6];
-                for j in 0..6 {
-                    q[j] = alts[j].vals[idx % alts[j].len];
-                    idx /= alts[j].len;
-                }
-                all.push((joint_distance(&q, seed), q));
-            }
+            all.extend(combinations(&alts).map(|q| (joint_distance(&q, seed), q)));
         }
         all.sort_by(by_distance_then_joints);
         all.into_iter().map(|(_, q)| q).collect()
@@ -250,40 +242,11 @@ impl UrKinematics {
         for sol in raw.iter() {
             // Per joint, the alternates that may be first: within TIE_SLACK of the nearest.
             let near: [Alternates; 6] = std::array::from_fn(|j| {
-                let all = Alternates::new(sol[j], limits[j]);
-                let d = |v: f64| (v - seed[j]) * (v - seed[j]);
-                let min = all.vals[..all.len]
-                    .iter()
-                    .map(|&v| d(v))
-                    .fold(f64::INFINITY, f64::min);
-                let mut kept = Alternates {
-                    vals: [0.0; 3],
-                    len: 0,
-                };
-                for &v in &all.vals[..all.len] {
-                    if d(v) <= min + TIE_SLACK {
-                        kept.vals[kept.len] = v;
-                        kept.len += 1;
-                    }
-                }
-                kept
+                Alternates::new(sol[j], limits[j]).nearest(seed[j], TIE_SLACK)
             });
-            let count: usize = near.iter().map(|a| a.len).product();
-            let mut best: Option<(f64, Joints)> = None;
-            for mut idx in 0..count {
-                let mut q = [0.0; 6];
-                for j in 0..6 {
-                    q[j] = near[j].vals[idx % near[j].len];
-                    idx /= near[j].len;
-                }
-                let candidate = (joint_distance(&q, seed), q);
-                if best
-                    .as_ref()
-                    .is_none_or(|b| by_distance_then_joints(&candidate, b).is_lt())
-                {
-                    best = Some(candidate);
-                }
-            }
+            let best = combinations(&near)
+                .map(|q| (joint_distance(&q, seed), q))
+                .min_by(by_distance_then_joints);
             nearest.extend(best);
         }
         nearest.sort_by(by_distance_then_joints);
@@ -406,4 +369,42 @@ impl Alternates {
         }
         Alternates { vals, len }
     }
+
+    fn as_slice(&self) -> &[f64] {
+        &self.vals[..self.len]
+    }
+
+    /// Those whose squared distance to `target` is within `slack` (rad²) of the least, in
+    /// order.
+    fn nearest(&self, target: f64, slack: f64) -> Alternates {
+        let d = |v: f64| (v - target) * (v - target);
+        let min = self
+            .as_slice()
+            .iter()
+            .map(|&v| d(v))
+            .fold(f64::INFINITY, f64::min);
+        let mut kept = Alternates {
+            vals: [0.0; 3],
+            len: 0,
+        };
+        for &v in self.as_slice() {
+            if d(v) <= min + slack {
+                kept.vals[kept.len] = v;
+                kept.len += 1;
+            }
+        }
+        kept
+    }
+}
+
+/// Every joint vector taking one of `alts[j]` at each joint `j`, joint 0 varying fastest.
+fn combinations(alts: &[Alternates; 6]) -> impl Iterator<Item = Joints> + '_ {
+    let count: usize = alts.iter().map(|a| a.len).product();
+    (0..count).map(move |mut idx| {
+        std::array::from_fn(|j| {
+            let v = alts[j].vals[idx % alts[j].len];
+            idx /= alts[j].len;
+            v
+        })
+    })
 }
