@@ -70,6 +70,27 @@ def plan_scene(pregrasp, scene, out, max_plans):
     return r.returncode, doc, time.time() - t0, r.stderr.strip()
 
 
+def spliced(table, head, rows, parts):
+    """The table `table` with the rows of `parts` replaced by `rows` (this replay's, header `head`): its other
+    rows and header kept, this replay recorded in the header's `replayed_again` (date, pregrasp commit and binary,
+    Menagerie source, the parts). The sort is the sweep's own."""
+    old = json.loads(table.read_text())
+    missing = parts - {r["part"] for r in old["rows"]}
+    if missing:
+        sys.exit(f"{table}: no rows of {sorted(missing)} to replace (--into replays scenes the table has)")
+    for k in ("source", "mujoco_version", "model", "verdict", "power_force", "plan_index"):
+        if old.get(k) != head.get(k):
+            sys.exit(f"{table}: its {k!r} differs from this replay's; replay the whole table instead")
+    kept = [r for r in old.pop("rows") if r["part"] not in parts]
+    again = old.get("replayed_again", []) + [{"date": head["date"], "pregrasp": head["pregrasp"],
+                                               "parts": sorted(parts), "args": head["args"]}]
+    old["replayed_again"] = again
+    merged = kept + rows
+    merged.sort(key=lambda r: (r["family"], r["seed"] if r["seed"] is not None else -1, r["part"],
+                               -1 if r["plan"] is None else r["plan"]))
+    return old, merged
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scenes", help="a directory of scene files (*.toml)")
@@ -78,6 +99,9 @@ def main():
     ap.add_argument("--power-force", type=float, default=235.0, help="N, both power grasps' force (one pass)")
     ap.add_argument("--name", default="plan_replay_generated_2f85")
     ap.add_argument("--only", nargs="*", default=None, help="only these scene stems")
+    ap.add_argument("--into", action="store_true",
+                    help="replace the rows of the scenes replayed in the existing table --name, keeping its other "
+                         "rows as they were replayed, and record this replay in its header's 'replayed_again'")
     a = ap.parse_args()
     t_start = time.time()
     log = lambda s: print(s, flush=True)
@@ -114,6 +138,8 @@ def main():
                  "seeds": {f: sorted(v, key=str) for f, v in seeds.items()}, "scenes": len(scenes),
                  "power_force": a.power_force, "plan_index": a.plan_index})
     out = Path(a.out)
+    if a.into:
+        head, rows = spliced(out / f"{a.name}.json", head, rows, {s.stem for s in scenes})
     write_atomic(out / f"{a.name}.json", dump_json(head, rows))
     write_atomic(out / f"{a.name}.csv", csv_text(rows))
     log(f"wrote {out / a.name}.{{json,csv}}: {len(rows)} rows, {time.time() - t_start:.1f} s")

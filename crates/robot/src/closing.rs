@@ -398,6 +398,40 @@ fn take(
     trace(at);
 }
 
+/// Driver travel within which a finger that touched nothing still meets the part when the
+/// other finger's pad has stopped the drivers (rad): about 10 µm of pad travel, ten times
+/// [`DRIVER_TOLERANCE`].
+///
+/// The part between the fingers is not fixed, and the pads are elastomer: where one pad meets
+/// it first, the drivers press on and the part gives (or the pad does) by far more than this
+/// before the grip is set. Without the slack a grasp centred on its bar to the micrometre (as
+/// the seating centres them) would pinch or end on one side by which pad the rounding put a
+/// micrometre nearer.
+pub const CONTACT_SLACK: f64 = 10.0 * DRIVER_TOLERANCE;
+
+/// The stop's steps `why`, with each finger that has touched nothing yet (`untouched`) and moved
+/// freely while the other was stopped by the part replaced by `alone(k)` — finger `k` driven on
+/// by [`CONTACT_SLACK`] — where that touches the part: the finger then ends where it is, its
+/// first touch that one.
+fn pushed_within_slack(
+    mut why: [Step; 2],
+    untouched: [bool; 2],
+    alone: impl Fn(usize) -> Step,
+) -> [Step; 2] {
+    let stopped_by_part = |s: &Step| matches!(s, Step::Stopped(Some((_, Touch::Part))));
+    let free = |s: &Step| matches!(s, Step::Moved(_, None));
+    for k in 0..2 {
+        if untouched[k] && free(&why[k]) && stopped_by_part(&why[1 - k]) {
+            match alone(k) {
+                Step::Stopped(t @ Some((_, Touch::Part))) => why[k] = Step::Stopped(t),
+                Step::Moved(_, t @ Some((_, Touch::Part))) => why[k] = Step::Stopped(t),
+                _ => {}
+            }
+        }
+    }
+    why
+}
+
 /// Closes both fingers from fully open (`[+x, −x]`). The two drivers turn together (the
 /// 2F-85 drives both from one actuator; Menagerie ties their angles) in steps of
 /// [`DRIVER_STEP`], each finger settling at every step (see the module documentation), until
@@ -471,6 +505,17 @@ pub fn close_fingers_traced(
                 (blocked, why) = (mid, steps);
             }
         }
+        let untouched = [0, 1].map(|k| result[k].first_touch.is_none());
+        let why = pushed_within_slack(why, untouched, |k| {
+            step(
+                world,
+                &solutions,
+                SIDES[k],
+                &at[k],
+                blocked + CONTACT_SLACK,
+                false,
+            )
+        });
         for (k, s) in why.into_iter().enumerate() {
             match s {
                 Step::Stopped(Some((link, Touch::Support))) => {

@@ -25,8 +25,8 @@ mod sweep_radii;
 pub use angle::{atan2, sin_cos, wrap_angle};
 pub use arm::{chain_frames, ArmDescription, ArmKinematics, ChainSteps};
 pub use closing::{
-    close_fingers, close_fingers_traced, ClosingKind, ClosingWorld, FingerClosing, Touch, COUPLER,
-    DRIVER, DRIVER_STEP, DRIVER_TOLERANCE, FOLLOWER, PAD, SPRING_LINK,
+    close_fingers, close_fingers_traced, ClosingKind, ClosingWorld, FingerClosing, Touch,
+    CONTACT_SLACK, COUPLER, DRIVER, DRIVER_STEP, DRIVER_TOLERANCE, FOLLOWER, PAD, SPRING_LINK,
 };
 pub use finger::{BoxJson, FingerKinematics, FingerLink, FingerPose};
 pub use fingers::{
