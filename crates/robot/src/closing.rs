@@ -6,7 +6,9 @@
 //! up to the coupler's stop, so in free air the finger closes in the parallel mode. What meets
 //! the part first decides the rest:
 //! - the follower or the pad: a **pinch**; friction holds the pad where it met the part, and
-//!   the drivers stop once a pad cannot move on without entering the part;
+//!   the drivers stop once a pad cannot move on without entering the part, and the other
+//!   finger, if it has touched nothing, meets the part too where [`CONTACT_SLACK`] of driver
+//!   travel takes it there (the part and the pads give by more than that);
 //! - the spring link (the proximal phalanx): it rests on the part while the driver turns on, so
 //!   the follower curls inward about its hinge, and where the curling follower meets the part
 //!   the part pushes the spring link open again (the finger wraps the part) — but where the pad
