@@ -70,10 +70,15 @@ def plan_scene(pregrasp, scene, out, max_plans):
     return r.returncode, doc, time.time() - t0, r.stderr.strip()
 
 
+def row_order(r):
+    """A table's row order: by family, seed, part, then plan (a part without a plan first)."""
+    return r["family"], r["seed"] if r["seed"] is not None else -1, r["part"], -1 if r["plan"] is None else r["plan"]
+
+
 def spliced(table, head, rows, parts):
     """The table `table` with the rows of `parts` replaced by `rows` (this replay's, header `head`): its other
     rows and header kept, this replay recorded in the header's `replayed_again` (date, pregrasp commit and binary,
-    Menagerie source, the parts). The sort is the sweep's own."""
+    the parts, the arguments), in `row_order`."""
     old = json.loads(table.read_text())
     missing = parts - {r["part"] for r in old["rows"]}
     if missing:
@@ -86,8 +91,7 @@ def spliced(table, head, rows, parts):
                                                "parts": sorted(parts), "args": head["args"]}]
     old["replayed_again"] = again
     merged = kept + rows
-    merged.sort(key=lambda r: (r["family"], r["seed"] if r["seed"] is not None else -1, r["part"],
-                               -1 if r["plan"] is None else r["plan"]))
+    merged.sort(key=row_order)
     return old, merged
 
 
@@ -131,8 +135,7 @@ def main():
                 continue
             for r in replay_file(plan_path, a.plan_index, lambda pinch: [a.power_force], src, a, log):
                 rows.append({**part, **r})
-    rows.sort(key=lambda r: (r["family"], r["seed"] if r["seed"] is not None else -1, r["part"],
-                             -1 if r["plan"] is None else r["plan"]))
+    rows.sort(key=row_order)
     head = header(a, prov)
     head.update({"generator": SCRIPT, "pregrasp": {**git_commit(), "binary_sha256": sha256(a.pregrasp)},
                  "seeds": {f: sorted(v, key=str) for f, v in seeds.items()}, "scenes": len(scenes),

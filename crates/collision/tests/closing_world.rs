@@ -26,15 +26,36 @@ fn data(name: &str) -> Value {
 /// A convex piece as a parry hull and its vertices.
 type Piece = (ConvexPolyhedron, Vec<Point3<f64>>);
 
+/// The Menagerie finger's collision pieces as parry hulls, per link, for the `+x` finger and
+/// its mirror image (`[+x, −x]`).
+fn finger_solids() -> [Vec<Vec<Piece>>; 2] {
+    let raw = menagerie::collision_pieces(1.0);
+    [1.0, -1.0].map(|sign: f64| {
+        raw.iter()
+            .map(|link| {
+                link.iter()
+                    .map(|pts| {
+                        let v: Vec<Point3<f64>> = pts
+                            .iter()
+                            .map(|p| Point3::new(sign * p.x, p.y, p.z))
+                            .collect();
+                        (ConvexPolyhedron::from_convex_hull(&v).unwrap(), v)
+                    })
+                    .collect()
+            })
+            .collect()
+    })
+}
+
 /// The same bar and table as exact solids, in G.
-struct Solids {
-    pieces: [Vec<Vec<Piece>>; 2],
+struct Solids<'a> {
+    pieces: &'a [Vec<Vec<Piece>>; 2],
     bar: Cuboid,
     bar_pose: Isometry3<f64>,
     table: Option<f64>,
 }
 
-impl ClosingWorld for Solids {
+impl ClosingWorld for Solids<'_> {
     fn touch(&self, side: f64, link: usize, pose: &PlanarPose) -> Touch {
         let frame = pose.to_isometry(side);
         let pieces = &self.pieces[usize::from(side < 0.0)][link];
@@ -62,21 +83,7 @@ fn a_bar_as_a_mesh_closes_the_fingers_as_the_solid_bar_does() {
     let truth = data("closing_2f85.json");
     let raw = menagerie::collision_pieces(1.0);
     let shapes = FingerShapes::new(&raw).unwrap();
-    let solid_pieces = |sign: f64| -> Vec<Vec<Piece>> {
-        raw.iter()
-            .map(|link| {
-                link.iter()
-                    .map(|pts| {
-                        let v: Vec<Point3<f64>> = pts
-                            .iter()
-                            .map(|p| Point3::new(sign * p.x, p.y, p.z))
-                            .collect();
-                        (ConvexPolyhedron::from_convex_hull(&v).unwrap(), v)
-                    })
-                    .collect()
-            })
-            .collect()
-    };
+    let pieces = finger_solids();
     let linkage = FingerLinkage::robotiq_2f85();
     let (mut rows, mut worst) = (0, 0.0_f64);
     // Every fourth simulated row: all widths, depths, tilts, with and without the table.
@@ -96,7 +103,7 @@ fn a_bar_as_a_mesh_closes_the_fingers_as_the_solid_bar_does() {
         );
         let table = row["table_z"].as_f64();
         let solids = Solids {
-            pieces: [solid_pieces(1.0), solid_pieces(-1.0)],
+            pieces: &pieces,
             bar: Cuboid::new(half),
             bar_pose,
             table,
@@ -125,29 +132,14 @@ fn a_bar_as_a_mesh_closes_the_fingers_as_the_solid_bar_does() {
     assert!(worst < 1e-4, "{worst}");
 }
 
-/// The exact solids of a table row's bar (no table), the bar moved `dx` along the fingers'
-/// closing axis (`+x`: towards the `+x` finger).
-fn bar_solids(row: &Value, dx: f64) -> Solids {
-    let raw = menagerie::collision_pieces(1.0);
-    let pieces = |sign: f64| -> Vec<Vec<Piece>> {
-        raw.iter()
-            .map(|link| {
-                link.iter()
-                    .map(|pts| {
-                        let v: Vec<Point3<f64>> = pts
-                            .iter()
-                            .map(|p| Point3::new(sign * p.x, p.y, p.z))
-                            .collect();
-                        (ConvexPolyhedron::from_convex_hull(&v).unwrap(), v)
-                    })
-                    .collect()
-            })
-            .collect()
-    };
+/// The exact solids of a table row's bar (no table) and the fingers' `pieces`
+/// ([`finger_solids`]), the bar moved `dx` along the fingers' closing axis (`+x`: towards the
+/// `+x` finger).
+fn bar_solids<'a>(pieces: &'a [Vec<Vec<Piece>>; 2], row: &Value, dx: f64) -> Solids<'a> {
     let bar = &row["bar"];
     let get = |k: &str| bar[k].as_f64().unwrap();
     Solids {
-        pieces: [pieces(1.0), pieces(-1.0)],
+        pieces,
         bar: Cuboid::new(Vector3::new(
             0.5 * get("width"),
             0.15,
@@ -178,8 +170,10 @@ fn a_pinch_does_not_hang_on_a_micrometre() {
     use pregrasp_robot::ClosingKind;
     let truth = data("closing_2f85.json");
     let linkage = FingerLinkage::robotiq_2f85();
-    let kinds =
-        |row: &Value, dx: f64| close_fingers(&bar_solids(row, dx), &linkage).map(|c| c.kind);
+    let pieces = finger_solids();
+    let kinds = |row: &Value, dx: f64| {
+        close_fingers(&bar_solids(&pieces, row, dx), &linkage).map(|c| c.kind)
+    };
     // Bars without a table or tilt that both pads pinch when centred.
     let pinched: Vec<&Value> = truth["rows"]
         .as_array()
