@@ -163,8 +163,9 @@ struct Solutions<'a> {
     /// The last answers of [`Solutions::assemble`], the newest at `next - 1`.
     assembled: RefCell<[Option<Solved>; 4]>,
     next: Cell<usize>,
-    /// Driver bits and [`FingerLinkage::parallel`] there.
-    parallel: Cell<Option<(u64, Option<FingerConfig>)>>,
+    /// Driver bits and [`FingerLinkage::parallel`] there, for the last two driver angles asked
+    /// (a step asks the one it starts from and the one it goes to), the newer first.
+    parallel: Cell<[Option<(u64, Option<FingerConfig>)>; 2]>,
 }
 
 impl<'a> Solutions<'a> {
@@ -173,7 +174,7 @@ impl<'a> Solutions<'a> {
             linkage,
             assembled: RefCell::new([None; 4]),
             next: Cell::new(0),
-            parallel: Cell::new(None),
+            parallel: Cell::new([None; 2]),
         }
     }
 
@@ -197,14 +198,23 @@ impl<'a> Solutions<'a> {
 
     /// [`FingerLinkage::parallel`] at `driver`.
     fn parallel(&self, driver: f64) -> Option<FingerConfig> {
-        match self.parallel.get() {
-            Some((k, cfg)) if k == driver.to_bits() => cfg,
-            _ => {
-                let cfg = self.linkage.parallel(driver);
-                self.parallel.set(Some((driver.to_bits(), cfg)));
-                cfg
-            }
+        let key = driver.to_bits();
+        let known = self.parallel.get();
+        if let Some((_, cfg)) = known.iter().flatten().find(|(k, _)| *k == key) {
+            return *cfg;
         }
+        let cfg = self.linkage.parallel(driver);
+        self.parallel.set([Some((key, cfg)), known[0]]);
+        cfg
+    }
+
+    /// The spring link's upper bound at `driver`: the coupler on its stop (the parallel mode),
+    /// within the joint's range.
+    fn spring_top(&self, driver: f64) -> f64 {
+        let limit = self.linkage.limits.spring_link.1;
+        self.parallel(driver)
+            .map_or(limit, |c| c.spring_link)
+            .min(limit)
     }
 }
 
@@ -226,19 +236,19 @@ const SPRING_STEP: f64 = 0.0025;
 /// How far the spring link may be pushed open in one driver step (rad).
 const SPRING_REACH: f64 = 0.08;
 
-/// Where the finger settles at driver angle `driver`, its spring link last at `previous`: the
+/// Where the finger settles at driver angle `driver`, last at `from`: the
 /// spring closes the link as far as it is free (up to the coupler's stop), and where the part
 /// is in the way the link is pushed open to the nearest free angle — but only once the spring
 /// link itself has met the part (`may_open`: the finger wraps around the part). A finger that
 /// met the part with its pad first does not roll about the contact (friction holds it; the
-/// driver stops). `Err` with what blocks the driver when no spring-link angle near `previous`
+/// driver stops). `Err` with what blocks the driver when no spring-link angle near its last one
 /// is free; the touch that bounds the settled angle from above, if any, comes with it.
 fn settle(
     world: &dyn ClosingWorld,
     solutions: &Solutions,
     side: f64,
     driver: f64,
-    previous: f64,
+    from: &FingerConfig,
     may_open: bool,
 ) -> Settled {
     // A touch of the support anywhere in the search ends the closing there: the finger would
@@ -279,7 +289,7 @@ fn settle(
             world.touch(side, PAD, &pad) == Touch::Part
         })
     };
-    let settled = settle_search(solutions, driver, previous, may_open, &free, &pad_meets);
+    let settled = settle_search(solutions, driver, from, may_open, &free, &pad_meets);
     match support.get() {
         Some(t) => Err(Some(t)),
         None => settled,
@@ -296,17 +306,25 @@ fn settle(
 fn settle_search(
     solutions: &Solutions,
     driver: f64,
-    previous: f64,
+    from: &FingerConfig,
     may_open: bool,
     free: &dyn Fn(f64) -> Result<FingerConfig, LinkTouch>,
     pad_meets: &dyn Fn(f64) -> bool,
 ) -> Settled {
-    // The spring's upper bound: the coupler on its stop.
     let linkage = solutions.linkage;
-    let top = solutions
-        .parallel(driver)
-        .map_or(linkage.limits.spring_link.1, |c| c.spring_link)
-        .min(linkage.limits.spring_link.1);
+    let top = solutions.spring_top(driver);
+    // A finger resting on the coupler's stop stays on it while it is free there: the spring
+    // holds it in the parallel mode (the real finger does not leave the stop in free air).
+    // Its pad or follower meeting the part there stops the drivers; anything else in the way
+    // (the spring link meeting the part) is left to the search from its last angle.
+    if !may_open && from.spring_link == solutions.spring_top(from.driver) {
+        match free(top) {
+            Ok(cfg) => return Ok((cfg, None)),
+            Err(t @ Some((FOLLOWER | PAD, Touch::Part))) => return Err(t),
+            Err(_) => {}
+        }
+    }
+    let previous = from.spring_link;
     let start = previous.min(top);
     // The largest free spring-link angle in [lo, hi], `lo` free (`best` there), `hi` not
     // (`bound` touching there).
@@ -370,7 +388,7 @@ fn step(
     driver: f64,
     wrapping: bool,
 ) -> Step {
-    match settle(world, solutions, side, driver, from.spring_link, wrapping) {
+    match settle(world, solutions, side, driver, from, wrapping) {
         Ok((cfg, _)) if at_middle(solutions.linkage, &cfg) => Step::Middle,
         Ok((cfg, bound)) => Step::Moved(cfg, bound),
         Err(blocking) => Step::Stopped(blocking),
