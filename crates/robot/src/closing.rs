@@ -154,6 +154,9 @@ fn touches(
 /// The bits of `(driver, spring link)` and the finger there ([`Solutions::assemble`]).
 type Solved = ([u64; 2], Option<FingerConfig>);
 
+/// The bits of a driver angle and [`FingerLinkage::parallel`] there ([`Solutions::parallel`]).
+type SolvedParallel = (u64, Option<FingerConfig>);
+
 /// The linkage's solutions, the last few remembered: both fingers settle at the same driver
 /// angle in turn, and in free air they probe the same spring-link angles, so the second finger
 /// mostly asks what the first just did. A solution is a function of the angles alone: the
@@ -165,7 +168,7 @@ struct Solutions<'a> {
     next: Cell<usize>,
     /// Driver bits and [`FingerLinkage::parallel`] there, for the last two driver angles asked
     /// (a step asks the one it starts from and the one it goes to), the newer first.
-    parallel: Cell<[Option<(u64, Option<FingerConfig>)>; 2]>,
+    parallel: Cell<[Option<SolvedParallel>; 2]>,
 }
 
 impl<'a> Solutions<'a> {
