@@ -14,6 +14,8 @@ by plan_sweep.py holds a scene where one of its rows has the scene file's SHA-25
 scenes planned by a planner built otherwise (`EXPERIMENTS`). Each table holding changed scenes is
 replayed again for those scenes with the new binary and the table's own replay settings (pads, time step,
 no-slip iterations, time scaling, force, plan indices). Prints the changed scenes and, per table, the parts.
+A run stopped part-way resumes: a table whose `replayed_again` already holds those parts replayed by the new binary
+(the same SHA-256) is not replayed again.
 """
 import argparse
 import hashlib
@@ -31,7 +33,7 @@ from plan_replay import OUT_DIR  # noqa: E402
 SWEEP = "tools/gripper_truth/plan_sweep.py"
 # Tables of experiments: the same scenes planned by a planner built otherwise (docs/physics.md says which), kept as
 # they were; replaying them with today's planner would make them ordinary rows.
-EXPERIMENTS = ("_seat_all_", "_seat_thick_", "_wraps_", "_set_", "_twist_off_")
+EXPERIMENTS = ("_seat_all_", "_seat_thick_", "_wraps_", "_set_", "_twist_off_", "_pinch_seated_full_", "_pinch_probe_")
 
 
 def sha256(path):
@@ -87,6 +89,7 @@ def main():
     changed = changed_scenes(a.old, a.new, scenes, a.jobs)
     print(f"{len(changed)} of {len(scenes)} scenes plan differently", flush=True)
     by_sha = {sha256(s): s for s in changed}
+    new_sha = sha256(a.new)
     runs = []
     for path in sorted(p for p in Path(OUT_DIR).glob(a.tables) if p.suffix == ".json"):
         table = json.loads(path.read_text())
@@ -97,7 +100,14 @@ def main():
             scene = by_sha.get(row.get("scene_sha256"))
             if scene is not None and scene.stem == row["part"]:
                 hits.setdefault(scene.parent, set()).add(scene.stem)
+        done = set()
+        for again in table.get("replayed_again", []):
+            if again.get("pregrasp", {}).get("binary_sha256") == new_sha:
+                done.update(again.get("parts", []))
         for directory, parts in sorted(hits.items()):
+            if parts <= done:
+                print(f"{path.stem}: {' '.join(sorted(parts))} (replayed by this binary already)", flush=True)
+                continue
             print(f"{path.stem}: {' '.join(sorted(parts))}", flush=True)
             runs.append([sys.executable, str(HERE / "plan_sweep.py"), str(directory), "--menagerie", a.menagerie,
                          "--pregrasp", str(a.new), "--name", path.stem, "--into", *replay_args(table),

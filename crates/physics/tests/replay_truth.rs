@@ -35,13 +35,19 @@ const CONSERVATIVE: &[(&str, u64, &str)] = &[
         "h_frame",
         0,
         "the pinch on the crossbar lies 17 mm nearer the axis than the centre of mass; N_min \
-         33.4 N, the replay holds from 7.6 N (0.23×)",
+         26.1 N, the replay holds from 7.1 N (0.27×)",
+    ),
+    (
+        "h_frame",
+        1,
+        "the second axis candidate, planned since b367d9d; N_min 22.6 N, the replay holds \
+         from 5.5 N (0.24×)",
     ),
     (
         "stool",
         0,
-        "the pinch lies 82 mm nearer the axis than the centre of mass; N_min 83.3 N, the \
-         replay holds from 37.7 N (0.45×)",
+        "the pinch lies 82 mm nearer the axis than the centre of mass; N_min 77.1 N, the \
+         replay holds from 37.4 N (0.48×)",
     ),
 ];
 
@@ -118,8 +124,8 @@ fn on_the_bench_end_and_the_ladder_too() {
     assert_eq!(checked, 3, "rows with torsional pads");
 }
 
-/// The same on a generated part of each family, seed 0 (`replay_2f85_families.json`): all seven
-/// plans hold at 1.5×; five fail at 0.5×, and the two that do not are in [`CONSERVATIVE`].
+/// The same on a generated part of each family, seed 0 (`replay_2f85_families.json`): all eight
+/// plans hold at 1.5×; five fail at 0.5×, and the three that do not are in [`CONSERVATIVE`].
 #[test]
 fn on_a_generated_part_of_each_family() {
     let table: Value = serde_json::from_str(include_str!(
@@ -128,7 +134,7 @@ fn on_a_generated_part_of_each_family() {
     .unwrap();
     let names = FAMILIES.map(|f| f.name());
     let checked = hold_to(&table, &names, generated);
-    assert_eq!(checked, 7, "rows with torsional pads");
+    assert_eq!(checked, 8, "rows with torsional pads");
 }
 
 /// Holds the rows of `table` for the parts `names`, planned by `plan_of` (see the module
