@@ -16,6 +16,11 @@ replayed again for those scenes with the new binary and the table's own replay s
 no-slip iterations, time scaling, force, plan indices). Prints the changed scenes and, per table, the parts.
 A run stopped part-way resumes: a table whose `replayed_again` already holds those parts replayed by the new binary
 (the same SHA-256) is not replayed again.
+
+With --all (no --old), every scene of the directories that a table holds is replayed with the new binary: tables
+last replayed by older planners (the other arms' scenes, edited from the generated ones) brought up to it.
+
+    python3 tools/gripper_truth/replay_changed.py --all --new NEW_BIN --menagerie <menagerie> ur10e_hard
 """
 import argparse
 import hashlib
@@ -76,18 +81,25 @@ def replay_args(table):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("dirs", nargs="+", help="directories of scene files (*.toml)")
-    ap.add_argument("--old", required=True, help="the pregrasp binary before the change")
+    ap.add_argument("--old", help="the pregrasp binary before the change (not with --all)")
+    ap.add_argument("--all", action="store_true",
+                    help="replay every scene a table holds, whether or not the new binary plans it otherwise")
     ap.add_argument("--new", required=True, help="the pregrasp binary after it (it replays)")
     ap.add_argument("--menagerie", required=True)
     ap.add_argument("--tables", default="plan_replay_*.json", help="which tables to look in (a glob in their directory)")
     ap.add_argument("--jobs", type=int, default=2, help="scenes planned at once, tables replayed at once")
     ap.add_argument("--dry-run", action="store_true", help="list what would be replayed, replay nothing")
     a = ap.parse_args()
+    if a.all == bool(a.old):
+        ap.error("give exactly one of --old (replay the scenes NEW plans otherwise) and --all (replay every scene)")
     scenes = [s for d in a.dirs for s in sorted(Path(d).glob("*.toml"))]
     if not scenes:
         sys.exit(f"{', '.join(a.dirs)}: no scene files")
-    changed = changed_scenes(a.old, a.new, scenes, a.jobs)
-    print(f"{len(changed)} of {len(scenes)} scenes plan differently", flush=True)
+    if a.all:
+        changed = scenes
+    else:
+        changed = changed_scenes(a.old, a.new, scenes, a.jobs)
+        print(f"{len(changed)} of {len(scenes)} scenes plan differently", flush=True)
     by_sha = {sha256(s): s for s in changed}
     new_sha = sha256(a.new)
     runs = []
