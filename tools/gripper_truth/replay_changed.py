@@ -18,8 +18,10 @@ A run stopped part-way resumes: a table whose `replayed_again` already holds tho
 (the same SHA-256) is not replayed again.
 
 With --all (no --old), every scene of the directories that a table holds is replayed with the new binary: tables
-last replayed by older planners (the other arms' scenes, edited from the generated ones) brought up to it.
+last replayed by older planners (the other arms' scenes, `pregrasp example generate --arm ARM` run from the
+repository's root) brought up to it.
 
+    pregrasp example generate ur10e_hard --hard --per-family 90 --first-seed 1 --arm ur10e
     python3 tools/gripper_truth/replay_changed.py --all --new NEW_BIN --menagerie <menagerie> ur10e_hard
 """
 import argparse

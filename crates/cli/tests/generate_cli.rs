@@ -121,3 +121,58 @@ fn hard_families_by_flag_or_by_name() {
         "same part, same bytes"
     );
 }
+
+#[test]
+fn other_arms_in_place_of_the_ur5e() {
+    let robots = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/robots");
+    let robots = robots.to_str().unwrap();
+    let args = |arm: &'static str| ["--per-family", "1", "--family", "frame", "--arm", arm];
+    let (ur5e, ur10e, xarm6) = (
+        tempfile::tempdir().unwrap(),
+        tempfile::tempdir().unwrap(),
+        tempfile::tempdir().unwrap(),
+    );
+    generate(ur5e.path(), &args("ur5e"));
+    generate(ur10e.path(), &args("ur10e"));
+    let mut described = args("xarm6").to_vec();
+    described.extend(["--robots", robots]);
+    generate(xarm6.path(), &described);
+    let scene = |dir: &Path| std::fs::read_to_string(dir.join("frame_1.toml")).unwrap();
+    let (a, b, c) = (scene(ur5e.path()), scene(ur10e.path()), scene(xarm6.path()));
+    assert_eq!(b, a.replace("model = \"ur5e\"", "model = \"ur10e\""));
+    assert_ne!(a, b);
+    let urdf = Path::new(robots).join("xarm6.urdf").canonicalize().unwrap();
+    let key = format!("urdf = {:?}", urdf.display().to_string());
+    assert_eq!(c.matches(&key).count(), 2, "{c}");
+    assert!(c.contains("base = { xyz = [0.100, -0.350, 0.000] }"), "{c}");
+    assert_eq!(
+        files(ur5e.path()).last(),
+        files(xarm6.path()).last(),
+        "the same mesh"
+    );
+    // The described arm's scene loads and plans (or says why not): never bad input.
+    let out = pregrasp(
+        xarm6.path(),
+        &["plan", "frame_1.toml", "-o", "p.json", "-q"],
+    );
+    assert!(
+        matches!(out.status.code(), Some(0 | 2)),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    for (arm, robots, says) in [
+        ("ur7", robots, "unknown arm \"ur7\""),
+        ("fr3", "/nonexistent", "/nonexistent/fr3.urdf"),
+    ] {
+        let other = tempfile::tempdir().unwrap();
+        let out = pregrasp(
+            other.path(),
+            &["example", "generate", "x", "--arm", arm, "--robots", robots],
+        );
+        assert_eq!(out.status.code(), Some(1), "{arm}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(says), "{arm}: {err}");
+        assert!(!other.path().join("x").exists(), "{arm}: nothing written");
+    }
+}

@@ -18,6 +18,7 @@
 
 use std::path::{Path, PathBuf};
 
+pub mod arm_in_place;
 pub mod design;
 pub mod extrude;
 pub mod generated;

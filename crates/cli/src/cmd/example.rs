@@ -44,6 +44,16 @@ pub enum ExampleCommand {
         /// parallel bars, chamfers and tapers, thin rungs next to the grasps).
         #[arg(long, conflicts_with = "family")]
         hard: bool,
+        /// The arm in place of each UR5e: another UR model (ur3e, ur10e, ur16e, ur5: only
+        /// `model` changes), or a described arm: fr3 (Franka FR3, elbow held at 0) or xarm6
+        /// (UFACTORY xArm6), with its URDF, start and bases 0.1 m nearer the part, as the
+        /// other-arm replay tables were planned.
+        #[arg(long, value_name = "ARM", default_value = "ur5e")]
+        arm: String,
+        /// Where the described arms' URDF files are (`fr3.urdf`, `xarm6.urdf`); written into
+        /// the scenes as absolute paths.
+        #[arg(long, value_name = "DIR", default_value = "data/robots")]
+        robots: PathBuf,
     },
 }
 
@@ -84,7 +94,10 @@ pub fn run(command: ExampleCommand) -> anyhow::Result<ExitCode> {
             first_seed,
             family,
             hard,
+            arm,
+            robots,
         } => {
+            use pregrasp_examples::arm_in_place::ArmInPlace;
             use pregrasp_examples::generated::{generated_scene, select_from, write_generated};
             let set = if hard {
                 &pregrasp_examples::HARD_FAMILIES
@@ -93,7 +106,15 @@ pub fn run(command: ExampleCommand) -> anyhow::Result<ExitCode> {
             };
             let parts = select_from(set, first_seed, per_family, family.as_deref())
                 .map_err(anyhow::Error::msg)?;
-            let scenes: Vec<_> = parts.iter().map(generated_scene).collect();
+            let arm = ArmInPlace::by_name(&arm, &robots)?;
+            let scenes: Vec<_> = parts
+                .iter()
+                .map(|part| {
+                    let mut scene = generated_scene(part);
+                    scene.scene_toml = arm.put_in(&scene.scene_toml);
+                    scene
+                })
+                .collect();
             for path in write_generated(&dir, &scenes)? {
                 println!("wrote {}", path.display());
             }
