@@ -28,9 +28,10 @@
 //! (`plan_replay_hard_seeds_1_15_*_2f85.csv`, `…_16_25_…`, `…_26_30_…`, `…_31_45_…`,
 //! `…_46_55_…`, `…_56_60_…`, `…_61_65_…` and the later ones up to `…_86_90_…`, 627 plans), which
 //! were not replayed before; a third to the replay with torsional friction at the pads
-//! (`…_pads_condim4_…`, 615 plans),
+//! (`…_pads_condim4_…`, 617 plans),
 //! which the truth tables leave out; a fourth to the hard seeds 31–45 on UR10e, UR16e and UR5
-//! arms (`…_ur10e_…`, `…_ur16e_…`, 118 plans each; `…_ur5_…`, 89 plans); a fifth to seeds 56–60
+//! arms (`…_ur10e_…`, `…_ur16e_…`, 117 plans each; `…_ur5_…`, 88 plans; their failures again
+//! with torsional pads); a fifth to seeds 56–60
 //! on Franka FR3 and UFACTORY xArm6 arms (`…_fr3_…`, 42 plans; `…_xarm6_…`, 31).
 
 mod common;
@@ -227,6 +228,8 @@ fn the_carry_check_on_the_hard_families() {
 /// — a hand hole whose master's tips meet under the bar (tip gap −1.6 mm, 78–96 N on its pads
 /// at 235 N), carried on the UR5e (48.1 mm, 1.6°) with the same grasps — turns 5.9° in both
 /// grips before the lift and rises 41.6 mm (it lifted when replayed by the planner of 57c3e38).
+/// With torsional friction at the pads (condim 4) both lift on every arm: hand_hole_32 49.4 mm,
+/// 0.2°; chamfered_32 49.6 mm, 0.1° (its second plan, on the UR10e and UR16e, 49.0 mm).
 #[test]
 fn the_carry_check_on_other_arms() {
     let tables = |model: &str| {
@@ -248,6 +251,12 @@ fn the_carry_check_on_other_arms() {
         let names = tables(model);
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         agrees_on_arms(&names, model, rows, (0, kept), &departures);
+        // Those departures' parts replayed again with torsional friction at the pads
+        // (`…_condim3_failures_<model>_pads_condim4_…`, every plan of the part): all lift, and
+        // the check keeps them all.
+        let torsion = format!("plan_replay_hard_condim3_failures_{model}_pads_condim4_2f85.csv");
+        let again = departures.len() + usize::from(model != "ur5");
+        agrees_on_arms(&[&torsion], model, again, (0, again), &[]);
     }
     agrees_on_arms(
         &["plan_replay_generated_seeds_61_70_ur10e_2f85.csv"],
@@ -260,7 +269,7 @@ fn the_carry_check_on_other_arms() {
 
 /// The same check on arms that are not URs: seeds 56–60 of the six families with a Franka FR3
 /// (its description, elbow joint held at 0) or a UFACTORY xArm6 for each UR5e, the 2F-85 kept
-/// (`common::scenes::described_arm`), planned and replayed whole at 235 N by the planners of
+/// (`pregrasp example generate --arm`, `ArmInPlace`), planned and replayed whole at 235 N by the planners of
 /// 6e42508 (`plan_replay_generated_seeds_56_60_fr3_2f85.csv`: 29 of 30 parts plan, as with the
 /// UR5e, 42 plans) and ddebae7 (`…_xarm6_…`: 24 plan, the others' support grasps beyond the
 /// xArm6's 0.7 m reach, 31 plans), both tables replayed again whole by the planner of b367d9d
@@ -279,7 +288,7 @@ fn the_carry_check_on_described_arms() {
 /// (`plan_sweep.py --pads-condim 4`: each pad contact point also resists a twist up to
 /// μ_pad × 11.6 mm × its normal force), the plans of the hard seeds 1–15, of seeds 21–30 and
 /// 56–75 and of the hard seeds 31–45 and 56–75 replayed again (`…_pads_condim4_2f85.csv`, 615
-/// plans; the 31 parts whose plans the closing's contact slack changed replayed again by its
+/// plans, and the two of other seeds that fail at condim 3, 617; the 31 parts whose plans the closing's contact slack changed replayed again by its
 /// planner, `replayed_again` in the headers, stool_25's new second plan among them, and the 469
 /// whose plans b367d9d's closing changed by its: hand_hole_10 gets no plan, chamfered_42 one,
 /// not two, panel_60's new plan lifts): how far the check's verdicts hang on the replay's pad model (docs/physics.md, "The
@@ -298,8 +307,9 @@ fn the_carry_check_against_pads_with_torsion() {
         "plan_replay_hard_seeds_66_70_pads_condim4_2f85.csv",
         "plan_replay_hard_seeds_71_75_pads_condim4_2f85.csv",
         "plan_replay_generated_seeds_71_75_pads_condim4_2f85.csv",
+        "plan_replay_hard_condim3_failures_pads_condim4_2f85.csv",
     ]);
-    assert_eq!(all.len(), 615);
+    assert_eq!(all.len(), 617);
     let t = tally(&all);
     // 613 kept that lift; none refused that fails: the two plans the check refuses lift with
     // torsional pads (hand_hole_1 and hand_hole_59, 120 and 198 N; so did hand_hole_10 and
@@ -310,8 +320,10 @@ fn the_carry_check_against_pads_with_torsion() {
     // and lifts (49.9 mm, 0.03°). hand_hole_58, which the check carries at 116.4 N and which
     // slips 4.8° in both grips at condim 3, lifts here (50.2 mm, 0.04°): the check's pads are
     // soft fingers, as condim 4's; so does hand_hole_72, which fails at condim 3 (48.9 mm,
-    // 0.17°).
-    assert_eq!((t.refused, t.kept, t.cautious.len()), (0, 613, 0));
+    // 0.17°). hand_hole_20 and hand_hole_47, the two parts failing at condim 3 that none of
+    // these tables held (`…_condim3_failures_pads_condim4_…`), lift too: 48.3 mm, 0.6°, and
+    // 45.1 mm, 2.9°. So every plan the condim 3 tables fail lifts with torsional pads.
+    assert_eq!((t.refused, t.kept, t.cautious.len()), (0, 615, 0));
     assert_eq!(
         t.departures,
         [
