@@ -311,7 +311,7 @@ fn the_carry_check_against_pads_with_torsion() {
     ]);
     assert_eq!(all.len(), 617);
     let t = tally(&all);
-    // 613 kept that lift; none refused that fails: the two plans the check refuses lift with
+    // 615 kept that lift; none refused that fails: the two plans the check refuses lift with
     // torsional pads (hand_hole_1 and hand_hole_59, 120 and 198 N; so did hand_hole_10 and
     // panel_60's earlier plan, 185 and 267 N; the other flagged hand holes and panel_27 plan with their grasps slid one at a time
     // since 57c3e38, their rows replayed again), so its refusals are on the cautious side there.
