@@ -9,6 +9,8 @@
 
 use std::path::{Path, PathBuf};
 
+use pregrasp_robot::UrModel;
+
 /// The described arms [`ArmInPlace::by_name`] knows, besides the UR models.
 pub const DESCRIBED_ARMS: [&str; 2] = ["fr3", "xarm6"];
 
@@ -16,7 +18,7 @@ pub const DESCRIBED_ARMS: [&str; 2] = ["fr3", "xarm6"];
 #[derive(Clone, Debug, PartialEq)]
 pub enum ArmInPlace {
     /// Another UR model (`model = "<name>"`, everything else as generated).
-    Ur(String),
+    Ur(UrModel),
     /// An arm described by a URDF.
     Described {
         /// The robot's keys written in place of `model = "ur5e"` (`urdf = …` and what the arm
@@ -57,8 +59,8 @@ impl ArmInPlace {
     /// middle, for its 0.7 m reach). A described arm's URDF is read from `robots`
     /// (`data/robots` of the repository) and written as its absolute path.
     pub fn by_name(name: &str, robots: &Path) -> Result<Self, ArmInPlaceError> {
-        if pregrasp_io::scene::ROBOT_MODELS.contains(&name) {
-            return Ok(Self::Ur(name.to_string()));
+        if let Some(model) = UrModel::from_name(name) {
+            return Ok(Self::Ur(model));
         }
         let urdf = |arm: &'static str, file: &'static str| {
             let path = robots.join(file);
@@ -94,7 +96,9 @@ impl ArmInPlace {
     /// give the text back unchanged.
     pub fn put_in(&self, text: &str) -> String {
         match self {
-            Self::Ur(model) => text.replace("model = \"ur5e\"", &format!("model = \"{model}\"")),
+            Self::Ur(model) => {
+                text.replace("model = \"ur5e\"", &format!("model = \"{}\"", model.name()))
+            }
             Self::Described { keys, start, base } => {
                 let [x, y] = base;
                 let mut out = String::with_capacity(text.len() + 2 * keys.len());

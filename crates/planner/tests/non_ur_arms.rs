@@ -8,6 +8,7 @@
 mod common;
 
 use common::scenes::auto_scene;
+use pregrasp_examples::arm_in_place::ArmInPlace;
 use std::path::{Path, PathBuf};
 
 use pregrasp_geometry::Mesh;
@@ -26,16 +27,17 @@ struct Arm {
     start: &'static str,
 }
 
-fn fr3() -> Arm {
-    let urdf = root().join("data/robots/fr3.urdf");
-    Arm {
-        keys: format!(
-            "urdf = {:?}\ntool_link = \"fr3_link8\"\nhold = {{ fr3_joint3 = 0.0 }}",
-            urdf.display().to_string()
-        ),
-        // Franka's "ready" posture without the held joint.
-        start: "[0.0, -0.7854, -2.3562, 0.0, 1.5708, 0.7854]",
+/// A described arm as `pregrasp example generate --arm` puts it in place of a UR5e: its keys
+/// and start (Franka's "ready" posture without the held joint for the FR3).
+fn described(name: &str) -> Arm {
+    match ArmInPlace::by_name(name, &root().join("data/robots")).unwrap() {
+        ArmInPlace::Described { keys, start, .. } => Arm { keys, start },
+        ArmInPlace::Ur(_) => unreachable!("{name} is described"),
     }
+}
+
+fn fr3() -> Arm {
+    described("fr3")
 }
 
 /// The FR3 with the Franka Hand its description carries (`gripper = "urdf"`).
@@ -46,11 +48,7 @@ fn fr3_hand() -> Arm {
 }
 
 fn xarm6() -> Arm {
-    let urdf = root().join("data/robots/xarm6.urdf");
-    Arm {
-        keys: format!("urdf = {:?}", urdf.display().to_string()),
-        start: "[0.0, -0.5, -0.8, 0.0, 1.3, 0.0]",
-    }
+    described("xarm6")
 }
 
 /// The text of example `name` with `arm` for each UR5e, the arms' bases at `x` (and y = ±`y`)
