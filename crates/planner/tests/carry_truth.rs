@@ -21,14 +21,14 @@
 //! after the wrap's moment was bounded (`…_seeds_31_35_…`, 44 plans), 60 generated after
 //! the later holds ran side by side (`…_seeds_36_40_…`, `…_41_45_…`, 87 plans), 30 generated
 //! after grasps slid one at a time (`…_seeds_46_50_…`, 44 plans), 60 generated since
-//! (`…_seeds_51_55_…`, `…_56_60_…`, 85 plans), the later ones up to seeds 86–90, and the 20
+//! (`…_seeds_51_55_…`, `…_56_60_…`, 85 plans), the later ones up to seeds 91–100, and the 20
 //! panels of seeds 1–20 held at the fingertips whatever the check says
 //! (`plan_replay_panels_fingertips_2f85.csv`, `[planner] power_hold = "fingertips"`), each part
 //! made again here from its family and seed. A second test holds it to the six hard families
 //! (`plan_replay_hard_seeds_1_15_*_2f85.csv`, `…_16_25_…`, `…_26_30_…`, `…_31_45_…`,
-//! `…_46_55_…`, `…_56_60_…`, `…_61_65_…` and the later ones up to `…_86_90_…`, 627 plans), which
+//! `…_46_55_…`, `…_56_60_…`, `…_61_65_…` and the later ones up to `…_91_100_…`, 694 plans), which
 //! were not replayed before; a third to the replay with torsional friction at the pads
-//! (`…_pads_condim4_…`, 617 plans),
+//! (`…_pads_condim4_…`, 620 plans),
 //! which the truth tables leave out; a fourth to the hard seeds 31–45 on UR10e, UR16e and UR5
 //! arms (`…_ur10e_…`, `…_ur16e_…`, 117 plans each; `…_ur5_…`, 88 plans; their failures again
 //! with torsional pads); a fifth to seeds 56–60
