@@ -12,9 +12,11 @@ pub(crate) fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) ->
         .filter(|o| !matches!(o, CandidateOutcome::Skipped))
         .collect();
     if all.is_empty() {
-        return "Algorithm 1: no rotation-axis candidate (no convex-hull edge within Δd_s of the \
-                support and longer than Δl)"
-            .to_string();
+        return format!(
+            "Algorithm 1: no rotation-axis candidate (no convex-hull edge within Δd_s of the \
+             support and longer than Δl){}",
+            off_the_support(ctx).unwrap_or_default()
+        );
     }
     let rejections: Vec<&PoseRejection> = outcomes
         .iter()
@@ -117,4 +119,33 @@ pub(crate) fn no_plan_reason(ctx: &PlanningContext, all: &[CandidateOutcome]) ->
         }
         None => "Algorithm 3: no integrated path for any candidate (best candidate: -)".into(),
     }
+}
+
+/// Where the part, as the scene places it, does not rest on the support: how far its lowest
+/// point lies above the support plane (or below it) when that is more than Δd_s
+/// (`support_distance`), in words that say which keys to look at. `None` where it rests.
+fn off_the_support(ctx: &PlanningContext) -> Option<String> {
+    let pose = &ctx.scene.object.pose;
+    let lowest = ctx
+        .mesh
+        .vertices
+        .iter()
+        .map(|v| (pose * v).z)
+        .fold(f64::INFINITY, f64::min);
+    let gap = lowest - ctx.scene.support_height;
+    if !gap.is_finite() || gap.abs() <= ctx.scene.planner.support_distance {
+        return None;
+    }
+    let (how, side) = if gap > 0.0 {
+        ("above", "it does not rest on it")
+    } else {
+        ("below", "it lies in it")
+    };
+    Some(format!(
+        ": the part's lowest point is {:.1} mm {how} the support (`support.height` {} m, \
+         `object.pose` z {} m), {side}",
+        gap.abs() * 1e3,
+        ctx.scene.support_height,
+        pose.translation.z
+    ))
 }

@@ -122,6 +122,32 @@ fn power_grasps_on_the_axes_give_no_plan_with_the_distance_reason() {
         .all(|c| c.outcome.to_string().contains("within Δd_a")));
 }
 
+/// A part the scene places above the support has no edge within Δd_s of it: the reason says how
+/// far above, and which keys place it; a part that rests keeps the bare reason.
+#[test]
+fn a_part_off_the_support_gives_no_candidate_naming_the_gap() {
+    let (mut scene, mesh) = example("chair_side");
+    scene.support_height = -0.03;
+    let file = run(&scene, &mesh);
+    assert_eq!(file.status, PlanStatus::NoPlan);
+    let reason = file.reason.expect("a reason");
+    assert!(
+        reason.starts_with("Algorithm 1: no rotation-axis candidate")
+            && reason.contains("the part's lowest point is 30.0 mm above the support")
+            && reason.contains("`support.height` -0.03 m"),
+        "{reason}"
+    );
+    // Resting on the support, with every hull edge too short: no gap to name.
+    let (mut scene, mesh) = example("chair_side");
+    scene.planner.min_axis_length = 10.0;
+    let reason = run(&scene, &mesh).reason.expect("a reason");
+    assert_eq!(
+        reason,
+        "Algorithm 1: no rotation-axis candidate (no convex-hull edge within Δd_s of the \
+         support and longer than Δl)"
+    );
+}
+
 #[test]
 fn support_grasp_off_the_part_gives_no_plan_naming_the_grasp() {
     let (mut scene, mesh) = example("chair_side");
