@@ -128,7 +128,9 @@ def main():
             part.update({"planner_exit": code, "plans_emitted": n_plans})
             log(f"{scene.stem}: pregrasp plan exit {code}, {n_plans} plan(s), {wall:.1f} s")
             if code != EXIT_PLANNED or n_plans == 0:
-                reason = (doc or {}).get("reason") or (err.splitlines() or [None])[-1]
+                # The planner's error names the scene by the path it was given: keep its file name only,
+                # as the header keeps the arguments' (the table holds no path of this machine).
+                reason = (doc or {}).get("reason") or (err.replace(str(scene), scene.name).splitlines() or [None])[-1]
                 bad = "no plan" if code == EXIT_NO_PLAN else "error"
                 rows.append({**part, "example": scene.stem, "plan": None, "verdict": bad, "carried": False,
                              "failures": [bad.replace(" ", "_")], "reason": reason})
