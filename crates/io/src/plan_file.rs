@@ -180,10 +180,11 @@ pub struct GraspsJson {
     /// neither moved. `power` holds the moved grasps.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fingertips: Option<[f64; 2]>,
-    /// (Extension) How far (m) each power grasp held at the fingertips was moved across its
-    /// bar (its own `x` axis, the closing direction) from the scene's, onto the bar's
-    /// mid-plane, so that both pads meet the bar together (0: not moved); absent when neither
-    /// moved. `power` holds the moved grasps.
+    /// (Extension) How far (m) each power grasp was moved across its bar (its own `x` axis,
+    /// the closing direction) from the scene's, onto the bar's mid-plane, so that both pads
+    /// meet the bar together: every 2F-85 power grasp more than 2 mm off it, and a grasp held
+    /// at the fingertips however little (0: not moved); absent when neither moved. `power`
+    /// holds the moved grasps.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub centred: Option<[f64; 2]>,
     /// (Extension) How far (m) each power grasp was slid along its bar (its own `y` axis) from

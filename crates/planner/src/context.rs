@@ -140,7 +140,8 @@ impl PartKnowledge {
             && self.points == tool_points(scene)
             && self.rest == crate::seat::rest_offsets(scene);
         same.then(|| {
-            (self.moved != [0.0; 2]).then(|| {
+            // Moved along the approach, or only across onto the bar's mid-plane.
+            (self.power != self.seated_from).then(|| {
                 let mut s = scene.clone();
                 s.grasps.power = self.power;
                 (s, self.moved)

@@ -62,6 +62,12 @@
 //! every fingertip depth until the edges were read too. The plan file writes that move as
 //! `grasps.centred`.
 //!
+//! **Off-centre grasps.** Any 2F-85 power grasp whose origin lies more than [`CENTRE_REACH`]
+//! off the mid-plane of the bar its open pads span is moved across onto it before everything
+//! above ([`off_centre`]): the pad that meets the bar first would shove it (a user's scene with
+//! its grasps moved up to 2 cm across: the master's closing pushed the pinched part 3.7–20 mm,
+//! or closed on one side).
+//!
 //! **Fingertips first** (the planner's rule, [`SeatRule::PLANNER`]). A wrap pulls its bar to
 //! the palm while the other gripper only pinches the part: the whole-plan replay measured the
 //! master's closing moving the part 0.5–2.6 mm on seated wraps (15 of 122 plans over the 2 mm
@@ -125,6 +131,11 @@ pub const FINGERTIP_STEP: f64 = 0.002;
 /// then ends on one side even 0.01–0.06 mm off the mid-plane (the scene file's 0.1 mm
 /// rounding), where the real fingers push the bar by that much until both pads squeeze.
 pub const CENTRE_REACH: f64 = 0.002;
+
+/// Steepest slope of a bar's face along the pads' width that [`off_centre`] still reads as
+/// the face the line through the grasp's origin meets (a tapered leg's 2° is 0.035): the pads'
+/// edges may meet such a face `PAD_HALF_WIDTH · slope` before their centre does.
+const CENTRE_SLOPE: f64 = 0.1;
 
 /// How many depths a grasp held at the fingertips tries (the precision point and 2, 4 mm
 /// nearer the palm): on 12 caged masters the replay pulled bars held 16–22 mm nearer the palm
@@ -243,12 +254,20 @@ pub fn thickness_at(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f
 /// `None` if a ray through the origin misses.
 pub fn bar_mid_plane(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f64> {
     let half = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke() / 2.0;
+    let (low, high) = pad_faces(object, grasp, half)?;
+    Some(0.5 * (low + high))
+}
+
+/// The faces (m along `grasp`'s `x`, the `−x` pad's then the `+x` pad's) the open 2F-85's pads
+/// meet first, each ray cast at most `reach` from its stroke end ([`bar_mid_plane`]).
+fn pad_faces(object: &ObjectGeometry, grasp: &Isometry3<f64>, reach: f64) -> Option<(f64, f64)> {
+    let half = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke() / 2.0;
     let hit = |side: f64, along: f64| {
         let start = grasp * nalgebra::Point3::new(side * half, along, 0.0);
         let towards = grasp.rotation * Vector3::new(-side, 0.0, 0.0);
         let hit = object
             .trimesh()
-            .cast_local_ray(&Ray::new(start, towards), half, false)?;
+            .cast_local_ray(&Ray::new(start, towards), reach, false)?;
         Some(half - hit)
     };
     // The face a pad meets first: the least distance it closes, over its width.
@@ -258,7 +277,38 @@ pub fn bar_mid_plane(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<
         let nearest = edges.into_iter().flatten().fold(centre, f64::max);
         Some(side * nearest)
     };
-    Some(0.5 * (face(1.0)? + face(-1.0)?))
+    Some((face(-1.0)?, face(1.0)?))
+}
+
+/// How far (m, along `grasp`'s `x`, to the micrometre) a 2F-85 power grasp moves across onto the
+/// mid-plane of the bar its open pads span ([`bar_mid_plane`]), where that is more than
+/// [`CENTRE_REACH`] from its origin: the drivers turn together, so the pad that meets an
+/// off-centre bar first shoves it until the other pad meets it (the whole-plan replay of
+/// scenes whose grasps a user moved up to 2 cm across: the master's closing pushed the
+/// pinched part 3.7–20 mm or closed on one side, `docs/physics.md`, "Scenes a user might
+/// write"). The bar is the material the line through the grasp's origin along `x` crosses
+/// between the two faces, without a gap (not two bars either side of the origin), narrower
+/// than the stroke. `None` where the grasp is centred already, or no such bar lies between
+/// the open pads.
+pub fn off_centre(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f64> {
+    let stroke = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke();
+    let (low, high) = pad_faces(object, grasp, stroke)?;
+    let across = 0.5 * (low + high);
+    if across.abs() <= CENTRE_REACH || high - low >= stroke {
+        return None;
+    }
+    // One bar: the line along x enters the part at the low face (through the pads' centre
+    // line) and leaves it at the high one.
+    let mesh = object.trimesh();
+    let direction = grasp.rotation * Vector3::x();
+    let start = grasp * nalgebra::Point3::new(-stroke / 2.0, 0.0, 0.0);
+    let entry = mesh.cast_local_ray(&Ray::new(start, direction), stroke, false)?;
+    let inside = start + direction * (entry + 1e-6);
+    let exit = mesh.cast_local_ray(&Ray::new(inside, direction), stroke, false)?;
+    let (enters, leaves) = (-stroke / 2.0 + entry, -stroke / 2.0 + entry + exit);
+    let tolerance = PAD_HALF_WIDTH * CENTRE_SLOPE;
+    let one_bar = (enters - low).abs() <= tolerance && (leaves - high).abs() <= tolerance;
+    one_bar.then_some((across * 1e6).round() / 1e6)
 }
 
 /// `arm`'s closing with its flange at `flange`, and its kind if it closes on the part.
@@ -301,14 +351,22 @@ pub fn seat_power_grasps_by(
     let round = |m: f64| (m * 1e5).floor() / 1e5;
     let seat = |k: usize| -> Seat {
         let arm = &arms[k];
-        let grasp = power[k];
         let point = arm.gripper.power_point();
-        let flange = grasp * point.inverse();
         // A grasp that stays is closed here too: the planning context takes the closing
         // rather than closing it after the seating, while the other arm's seating still runs.
         let Some(robotiq) = arm.gripper.robotiq() else {
-            return (grasp, 0.0, closing(object, arm, &flange).0);
+            return (
+                power[k],
+                0.0,
+                closing(object, arm, &(power[k] * point.inverse())).0,
+            );
         };
+        // Off its bar's mid-plane: moved across onto it first, whatever follows.
+        let grasp = match off_centre(object, &power[k]) {
+            Some(across) => power[k] * Translation3::new(across, 0.0, 0.0),
+            None => power[k],
+        };
+        let flange = grasp * point.inverse();
         // The pads at the fingertips, where they pinch in parallel, on the bar's mid-plane:
         // closed once, however many of the rules below ask.
         let at_fingertips = std::cell::OnceCell::new();
@@ -436,7 +494,8 @@ fn with_seated(
     Option<(pregrasp_io::scene::Scene, [f64; 2])>,
     [Result<Grip, GripFailure>; 2],
 ) {
-    let moved = (seated.moved != [0.0; 2]).then(|| {
+    // Moved along the approach, or only across onto the bar's mid-plane.
+    let moved = (seated.power != scene.grasps.power).then(|| {
         let mut s = scene.clone();
         s.grasps.power = seated.power;
         (s, seated.moved)

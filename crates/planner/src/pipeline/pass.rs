@@ -174,7 +174,8 @@ pub(super) fn plan_grasps_as_given(
             (part != [0.0; 2]).then_some(part)
         };
         (h.grasps.seated, h.grasps.fingertips) = (split(1.0), split(-1.0));
-        // Moved across the bar onto its mid-plane (held at the fingertips), to the micrometre.
+        // Moved across the bar onto its mid-plane (off it, or held at the fingertips), to the
+        // micrometre.
         let across = [0, 1].map(|k| {
             let x = (given[k].inverse() * scene.grasps.power[k]).translation.x;
             (x * 1e6).round() / 1e6 + 0.0
