@@ -132,11 +132,6 @@ pub const FINGERTIP_STEP: f64 = 0.002;
 /// rounding), where the real fingers push the bar by that much until both pads squeeze.
 pub const CENTRE_REACH: f64 = 0.002;
 
-/// Steepest slope of a bar's face along the pads' width that [`off_centre`] still reads as
-/// the face the line through the grasp's origin meets (a tapered leg's 2° is 0.035): the pads'
-/// edges may meet such a face `PAD_HALF_WIDTH · slope` before their centre does.
-const CENTRE_SLOPE: f64 = 0.1;
-
 /// How many depths a grasp held at the fingertips tries (the precision point and 2, 4 mm
 /// nearer the palm): on 12 caged masters the replay pulled bars held 16–22 mm nearer the palm
 /// than the precision point in by up to 7.7 mm, and squeezed 11 held 4 mm from it (6 at 10 mm)
@@ -254,20 +249,12 @@ pub fn thickness_at(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f
 /// `None` if a ray through the origin misses.
 pub fn bar_mid_plane(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f64> {
     let half = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke() / 2.0;
-    let (low, high) = pad_faces(object, grasp, half)?;
-    Some(0.5 * (low + high))
-}
-
-/// The faces (m along `grasp`'s `x`, the `−x` pad's then the `+x` pad's) the open 2F-85's pads
-/// meet first, each ray cast at most `reach` from its stroke end ([`bar_mid_plane`]).
-fn pad_faces(object: &ObjectGeometry, grasp: &Isometry3<f64>, reach: f64) -> Option<(f64, f64)> {
-    let half = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke() / 2.0;
     let hit = |side: f64, along: f64| {
         let start = grasp * nalgebra::Point3::new(side * half, along, 0.0);
         let towards = grasp.rotation * Vector3::new(-side, 0.0, 0.0);
         let hit = object
             .trimesh()
-            .cast_local_ray(&Ray::new(start, towards), reach, false)?;
+            .cast_local_ray(&Ray::new(start, towards), half, false)?;
         Some(half - hit)
     };
     // The face a pad meets first: the least distance it closes, over its width.
@@ -277,38 +264,72 @@ fn pad_faces(object: &ObjectGeometry, grasp: &Isometry3<f64>, reach: f64) -> Opt
         let nearest = edges.into_iter().flatten().fold(centre, f64::max);
         Some(side * nearest)
     };
-    Some((face(-1.0)?, face(1.0)?))
+    Some(0.5 * (face(1.0)? + face(-1.0)?))
 }
 
 /// How far (m, along `grasp`'s `x`, to the micrometre) a 2F-85 power grasp moves across onto the
-/// mid-plane of the bar its open pads span ([`bar_mid_plane`]), where that is more than
-/// [`CENTRE_REACH`] from its origin: the drivers turn together, so the pad that meets an
-/// off-centre bar first shoves it until the other pad meets it (the whole-plan replay of
-/// scenes whose grasps a user moved up to 2 cm across: the master's closing pushed the
-/// pinched part 3.7–20 mm or closed on one side, `docs/physics.md`, "Scenes a user might
-/// write"). The bar is the material the line through the grasp's origin along `x` crosses
-/// between the two faces, without a gap (not two bars either side of the origin), narrower
-/// than the stroke. `None` where the grasp is centred already, or no such bar lies between
-/// the open pads.
+/// mid-plane of its bar, where that is more than [`CENTRE_REACH`] from its origin: the drivers
+/// turn together, so the pad that meets an off-centre bar first shoves it until the other pad
+/// meets it (the whole-plan replay of scenes whose grasps a user moved up to 2 cm across: the
+/// master's closing pushed the pinched part 3.7–20 mm or closed on one side,
+/// `docs/physics.md`, "Scenes a user might write").
+///
+/// The bar is the stretch of material the line through the grasp's origin along `x` crosses
+/// ([`material_along`]): the one holding the origin, else the nearest whose near face lies
+/// within half the stroke. It must be narrower than the stroke, with no other material within
+/// the open pads' reach once centred (the open fingers would lie in it). The grasp moves to
+/// that stretch's middle, then onto [`bar_mid_plane`] there (the faces each pad meets first
+/// over its width). `None` where the grasp is centred already or there is no such bar.
 pub fn off_centre(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f64> {
-    let stroke = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke();
-    let (low, high) = pad_faces(object, grasp, stroke)?;
-    let across = 0.5 * (low + high);
-    if across.abs() <= CENTRE_REACH || high - low >= stroke {
+    let half = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke() / 2.0;
+    let stretches = material_along(object, grasp);
+    let nearest = |&(low, high): &(f64, f64)| {
+        if low <= 0.0 && high >= 0.0 {
+            0.0
+        } else {
+            low.abs().min(high.abs())
+        }
+    };
+    let k = (0..stretches.len())
+        .filter(|&k| nearest(&stretches[k]) <= half)
+        .min_by(|&a, &b| nearest(&stretches[a]).total_cmp(&nearest(&stretches[b])))?;
+    let (low, high) = stretches[k];
+    let middle = 0.5 * (low + high);
+    let alone = |j: usize| {
+        j == k || {
+            let (l, h) = stretches[j];
+            h < middle - half || l > middle + half
+        }
+    };
+    if high - low >= 2.0 * half || !(0..stretches.len()).all(alone) {
         return None;
     }
-    // One bar: the line along x enters the part at the low face (through the pads' centre
-    // line) and leaves it at the high one.
-    let mesh = object.trimesh();
+    let across = middle + bar_mid_plane(object, &(grasp * Translation3::new(middle, 0.0, 0.0)))?;
+    (across.abs() > CENTRE_REACH).then_some((across * 1e6).round() / 1e6)
+}
+
+/// The stretches of material (m along `grasp`'s `x`, from its origin: entry, exit) the line
+/// through the grasp's origin along `x` crosses, in order: the line is cast from beyond the
+/// part's bounding box and each crossing of the surface alternately enters and leaves the
+/// (closed) part.
+pub fn material_along(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Vec<(f64, f64)> {
+    let (lo, hi) = object.aabb();
+    let far = (hi - lo).norm() + (grasp.translation.vector - 0.5 * (lo.coords + hi.coords)).norm();
     let direction = grasp.rotation * Vector3::x();
-    let start = grasp * nalgebra::Point3::new(-stroke / 2.0, 0.0, 0.0);
-    let entry = mesh.cast_local_ray(&Ray::new(start, direction), stroke, false)?;
-    let inside = start + direction * (entry + 1e-6);
-    let exit = mesh.cast_local_ray(&Ray::new(inside, direction), stroke, false)?;
-    let (enters, leaves) = (-stroke / 2.0 + entry, -stroke / 2.0 + entry + exit);
-    let tolerance = PAD_HALF_WIDTH * CENTRE_SLOPE;
-    let one_bar = (enters - low).abs() <= tolerance && (leaves - high).abs() <= tolerance;
-    one_bar.then_some((across * 1e6).round() / 1e6)
+    let start = grasp * nalgebra::Point3::new(-far, 0.0, 0.0);
+    let mesh = object.trimesh();
+    let mut crossings = Vec::new();
+    let mut t = 0.0;
+    // A part has few bars along one line; the bound stops a degenerate mesh's loop.
+    while crossings.len() < 64 {
+        let ray = Ray::new(start + direction * t, direction);
+        let Some(hit) = mesh.cast_local_ray(&ray, 2.0 * far - t, false) else {
+            break;
+        };
+        t += hit + 1e-7;
+        crossings.push(t - far);
+    }
+    crossings.chunks_exact(2).map(|c| (c[0], c[1])).collect()
 }
 
 /// `arm`'s closing with its flange at `flange`, and its kind if it closes on the part.

@@ -11,7 +11,7 @@ use pregrasp_collision::ObjectGeometry;
 use pregrasp_examples::parts::families::Family;
 use pregrasp_geometry::shapes::{cuboid, union};
 use pregrasp_planner::pipeline::PlanOptions;
-use pregrasp_planner::seat::{bar_mid_plane, off_centre, CENTRE_REACH};
+use pregrasp_planner::seat::{bar_mid_plane, material_along, off_centre, CENTRE_REACH};
 
 /// A power grasp over a bar along the world `y`, the gripper pointing down (`z` into the
 /// table), its fingers closing along the world `x`, its origin at `x`.
@@ -29,6 +29,27 @@ fn bar(lo: f64) -> pregrasp_geometry::Mesh {
 }
 
 #[test]
+fn the_line_through_a_grasp_crosses_each_bar_once() {
+    let part = ObjectGeometry::new(&union(&[bar(-0.08), bar(0.015)])).unwrap();
+    let stretches = material_along(&part, &grasp_at(0.02));
+    assert_eq!(stretches.len(), 2, "{stretches:?}");
+    for ((low, high), want) in stretches.iter().zip([(-0.1, -0.08), (-0.005, 0.015)]) {
+        assert!(
+            (low - want.0).abs() < 1e-6 && (high - want.1).abs() < 1e-6,
+            "{stretches:?}"
+        );
+    }
+    // Along the bar (the grasp turned a quarter about its approach): one long stretch.
+    let along = grasp_at(0.025)
+        * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), std::f64::consts::FRAC_PI_2);
+    let stretches = material_along(&part, &along);
+    assert_eq!(stretches.len(), 1, "{stretches:?}");
+    assert!((stretches[0].1 - stretches[0].0 - 0.2).abs() < 1e-5);
+    // A bar longer than the stroke is no bar to centre on.
+    assert_eq!(off_centre(&part, &along), None);
+}
+
+#[test]
 fn a_grasp_off_a_bar_moves_onto_its_mid_plane() {
     let part = ObjectGeometry::new(&bar(-0.01)).unwrap();
     // The grasp's x runs along the world's x (turned about x, not z): a grasp at +x moves by
@@ -40,8 +61,11 @@ fn a_grasp_off_a_bar_moves_onto_its_mid_plane() {
     // Within the scene files' rounding it stays (the fingertip holds centre those).
     assert_eq!(off_centre(&part, &grasp_at(0.0015)), None);
     assert_eq!(off_centre(&part, &grasp_at(0.0)), None);
-    // A bar the open pads do not span: its far face lies beyond the stroke's end.
-    assert_eq!(off_centre(&part, &grasp_at(0.05)), None);
+    // A bar whose near face lies within the open pads' reach (the open pad in it, as given),
+    // and one beyond it.
+    let across = off_centre(&part, &grasp_at(0.05)).unwrap();
+    assert!((across + 0.05).abs() < 1e-6, "{across}");
+    assert_eq!(off_centre(&part, &grasp_at(0.06)), None);
 }
 
 #[test]
@@ -52,7 +76,10 @@ fn a_grasp_between_two_bars_stays() {
     for x in [0.003, -0.004] {
         assert_eq!(off_centre(&part, &grasp_at(x)), None, "at {x}");
     }
-    // Over one bar, the other beyond the open pad: that bar's mid-plane.
+    // Over one of two bars 30 mm apart: the other open pad would lie in the other bar.
+    assert_eq!(off_centre(&part, &grasp_at(0.030)), None);
+    // Bars 75 mm apart: the open pads fit between them.
+    let part = ObjectGeometry::new(&union(&[bar(-0.08), bar(0.015)])).unwrap();
     let across = off_centre(&part, &grasp_at(0.030)).unwrap();
     assert!((across + 0.005).abs() < 1e-6, "{across}");
 }
