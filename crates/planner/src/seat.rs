@@ -77,6 +77,12 @@
 //! less than the wrap: where the carry check finds it cannot carry the part, the pipeline plans
 //! again with [`SeatRule::WRAPS`] (`docs/physics.md`, "Fingertips first").
 //!
+//! A pinch whose palm lies beyond [`SEAT_REACH`] holds its bar at the fingertips already (a
+//! plan file's grasps, planned again) only where the bar's middle lies at a fingertip depth
+//! ([`bar_depth`]); a scene whose power point is declared nearer the palm than that (a user's
+//! tool offset: u_frame_70__p272's, 6 mm short of the precision point, where the master's
+//! closing pushed the part 7.7 mm) is held at the fingertips like any other grasp.
+//!
 //! Frames: grasps in the object frame; the flange at `grasp · point⁻¹` (the arm's power point);
 //! the part's mesh in the object frame. The move is `grasp · Translation(0, 0, d)`.
 
@@ -141,6 +147,12 @@ pub const CENTRE_REACH: f64 = 0.002;
 /// 6 mm the whole-plan replay saw frame_80's master (1.83 kg) curl under its bar and pry the
 /// pinched part up 5.2° (`docs/physics.md`, "Fingertip holds no deeper than 4 mm").
 pub const FINGERTIP_TRIES: usize = 3;
+
+/// How far (m) the middle of a bar a pinch holds with the palm out of reach may lie off the
+/// fingertip depths (the precision point and up to `(FINGERTIP_TRIES − 1) · FINGERTIP_STEP`
+/// nearer the palm) and still count as held at the fingertips already: a plan file's grasps
+/// held there come back to the planner (`replan`) at those depths to the 0.01 mm.
+const FINGERTIP_DEPTH_TOLERANCE: f64 = 0.0005;
 
 /// Which power grasps move, and how far: the planner's is [`SeatRule::PLANNER`]; the replay
 /// sweeps that set its numbers used others.
@@ -283,16 +295,7 @@ pub fn bar_mid_plane(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<
 pub fn off_centre(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f64> {
     let half = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke() / 2.0;
     let stretches = material_along(object, grasp);
-    let nearest = |&(low, high): &(f64, f64)| {
-        if low <= 0.0 && high >= 0.0 {
-            0.0
-        } else {
-            low.abs().min(high.abs())
-        }
-    };
-    let k = (0..stretches.len())
-        .filter(|&k| nearest(&stretches[k]) <= half)
-        .min_by(|&a, &b| nearest(&stretches[a]).total_cmp(&nearest(&stretches[b])))?;
+    let (k, _) = nearest_stretch(&stretches).filter(|&(_, distance)| distance <= half)?;
     let (low, high) = stretches[k];
     let middle = 0.5 * (low + high);
     let alone = |j: usize| {
@@ -313,10 +316,19 @@ pub fn off_centre(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f64
 /// part's bounding box and each crossing of the surface alternately enters and leaves the
 /// (closed) part.
 pub fn material_along(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Vec<(f64, f64)> {
+    material_on_line(object, grasp, &Vector3::x())
+}
+
+/// [`material_along`] the line through `grasp`'s origin along `axis` (grasp frame, unit).
+fn material_on_line(
+    object: &ObjectGeometry,
+    grasp: &Isometry3<f64>,
+    axis: &Vector3<f64>,
+) -> Vec<(f64, f64)> {
     let (lo, hi) = object.aabb();
     let far = (hi - lo).norm() + (grasp.translation.vector - 0.5 * (lo.coords + hi.coords)).norm();
-    let direction = grasp.rotation * Vector3::x();
-    let start = grasp * nalgebra::Point3::new(-far, 0.0, 0.0);
+    let direction = grasp.rotation * axis;
+    let start = grasp * nalgebra::Point3::from(-far * axis);
     let mesh = object.trimesh();
     let mut crossings = Vec::new();
     let mut t = 0.0;
@@ -330,6 +342,29 @@ pub fn material_along(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Vec<(f
         crossings.push(t - far);
     }
     crossings.chunks_exact(2).map(|c| (c[0], c[1])).collect()
+}
+
+/// The stretch of `stretches` (m along a line, from a grasp's origin) that holds the origin,
+/// else the one nearest to it, and how far its nearer end lies (0: it holds the origin).
+fn nearest_stretch(stretches: &[(f64, f64)]) -> Option<(usize, f64)> {
+    let distance = |&(low, high): &(f64, f64)| {
+        if low <= 0.0 && high >= 0.0 {
+            0.0
+        } else {
+            low.abs().min(high.abs())
+        }
+    };
+    (0..stretches.len())
+        .map(|k| (k, distance(&stretches[k])))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// How far (m) the middle of the bar on `grasp`'s approach line (its `z`, the material the line
+/// crosses nearest the origin) lies beyond the origin, towards the fingertips.
+pub fn bar_depth(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f64> {
+    let stretches = material_on_line(object, grasp, &Vector3::z());
+    let (k, _) = nearest_stretch(&stretches)?;
+    Some(0.5 * (stretches[k].0 + stretches[k].1))
 }
 
 /// `arm`'s closing with its flange at `flange`, and its kind if it closes on the part.
@@ -427,7 +462,17 @@ pub fn seat_power_grasps_by(
         }
         // A pinch with the palm beyond SEAT_REACH holds the bar at the fingertips already (a
         // grasp held there before: `replan` plans again from a plan file's grasps).
-        let held_already = kind == Some(HoldKind::Pinch) && gap.is_none();
+        // Only where the bar lies between the pads at a fingertip depth: a scene's power point
+        // farther from the precision point has the pads pinch it nearer the palm, where the
+        // fingers curl (`FINGERTIP_TRIES`).
+        let at_a_fingertip_depth = || {
+            bar_depth(object, &grasp).is_some_and(|c| {
+                let beyond = point.translation.z + c - robotiq.precision_point_z;
+                let nearest = -FINGERTIP_STEP * (FINGERTIP_TRIES - 1) as f64;
+                (nearest - FINGERTIP_DEPTH_TOLERANCE..=FINGERTIP_DEPTH_TOLERANCE).contains(&beyond)
+            })
+        };
+        let held_already = kind == Some(HoldKind::Pinch) && gap.is_none() && at_a_fingertip_depth();
         if rule.fingertips_first && !held_already {
             if let Some(held) = fingertip_hold() {
                 return held;

@@ -16,7 +16,8 @@ use pregrasp_io::scene::{PowerHold, Scene};
 use pregrasp_planner::context::arm_models;
 use pregrasp_planner::pipeline::PlanOptions;
 use pregrasp_planner::seat::{
-    bar_mid_plane, seat_power_grasps_by, SeatRule, CENTRE_REACH, FINGERTIP_STEP, FINGERTIP_TRIES,
+    bar_depth, bar_mid_plane, seat_power_grasps_by, SeatRule, CENTRE_REACH, FINGERTIP_STEP,
+    FINGERTIP_TRIES,
 };
 use pregrasp_robot::ClosingKind;
 
@@ -217,4 +218,76 @@ fn where_the_wraps_get_no_path_the_pinch_slides_alone() {
     let file = plan(&wraps, &mesh);
     assert!(file.plans.is_empty());
     assert!(file.reason.unwrap().contains("μ_mas1: straight approach"));
+}
+
+#[test]
+fn a_pinch_short_of_the_fingertips_with_the_palm_out_of_reach_moves_out_to_them() {
+    // Generated frame #1 with each power point declared 6 mm short of the precision point (a
+    // user's tool offset): the palm lies beyond the seating's reach and the pads pinch the
+    // bar 6 mm nearer the palm than any fingertip depth, where the fingers curl (the replay
+    // of u_frame_70__p272, its power point so: the master pushed the part 7.7 mm). The bar
+    // moves out to the precision point.
+    let (mut scene, mesh) = generated_files(Family::Frame, 1);
+    for robot in &mut scene.robots {
+        robot.power_point_z = robot.precision_point_z - 0.006;
+    }
+    let part = ObjectGeometry::new(&mesh).unwrap();
+    let arms = arm_models(&scene).unwrap();
+    // On their bars' mid-planes, where the closing at the scene's depth pinches with both pads
+    // (0.01–0.06 mm off, it ends on one side, and is held at the fingertips for that).
+    let power = scene.grasps.power.map(|g| {
+        let across = bar_mid_plane(&part, &g).unwrap();
+        g * Translation3::new(across, 0.0, 0.0)
+    });
+    for (k, arm) in arms.iter().enumerate() {
+        let flange = power[k] * arm.gripper.power_point().inverse();
+        let kinds = close_on_part(&part, &arm.gripper, &flange).unwrap().kinds;
+        assert_eq!(
+            kinds,
+            [ClosingKind::Pinch; 2],
+            "power[{k}] at the scene's depth"
+        );
+    }
+    let held = seat_power_grasps_by(&part, &arms, &power, [0.0; 2], SeatRule::PLANNER);
+    let nearest = -FINGERTIP_STEP * (FINGERTIP_TRIES - 1) as f64;
+    for (k, robot) in scene.robots.iter().enumerate() {
+        let depth = bar_depth(&part, &power[k]).unwrap();
+        assert!(depth.abs() < 1e-4, "power[{k}] {depth}");
+        assert!(held.moved[k] < -0.001, "power[{k}] {:?}", held.moved);
+        let beyond = robot.power_point_z + bar_depth(&part, &held.power[k]).unwrap()
+            - robot.precision_point_z;
+        assert!(
+            beyond <= 1e-4 && beyond >= nearest - 1e-4,
+            "power[{k}] {beyond}"
+        );
+        let kinds = close_on_part(
+            &part,
+            &arms[k].gripper,
+            &(held.power[k] * arms[k].gripper.power_point().inverse()),
+        )
+        .unwrap()
+        .kinds;
+        assert_eq!(kinds, [ClosingKind::Pinch; 2], "power[{k}]");
+    }
+}
+
+#[test]
+fn grasps_held_at_the_fingertips_stay_there_when_planned_again() {
+    // The stool side's grasps held at the fingertips, given again as the scene's grasps (as
+    // `replan` gives a plan file's): the palm is out of the seating's reach and the bar lies at
+    // a fingertip depth, so neither moves again.
+    let (scene, mesh) = example_files("stool_side");
+    let part = ObjectGeometry::new(&mesh).unwrap();
+    let arms = arm_models(&scene).unwrap();
+    let first = seat_power_grasps_by(
+        &part,
+        &arms,
+        &scene.grasps.power,
+        [0.0; 2],
+        SeatRule::PLANNER,
+    );
+    assert!(first.moved.iter().all(|&m| m < 0.0), "{:?}", first.moved);
+    let again = seat_power_grasps_by(&part, &arms, &first.power, [0.0; 2], SeatRule::PLANNER);
+    assert_eq!(again.moved, [0.0; 2]);
+    assert_eq!(again.power, first.power);
 }
