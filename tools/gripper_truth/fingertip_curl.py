@@ -5,7 +5,7 @@ MuJoCo Menagerie model closing on a fixed bar, with the whole-plan replay's forc
     pip install mujoco numpy
     python3 tools/gripper_truth/fingertip_curl.py <menagerie> [--rev REV]
 
-A power grasp held at the fingertips (crates/planner/src/seat.rs) puts its bar between the pads at the
+A power grasp held at the fingertips (crates/planner/src/seat/mod.rs) puts its bar between the pads at the
 precision point (150 mm from the flange) or a few millimetres nearer the palm. The nearer the palm the
 pads meet the bar, the more the closing force turns the fingers' distal links in (the tips closer than the
 pad centres): at 235 N a bar that is not held fast is then pried towards the palm (frame_80's master in the

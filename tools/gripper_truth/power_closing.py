@@ -8,7 +8,7 @@ millimetres below the palm, simulated with the MuJoCo Menagerie model.
 closing.py's grid puts the bar's top at or past the power point (z 0.115 in G), 14 mm or more below the
 palm (the base ends at z 0.1008). A planned power grasp holds the bar much nearer the palm: the scenes'
 power point is the palm + half the bar's thickness + 4 mm, so the bar's top is about 4 mm below the palm,
-and a seated grasp (crates/planner/src/seat.rs) 0.5 mm. Whether the fingers then squeeze the bar or
+and a seated grasp (crates/planner/src/seat/mod.rs) 0.5 mm. Whether the fingers then squeeze the bar or
 close under it (caged) is what the carry check needs to know; this grid is that regime.
 
 Grid: tilt 0, no table (a power grasp closes on the part off the table or beside it), the bar's top
