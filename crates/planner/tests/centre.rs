@@ -1,7 +1,8 @@
 //! Power grasps moved across onto their bar's mid-plane (issue 48, closings that do not push):
 //! the 2F-85's fingers close together, so a grasp off its bar's mid-plane meets the bar with
-//! one pad first and shoves it. `seat::off_centre` reads the bar the open pads span; the
-//! planner moves the grasp onto its mid-plane and says so in `grasps.centred`.
+//! one pad first and shoves it. `seat::off_centre` reads the bar as the stretch of material
+//! the grasp's closing line crosses (`seat::material_along`); the planner moves the grasp onto
+//! its mid-plane and says so in `grasps.centred`.
 
 mod common;
 
