@@ -12,16 +12,14 @@ use super::CENTRE_REACH;
 use crate::hold_kind::PAD_HALF_WIDTH;
 
 /// How much material (m) the line through `grasp`'s origin along its approach (`z`) crosses
-/// from where it enters the part to where it leaves it again: the bar's thickness there.
-/// `None` if the line misses the part within 0.5 m of the grasp.
+/// from where it enters the part to where it leaves it again: the bar's thickness there. The
+/// first stretch of material on that line (as [`material_along`] reads them across) entered
+/// from 0.25 m behind the grasp; `None` if it does not begin and end within 0.5 m of there.
 pub fn thickness_at(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f64> {
-    let direction = grasp.rotation * Vector3::z();
-    let start = grasp * nalgebra::Point3::new(0.0, 0.0, -0.25);
-    let mesh = object.trimesh();
-    let entry = mesh.cast_local_ray(&Ray::new(start, direction), 0.5, false)?;
-    let inside = start + direction * (entry + 1e-6);
-    let exit = mesh.cast_local_ray(&Ray::new(inside, direction), 0.5, false)?;
-    Some(exit + 1e-6)
+    let (entry, exit) = material_on_line(object, grasp, &Vector3::z())
+        .into_iter()
+        .find(|&(entry, _)| entry >= -0.25)?;
+    (entry <= 0.25 && exit - entry <= 0.5).then_some(exit - entry)
 }
 
 /// How far (m) along `grasp`'s `x` (the closing direction) the mid-plane of the bar at its

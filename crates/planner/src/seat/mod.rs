@@ -64,10 +64,9 @@
 //!
 //! **Off-centre grasps.** Any 2F-85 power grasp whose origin lies more than [`CENTRE_REACH`]
 //! off the mid-plane of its bar (the stretch of material its closing line crosses) is moved
-//! across onto it before everything
-//! above ([`off_centre`]): the pad that meets the bar first would shove it (a user's scene with
-//! its grasps moved up to 2 cm across: the master's closing pushed the pinched part 3.7–20 mm,
-//! or closed on one side).
+//! across onto it before everything above ([`off_centre`]): the pad that meets the bar first
+//! would shove it (a user's scene with its grasps moved up to 2 cm across: the master's closing
+//! pushed the pinched part 3.7–20 mm, or closed on one side).
 //!
 //! **Fingertips first** (the planner's rule, [`SeatRule::PLANNER`]). A wrap pulls its bar to
 //! the palm while the other gripper only pinches the part: the whole-plan replay measured the
