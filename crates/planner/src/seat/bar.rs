@@ -11,6 +11,11 @@ use pregrasp_collision::ObjectGeometry;
 use super::CENTRE_REACH;
 use crate::hold_kind::PAD_HALF_WIDTH;
 
+/// Half the open 2F-85's stroke (m): how far from the grasp's origin each open pad starts.
+fn half_stroke() -> f64 {
+    pregrasp_robot::FingerKinematics::robotiq_2f85().stroke() / 2.0
+}
+
 /// How much material (m) the line through `grasp`'s origin along its approach (`z`) crosses
 /// from where it enters the part to where it leaves it again: the bar's thickness there. The
 /// first stretch of material on that line (as [`material_along`] reads them across) entered
@@ -29,7 +34,7 @@ pub fn thickness_at(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f
 /// are not parallel to the fingers (a tapered leg) a pad meets the face at its edge first.
 /// `None` if a ray through the origin misses.
 pub fn bar_mid_plane(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f64> {
-    let half = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke() / 2.0;
+    let half = half_stroke();
     let hit = |side: f64, along: f64| {
         let start = grasp * nalgebra::Point3::new(side * half, along, 0.0);
         let towards = grasp.rotation * Vector3::new(-side, 0.0, 0.0);
@@ -62,7 +67,7 @@ pub fn bar_mid_plane(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<
 /// that stretch's middle, then onto [`bar_mid_plane`] there (the faces each pad meets first
 /// over its width). `None` where the grasp is centred already or there is no such bar.
 pub fn off_centre(object: &ObjectGeometry, grasp: &Isometry3<f64>) -> Option<f64> {
-    let half = pregrasp_robot::FingerKinematics::robotiq_2f85().stroke() / 2.0;
+    let half = half_stroke();
     let stretches = material_along(object, grasp);
     let (k, _) = nearest_stretch(&stretches).filter(|&(_, distance)| distance <= half)?;
     let (low, high) = stretches[k];
