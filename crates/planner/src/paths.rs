@@ -12,7 +12,7 @@ use crate::axes::RotationAxisCandidate;
 use crate::clock::Stage;
 use crate::context::{PlanningContext, FIXED_START_TOLERANCE};
 use crate::poses::PowerGraspPose;
-use crate::reach::{reach_lines, reach_transit, ReachFailure, ReachMotion, ReachQuery};
+use crate::reach::{reach_lines, reach_transit, LinesMemo, ReachFailure, ReachMotion, ReachQuery};
 use crate::rejection::{MotionFailure, PathFailure};
 use crate::rotate::{rotation_path, RotationPath};
 use pregrasp_io::plan_file::SegmentName;
@@ -81,7 +81,8 @@ pub(crate) fn final_grasp_free(
 }
 
 /// Algorithm 3 for one candidate: its integrated path with what `accept` said of its μ_rot, or
-/// why there is none.
+/// why there is none. μ_sup1's straight lines come from `memo`, which the candidates and the
+/// passes of one plan share.
 ///
 /// The straight approach and retreat lines of a combination are validated first: they are cheap
 /// and decide most failures. Once they all hold, its μ_rot is put to `accept` (the grip check,
@@ -95,6 +96,7 @@ pub(crate) fn final_grasp_free(
 /// result is the same on any number of threads; one thread computes each only when it is read.
 pub fn integrated_path<T: Send, E: Send>(
     ctx: &PlanningContext,
+    memo: &LinesMemo,
     candidate: &RotationAxisCandidate,
     pose: &PowerGraspPose,
     accept: impl Fn(&RotationPath) -> Result<T, E> + Sync,
@@ -145,7 +147,7 @@ pub fn integrated_path<T: Send, E: Send>(
         };
         let sup1_lines = match ctx
             .clock
-            .time(Stage::Lines, || reach_lines(ctx, &sup1_query))
+            .time(Stage::Lines, || memo.lines(ctx, &sup1_query))
         {
             Ok(lines) => lines,
             Err(f) => {

@@ -26,16 +26,19 @@ use crate::output::{self, plan_file_header, plan_set, rot_only_plan};
 use crate::paths::{integrated_path, NoPath};
 use crate::poses::{object_pose_for_power_grasp, PoseRejection, PowerGraspPose};
 use crate::ranking::{rank, ranked_beyond, required_force};
+use crate::reach::LinesMemo;
 use crate::rejection::{FailedRule, Rejection, Unheld};
 use crate::rotate::RotationPath;
 use crate::seat::SeatRule;
 
 /// What a pass built that the next passes of the same mesh and robots reuse (their scenes
-/// differ in the power grasps alone): the part's collision geometry and the arm models.
+/// differ in the power grasps alone): the part's collision geometry, the arm models and the
+/// straight lines of μ_sup1, which do not depend on the power grasps.
 #[derive(Clone)]
 pub(super) struct Built {
     pub(super) part: Arc<ObjectGeometry>,
     pub(super) arms: Arc<[ArmModel; 2]>,
+    pub(super) lines: Arc<LinesMemo>,
 }
 
 /// Algorithm 2's answer for one candidate: its pose, or why it has none.
@@ -84,6 +87,7 @@ pub(super) fn plan_grasps_as_given(
             Built {
                 part: part?,
                 arms: Arc::new(arms?),
+                lines: Arc::default(),
             }
         }
     };
@@ -232,7 +236,7 @@ pub(super) fn plan_grasps_as_given(
                 held => Ok(held.map(|h| h.json)),
             }
         };
-        let outcome = match integrated_path(&ctx, candidate, &pose, hold) {
+        let outcome = match integrated_path(&ctx, &built.lines, candidate, &pose, hold) {
             Ok((path, physics)) => {
                 let pinch = physics.as_ref().and_then(|p| p.grip_force_recommended);
                 let id = (candidate.id, candidate.score);
