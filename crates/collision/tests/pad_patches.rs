@@ -77,3 +77,46 @@ fn a_pinch_bears_on_the_overlap_of_pad_and_bar() {
         }
     }
 }
+
+/// The part remembers the 2F-85's patches by the pose with the fingers they were found for:
+/// asked again, the same answer as a part that never saw them; asked at that pose with other
+/// fingers (a wider closing's), the answer for those fingers, not the remembered one.
+#[test]
+fn remembered_patches_are_those_of_the_fingers_asked() {
+    let half = Vector3::new(0.2, 0.02, 0.0125);
+    let mesh = box_mesh(Point3::new(0.0, 0.0, 0.0125), half, 2);
+    let (part, fresh) = (ObjectGeometry::new(&mesh).unwrap(), || {
+        ObjectGeometry::new(&mesh).unwrap()
+    });
+    let gripper = pregrasp_robot::Gripper::default();
+    let down =
+        UnitQuaternion::from_euler_angles(std::f64::consts::PI, 0.0, std::f64::consts::FRAC_PI_2);
+    let at = |depth: f64| {
+        Isometry3::from_parts(Translation3::new(0.0, 0.0, 0.025 - depth + 0.150), down)
+    };
+    let (shallow, deep) = (at(0.004), at(0.016));
+    let grip = close_on_part(&part, &gripper, &shallow).unwrap();
+    // A closing on a wider bar: other fingers at the same pose.
+    let wide = ObjectGeometry::new(&box_mesh(
+        Point3::new(0.0, 0.0, 0.0125),
+        Vector3::new(0.2, 0.03, 0.0125),
+        2,
+    ))
+    .unwrap();
+    let wider = close_on_part(&wide, &gripper, &shallow).unwrap();
+    assert_ne!(grip.fingers().configs(), wider.fingers().configs());
+
+    let first = pad_patches(&part, &gripper, &shallow, &grip);
+    assert!(first.iter().all(Option::is_some));
+    assert_eq!(pad_patches(&part, &gripper, &shallow, &grip), first);
+    assert_eq!(pad_patches(&fresh(), &gripper, &shallow, &grip), first);
+    let other = pad_patches(&part, &gripper, &shallow, &wider);
+    assert_eq!(other, pad_patches(&fresh(), &gripper, &shallow, &wider));
+    assert_ne!(other, first);
+    // Another pose, its own answer.
+    let deep_grip = close_on_part(&part, &gripper, &deep).unwrap();
+    assert_eq!(
+        pad_patches(&part, &gripper, &deep, &deep_grip),
+        pad_patches(&fresh(), &gripper, &deep, &deep_grip)
+    );
+}

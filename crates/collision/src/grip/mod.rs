@@ -290,19 +290,24 @@ pub fn close_on_part(
     gripper: &Gripper,
     flange_in_object: &Isometry3<f64>,
 ) -> Result<Grip, GripFailure> {
-    if let Some((inside, back)) = open_approach_inside(object, gripper, flange_in_object) {
-        return Err(GripFailure::OpenInside {
-            link: inside.link,
-            depth: inside.depth,
-            back,
-        });
-    }
+    let open_inside = || {
+        open_approach_inside(object, gripper, flange_in_object).map(|(inside, back)| {
+            GripFailure::OpenInside {
+                link: inside.link,
+                depth: inside.depth,
+                back,
+            }
+        })
+    };
     match gripper {
-        // The 2F-85's shapes are built in: its closing depends on the part and the pose.
-        Gripper::Robotiq2F85(_) => object
-            .memo()
-            .get_or(flange_in_object, || close_2f85(object, flange_in_object)),
-        Gripper::Jaws(jaws) => jaws::close_jaws(object, jaws, flange_in_object),
+        // The 2F-85's shapes, open and closing, are built in: whether its open hand lies in
+        // the part and how it closes depend on the part and the pose alone.
+        Gripper::Robotiq2F85(_) => object.memo().get_or(flange_in_object, || {
+            open_inside().map_or_else(|| close_2f85(object, flange_in_object), Err)
+        }),
+        Gripper::Jaws(jaws) => {
+            open_inside().map_or_else(|| jaws::close_jaws(object, jaws, flange_in_object), Err)
+        }
     }
 }
 

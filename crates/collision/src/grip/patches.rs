@@ -1,7 +1,7 @@
 //! Where the pads of a [`Grip`] bear on the part ([`pad_patches`]).
 
 use nalgebra::{Isometry3, Point3};
-use pregrasp_robot::{linkage, Gripper, PAD};
+use pregrasp_robot::{linkage, FingerConfig, Gripper, PAD};
 
 use super::Grip;
 use crate::distance::triangle_box_intersect;
@@ -48,28 +48,52 @@ pub fn pad_patches(
     flange_in_object: &Isometry3<f64>,
     grip: &Grip,
 ) -> [Option<PadPatch>; 2] {
-    let faces: [Face; 2] = match gripper {
+    match gripper {
         Gripper::Robotiq2F85(_) => {
-            let l = linkage();
             let configs = grip.fingers().configs();
-            [0, 1].map(|k| {
-                let side = if k == 0 { 1.0 } else { -1.0 };
-                Face {
-                    frame: configs[k].link_frames(l)[PAD].to_isometry(side),
-                    x: side * PAD_FACE_X,
-                    y: PAD_FACE_Y,
-                    z: PAD_FACE_Z,
-                }
-            })
+            let patches = || {
+                let l = linkage();
+                [0, 1].map(|k| {
+                    let side = if k == 0 { 1.0 } else { -1.0 };
+                    let face = Face {
+                        frame: configs[k].link_frames(l)[PAD].to_isometry(side),
+                        x: side * PAD_FACE_X,
+                        y: PAD_FACE_Y,
+                        z: PAD_FACE_Z,
+                    };
+                    face_patch(object, flange_in_object, &face)
+                })
+            };
+            // The 2F-85's pads are built in: the patches depend on the part, the pose and the
+            // fingers. Remembered by the pose with the fingers they were found for (a plan's
+            // passes ask again at G_s), computed as asked for other fingers.
+            let known = object.memo().get_or(flange_in_object, || PatchesAt {
+                configs,
+                patches: patches(),
+            });
+            if known.configs == configs {
+                known.patches
+            } else {
+                patches()
+            }
         }
-        Gripper::Jaws(jaws) => jaws.faces_at(grip.state()).map(|f| Face {
-            frame: jaws.closing_frame(),
-            x: f.x,
-            y: f.y,
-            z: f.z,
+        Gripper::Jaws(jaws) => jaws.faces_at(grip.state()).map(|f| {
+            let face = Face {
+                frame: jaws.closing_frame(),
+                x: f.x,
+                y: f.y,
+                z: f.z,
+            };
+            face_patch(object, flange_in_object, &face)
         }),
-    };
-    faces.map(|face| face_patch(object, flange_in_object, &face))
+    }
+}
+
+/// The 2F-85's pad patches at a pose, with the fingers they were found for.
+#[derive(Clone, Copy)]
+struct PatchesAt {
+    configs: [FingerConfig; 2],
+    patches: [Option<PadPatch>; 2],
 }
 
 /// Where `face` bears on the part (see [`pad_patches`]).
