@@ -37,6 +37,7 @@ mod no_plan;
 pub mod open_fingers;
 mod outcome;
 pub mod output;
+pub mod pass_memo;
 pub mod paths;
 pub mod pipeline;
 /// Moved to the I/O crate, so every reader of a plan file validates it; kept here by name.

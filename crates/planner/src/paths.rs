@@ -11,10 +11,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use crate::axes::RotationAxisCandidate;
 use crate::clock::Stage;
 use crate::context::{PlanningContext, FIXED_START_TOLERANCE};
+use crate::pass_memo::PassMemo;
 use crate::poses::PowerGraspPose;
-use crate::reach::{reach_lines, reach_transit, LinesMemo, ReachFailure, ReachMotion, ReachQuery};
+use crate::reach::{reach_lines, reach_transit, ReachFailure, ReachMotion, ReachQuery};
 use crate::rejection::{MotionFailure, PathFailure};
-use crate::rotate::{rotation_path, RotationPath};
+use crate::rotate::RotationPath;
 use pregrasp_io::plan_file::SegmentName;
 use pregrasp_model::timeline::Moment;
 use pregrasp_motion::CartesianError;
@@ -81,8 +82,8 @@ pub(crate) fn final_grasp_free(
 }
 
 /// Algorithm 3 for one candidate: its integrated path with what `accept` said of its μ_rot, or
-/// why there is none. μ_sup1's straight lines come from `memo`, which the candidates and the
-/// passes of one plan share.
+/// why there is none. μ_rot and μ_sup1's straight lines come from `memo`, which the candidates
+/// and the passes of one plan share.
 ///
 /// The straight approach and retreat lines of a combination are validated first: they are cheap
 /// and decide most failures. Once they all hold, its μ_rot is put to `accept` (the grip check,
@@ -96,7 +97,7 @@ pub(crate) fn final_grasp_free(
 /// result is the same on any number of threads; one thread computes each only when it is read.
 pub fn integrated_path<T: Send, E: Send>(
     ctx: &PlanningContext,
-    memo: &LinesMemo,
+    memo: &PassMemo,
     candidate: &RotationAxisCandidate,
     pose: &PowerGraspPose,
     accept: impl Fn(&RotationPath) -> Result<T, E> + Sync,
@@ -110,7 +111,7 @@ pub fn integrated_path<T: Send, E: Send>(
     'support: for c_ik_s in pose.support_ik.free(ctx).take(MAX_IK_TRIES) {
         let mut rot = match ctx
             .clock
-            .time(Stage::Rot, || rotation_path(ctx, candidate, pose, c_ik_s))
+            .time(Stage::Rot, || memo.rotation(ctx, candidate, pose, c_ik_s))
         {
             Ok(rot) => rot,
             Err(f) => {

@@ -13,12 +13,11 @@ use pregrasp_motion::{
     rrt_connect_until, simplify_by, straight_line, time_parameterize, CartesianError,
     CartesianSettings, PlanStatus, RestToRest, RrtConnectSettings, State,
 };
-use std::collections::HashMap;
 use std::sync::Mutex;
 
 use pregrasp_collision::{Contact, WorldState};
 use pregrasp_motion::StateValidator;
-use pregrasp_robot::{GripperState, Joints};
+use pregrasp_robot::Joints;
 
 use crate::context::{world_state, PlanningContext, FINE_RESOLUTION};
 use crate::timing::{scaled, time_along, CONTACT_SCALE, TRANSIT_SCALE};
@@ -159,60 +158,6 @@ impl StateValidator<6> for ArmFree<'_> {
     fn around_limit(&self) -> f64 {
         pregrasp_collision::SWEEP_LIMIT
     }
-}
-
-/// The straight lines of reach motions made in a world at rest — both grippers open, nothing
-/// held, no contact allowed, no retreat: μ_sup1 — shared by every candidate and every pass of
-/// one plan. Such lines depend on the arm, both arms' joints, the part's pose and the goal, not
-/// on the power grasps (all that the passes of a plan change: [`crate::seat`],
-/// [`crate::slide`]), and every candidate asks them for the same IK solutions at G_s at
-/// P_init: the chair side asked eight times for two.
-#[derive(Debug, Default)]
-pub struct LinesMemo {
-    at_rest: Mutex<HashMap<RestKey, Result<ReachLines, ReachFailure>>>,
-}
-
-/// What a line from rest depends on, by bits: the arm, both arms' joints (the moving one's at
-/// `from`), the part's pose (translation, quaternion) and the goal.
-type RestKey = (usize, [[u64; 6]; 2], [u64; 7], [u64; 6]);
-
-impl LinesMemo {
-    /// [`reach_lines`] of `query`, computed once where its world is at rest.
-    pub fn lines(
-        &self,
-        ctx: &PlanningContext,
-        query: &ReachQuery,
-    ) -> Result<ReachLines, ReachFailure> {
-        let Some(key) = rest_key(query) else {
-            return reach_lines(ctx, query);
-        };
-        let known = self
-            .at_rest
-            .lock()
-            .expect("not poisoned")
-            .get(&key)
-            .cloned();
-        known.unwrap_or_else(|| {
-            let lines = reach_lines(ctx, query);
-            let mut memo = self.at_rest.lock().expect("not poisoned");
-            memo.entry(key).or_insert(lines).clone()
-        })
-    }
-}
-
-/// `query`'s [`RestKey`] where its world is at rest, else `None`.
-fn rest_key(query: &ReachQuery) -> Option<RestKey> {
-    let m = query.scene;
-    let open = m.gripper.iter().all(|g| matches!(g, GripperState::Open));
-    if query.retreat || !open || m.contact_allowed != [false; 2] {
-        return None;
-    }
-    let bits = |q: &Joints| q.map(f64::to_bits);
-    let mut q = m.q;
-    q[query.arm] = query.from;
-    let (t, r) = (m.object.translation.vector, m.object.rotation.coords);
-    let pose = [t.x, t.y, t.z, r.x, r.y, r.z, r.w].map(f64::to_bits);
-    Some((query.arm, q.map(|q| bits(&q)), pose, bits(&query.goal)))
 }
 
 /// The retreat (μ_sup2 only) and the approach of a reach query.

@@ -23,22 +23,22 @@ use crate::error::{check_mesh, PlanError};
 use crate::hold::{HoldCheck, HoldResult};
 use crate::no_plan::no_plan_reason;
 use crate::output::{self, plan_file_header, plan_set, rot_only_plan};
+use crate::pass_memo::PassMemo;
 use crate::paths::{integrated_path, NoPath};
 use crate::poses::{object_pose_for_power_grasp, PoseRejection, PowerGraspPose};
 use crate::ranking::{rank, ranked_beyond, required_force};
-use crate::reach::LinesMemo;
 use crate::rejection::{FailedRule, Rejection, Unheld};
 use crate::rotate::RotationPath;
 use crate::seat::SeatRule;
 
 /// What a pass built that the next passes of the same mesh and robots reuse (their scenes
 /// differ in the power grasps alone): the part's collision geometry, the arm models and the
-/// straight lines of μ_sup1, which do not depend on the power grasps.
+/// motions that do not depend on the power grasps ([`PassMemo`]).
 #[derive(Clone)]
 pub(super) struct Built {
     pub(super) part: Arc<ObjectGeometry>,
     pub(super) arms: Arc<[ArmModel; 2]>,
-    pub(super) lines: Arc<LinesMemo>,
+    pub(super) memo: Arc<PassMemo>,
 }
 
 /// Algorithm 2's answer for one candidate: its pose, or why it has none.
@@ -87,7 +87,7 @@ pub(super) fn plan_grasps_as_given(
             Built {
                 part: part?,
                 arms: Arc::new(arms?),
-                lines: Arc::default(),
+                memo: Arc::default(),
             }
         }
     };
@@ -236,7 +236,7 @@ pub(super) fn plan_grasps_as_given(
                 held => Ok(held.map(|h| h.json)),
             }
         };
-        let outcome = match integrated_path(&ctx, &built.lines, candidate, &pose, hold) {
+        let outcome = match integrated_path(&ctx, &built.memo, candidate, &pose, hold) {
             Ok((path, physics)) => {
                 let pinch = physics.as_ref().and_then(|p| p.grip_force_recommended);
                 let id = (candidate.id, candidate.score);

@@ -1,13 +1,18 @@
-//! The straight lines of μ_sup1 are remembered ([`LinesMemo`]): what the memo answers is what
-//! [`reach_lines`] computes, for the moment asked — the part's pose and the other arm's joints
-//! are part of what it remembers by.
+//! The motions a plan's passes share are remembered ([`PassMemo`]): what the memo answers is
+//! what [`reach_lines`] and [`rotation_path`] compute, for the moment and the rotation asked —
+//! the part's pose, the other arm's joints, the candidate and c_IK^s are part of what it
+//! remembers by.
 
 mod common;
 
 use nalgebra::Isometry3;
 use pregrasp_model::timeline::Moment;
+use pregrasp_planner::axes::rotation_axis_candidates;
 use pregrasp_planner::context::PlanningContext;
-use pregrasp_planner::reach::{reach_lines, LinesMemo, ReachFailure, ReachLines, ReachQuery};
+use pregrasp_planner::pass_memo::PassMemo;
+use pregrasp_planner::poses::object_pose_for_power_grasp;
+use pregrasp_planner::reach::{reach_lines, ReachFailure, ReachLines, ReachQuery};
+use pregrasp_planner::rotate::{rotation_path, RotationFailure, RotationPath};
 
 use common::scenes::example_files;
 
@@ -42,7 +47,7 @@ fn the_memo_answers_what_reach_lines_computes_for_each_moment() {
     for name in ["chair_side", "shelf_side", "stool_side"] {
         let (scene, mesh) = example_files(name);
         let ctx = PlanningContext::new(&scene, &mesh).unwrap();
-        let memo = LinesMemo::default();
+        let memo = PassMemo::default();
         let starts = ctx.starts();
         let (mut asked, mut blocked) = (0, 0);
         for arm in 0..2 {
@@ -88,5 +93,50 @@ fn the_memo_answers_what_reach_lines_computes_for_each_moment() {
         assert!(asked >= 2, "{name}: {asked} configurations at G_s");
         // Remembered by the part's pose: a line that holds at P_init fails with the part raised.
         assert!(blocked >= 1, "{name}: no line the raised part blocks");
+    }
+}
+
+/// A rotation as comparable points, or the failure.
+fn points(r: &Result<RotationPath, RotationFailure>) -> Result<(Vec<f64>, Vec<[f64; 6]>), String> {
+    r.as_ref()
+        .map(|p| (p.theta.clone(), p.q.clone()))
+        .map_err(|f| f.to_string())
+}
+
+/// Every candidate with a pose, from each of its first c_IK^s, asked of one memo twice and
+/// computed directly: the same μ_rot; each c_IK^s and each candidate gets its own (the memo
+/// never hands one rotation to another's key).
+#[test]
+fn the_memo_answers_what_rotation_path_computes_for_each_rotation() {
+    for name in ["chair_side", "shelf_side", "stool_side"] {
+        let (scene, mesh) = example_files(name);
+        let ctx = PlanningContext::new(&scene, &mesh).unwrap();
+        let axes = rotation_axis_candidates(
+            &mesh,
+            &scene.object.pose,
+            scene.support_height,
+            &scene.planner,
+        );
+        let memo = PassMemo::default();
+        let mut seen = Vec::new();
+        for candidate in &axes.candidates {
+            let Ok(pose) = object_pose_for_power_grasp(&ctx, candidate) else {
+                continue;
+            };
+            for c_ik_s in pose.support_ik.free(&ctx).take(2) {
+                let direct = points(&rotation_path(&ctx, candidate, &pose, c_ik_s));
+                for _ in 0..2 {
+                    let remembered = points(&memo.rotation(&ctx, candidate, &pose, c_ik_s));
+                    assert_eq!(remembered, direct, "{name} candidate {}", candidate.id);
+                }
+                seen.push(direct);
+            }
+        }
+        // Distinct rotations were asked: a memo keyed too coarsely would have repeated one.
+        assert!(seen.len() >= 2, "{name}: {} rotations", seen.len());
+        assert!(
+            seen.iter().any(|r| r != &seen[0]),
+            "{name}: every rotation alike"
+        );
     }
 }
